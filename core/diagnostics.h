@@ -1,0 +1,44 @@
+// core/diagnostics.h: problems found in offline input, collected rather than thrown.
+//
+// Loaders never stop at the first problem: they record every one with where it is (a JSON
+// path such as `muscles[3].insertion`, or a mesh element such as `triangle 17`) and what was
+// expected, and the caller prints them all. Runtime code does not use this (it returns bool).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace mimetic {
+
+enum class Severity { kError, kWarning };
+
+struct Diagnostic {
+  Severity severity = Severity::kError;
+  std::string where;  // JSON path, file name or mesh element; may be empty
+  std::string what;   // what is wrong and what was expected
+};
+
+class Diagnostics {
+ public:
+  void Error(std::string where, std::string what);
+  void Warning(std::string where, std::string what);
+  // Appends `other`, prefixing each `where` with `prefix` (e.g. the file name).
+  void Append(const Diagnostics& other, const std::string& prefix = {});
+
+  bool HasErrors() const;
+  size_t ErrorCount() const;
+  const std::vector<Diagnostic>& items() const { return items_; }
+  bool empty() const { return items_.empty(); }
+  void Clear() { items_.clear(); }
+
+  // True when some diagnostic's `where` or `what` contains `needle` (for tests and tools).
+  bool Contains(const std::string& needle) const;
+
+  // One line per diagnostic: "error: <where>: <what>".
+  std::string Format() const;
+
+ private:
+  std::vector<Diagnostic> items_;
+};
+
+}  // namespace mimetic

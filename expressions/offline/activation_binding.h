@@ -1,0 +1,19 @@
+// expressions/offline/activation_binding.h: names -> the activation span (offline binding).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+
+namespace mimetic {
+
+// Parses "NAME=VALUE" assignments against the rig's muscle names and fills `out` (one value
+// per muscle, rig order; unassigned muscles are 0). Records an error for: a missing '=', an
+// unknown name (listing the closest names), a value that is not a finite number or lies
+// outside [0, 1], and a name assigned twice. Returns false when any error was recorded.
+bool BindActivations(const std::vector<std::string>& muscle_names,
+                     const std::vector<std::string>& assignments, std::vector<float>* out,
+                     Diagnostics* diag);
+
+}  // namespace mimetic

@@ -1,0 +1,41 @@
+// muscles/offline/muscle_spec.h: authored description of Waters muscles (MODEL.md §2-3).
+// All lengths are in mesh units; angles in radians here (the rig file stores degrees).
+#pragma once
+
+#include <string>
+
+#include "core/math.h"
+
+namespace mimetic {
+
+// Waters linear muscle, MODEL.md §2.
+struct LinearMuscleSpec {
+  float3 attachment;         // v1, on the bone; the skin moves toward it
+  float3 insertion;          // v2, in the skin; v2 - v1 is the zone's axis
+  float zone_angle = 0.f;    // Omega, radians, (0, pi)
+  float falloff_start = 0.f; // Rs, > 0
+  float falloff_end = 0.f;   // Rf, > Rs
+};
+
+// Waters sheet muscle, MODEL.md §3 (geometry as in Zhang et al. 2005, §2.3).
+struct SheetMuscleSpec {
+  float3 attachment[2];      // mA1, mA2: the attachment line
+  float3 insertion[2];       // mI1, mI2: the insertion line
+  float length = 0.f;        // Ls, AOI length along the central fiber, > 0
+  float width = 0.f;         // Ws, AOI width across it, > 0
+  float falloff_start = 0.f; // Rs, in (0, Ls): where Fl peaks
+};
+
+enum class MuscleType { kLinear, kSheet };
+
+struct MuscleSpec {
+  std::string name;       // unique within a rig
+  MuscleType type = MuscleType::kLinear;
+  float strength = 0.f;   // contraction at activation 1, mesh units (k = activation * strength)
+  LinearMuscleSpec linear;  // used when type == kLinear
+  SheetMuscleSpec sheet;    // used when type == kSheet
+};
+
+const char* MuscleTypeName(MuscleType type);
+
+}  // namespace mimetic

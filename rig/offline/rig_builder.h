@@ -1,0 +1,34 @@
+// rig/offline/rig_builder.h: RigSpec + mesh -> runtime Rig (the offline "builder").
+#pragma once
+
+#include <string>
+
+#include "core/diagnostics.h"
+#include "rig/offline/mesh.h"
+#include "rig/offline/rig_spec.h"
+#include "rig/runtime/rig.h"
+
+namespace mimetic {
+
+struct BuildOptions {
+  float weld_tolerance = 0.f;  // mesh units; <= 0: 1e-6 of the bounding-box diagonal
+};
+
+// Welds and validates the mesh (weld.h), resolves the skin thickness per point (constant;
+// per file vertex, averaged over a point's vertices; or sampled bilinearly from a grayscale
+// image at the vertices' UVs, black = min, white = max, v = 0 on the image's top row as in
+// glTF), and compiles the muscle influence tables. Returns false with every problem recorded.
+bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& options, Rig* out,
+              Diagnostics* diag);
+
+// Everything a tool needs about one rig file.
+struct LoadedRig {
+  RigSpec spec;
+  MeshData mesh;
+  Rig rig;
+};
+// LoadRigSpec + ImportMesh + BuildRig. Diagnostics are prefixed with the file they concern.
+bool LoadRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag,
+             const BuildOptions& options = {});
+
+}  // namespace mimetic

@@ -1,0 +1,78 @@
+// rig/runtime/evaluate_job.h: the one per-frame entry point.
+//
+// rest mesh + activations -> positions and normals (MODEL.md §1). Stages, each a job over
+// spans that an engine may also run itself:
+//   1. MuscleDeformJob   (points)     X1 = X + sum_m a_m U_m             MODEL.md §1-3
+//   2. FaceNormalsJob    (triangles)  then PointNormalsJob (points)
+//   3. scatter           (vertices)   points -> the file's vertex layout, with strides
+// EvaluateJob owns no buffer; Run() allocates nothing; the same build and the same inputs
+// give the same bits, however the work is split by `parallel_for`.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+#include "core/span.h"
+#include "rig/runtime/rig.h"
+
+namespace mimetic {
+
+// Per-instance scratch, sized once for one rig (allocation happens here, never in Run()).
+class EvaluateContext {
+ public:
+  EvaluateContext() = default;
+  explicit EvaluateContext(const Rig& rig) { Resize(rig); }
+  // (Re)sizes every buffer for `rig`. The only allocating call.
+  void Resize(const Rig& rig);
+  // True when this context was sized for `rig`.
+  bool IsFor(const Rig& rig) const;
+
+  // Read access to the last frame's intermediate results (for overlays and tests).
+  span<const float> activations() const { return activations_; }
+  span<const float3> points() const { return points_; }
+  span<const float3> point_normals() const { return point_normals_; }
+
+ private:
+  friend struct EvaluateJob;
+  uint64_t rig_uid_ = 0;
+  uint32_t point_count_ = 0, triangle_count_ = 0, muscle_count_ = 0;
+  std::vector<float> activations_;     // #muscles, sanitised
+  std::vector<float3> points_;         // #P deformed
+  std::vector<float3> face_normals_;   // #T
+  std::vector<float3> point_normals_;  // #P
+};
+
+// A caller-supplied parallel loop: must call task(task_data, begin, end) over disjoint ranges
+// that cover [0, count) and return when all have finished. nullptr = run serially.
+using ParallelForFn = void (*)(void* user, uint32_t count,
+                               void (*task)(void* task_data, uint32_t begin, uint32_t end),
+                               void* task_data);
+
+struct EvaluateJob {
+  // False when: rig or context is null; the context was not sized for this rig;
+  // activations.size() < rig->muscle_count(); out_positions is too small for
+  // rig->vertex_count() vertices at out_positions_stride; out_normals is non-empty and too
+  // small; a stride is below 12 bytes or not a multiple of 4.
+  bool Validate() const;
+  // Validates first; on false, outputs are untouched.
+  bool Run() const;
+
+  const Rig* rig = nullptr;
+  EvaluateContext* context = nullptr;
+  span<const float> activations;      // one per muscle, rig order; clamped to [0,1], NaN -> 0
+  // Output positions of vertex v at floats [v * stride/4, v * stride/4 + 3); mesh units.
+  span<float> out_positions;          // >= (#V - 1) * stride/4 + 3 floats
+  size_t out_positions_stride = 12;   // bytes, >= 12, multiple of 4
+  span<float> out_normals;            // optional (empty = skip); unit length; same layout rule
+  size_t out_normals_stride = 12;     // bytes, >= 12, multiple of 4
+
+  ParallelForFn parallel_for = nullptr;  // optional engine scheduler
+  void* parallel_for_user = nullptr;
+};
+
+// Floats needed for `count` elements of 3 floats at `stride_bytes` (0 when count is 0).
+size_t RequiredFloats(size_t count, size_t stride_bytes);
+
+}  // namespace mimetic

@@ -1,0 +1,273 @@
+// Known answers for Waters' muscles, computed by hand from MODEL.md §2-3.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "muscles/offline/muscle_builder.h"
+#include "muscles/offline/waters.h"
+
+namespace mimetic {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const double kR2 = std::sqrt(2.0) / 2.0;  // cos(pi/4)
+
+// v1 at the origin, axis +X, Omega = 60 degrees, Rs = 5, Rf = 10.
+LinearMuscleSpec Linear() {
+  LinearMuscleSpec m;
+  m.attachment = {0, 0, 0};
+  m.insertion = {10, 0, 0};
+  m.zone_angle = float(kPi / 3);
+  m.falloff_start = 5;
+  m.falloff_end = 10;
+  return m;
+}
+
+// Attachment line x = 0, insertion line x = 20, both y in [-10, 10]; Ls = 20, Ws = 20, Rs = 5.
+SheetMuscleSpec Sheet() {
+  SheetMuscleSpec m;
+  m.attachment[0] = {0, -10, 0};
+  m.attachment[1] = {0, 10, 0};
+  m.insertion[0] = {20, -10, 0};
+  m.insertion[1] = {20, 10, 0};
+  m.length = 20;
+  m.width = 20;
+  m.falloff_start = 5;
+  return m;
+}
+
+void ExpectNear3(float3 got, double x, double y, double z, double tol = 1e-6) {
+  EXPECT_NEAR(got.x, x, tol);
+  EXPECT_NEAR(got.y, y, tol);
+  EXPECT_NEAR(got.z, z, tol);
+}
+
+TEST(WatersFactors, AngularFactorAtCentreHalfAndEdge) {
+  const double omega = kPi / 3;
+  EXPECT_DOUBLE_EQ(WatersAngularFactor(0, omega), 1.0);                  // cos(0)
+  EXPECT_NEAR(WatersAngularFactor(omega / 2, omega), kR2, 1e-15);        // cos(pi/4)
+  EXPECT_NEAR(WatersAngularFactor(omega, omega), 0.0, 1e-15);            // cos(pi/2)
+  EXPECT_EQ(WatersAngularFactor(omega * 1.0001, omega), 0.0);            // outside the zone
+}
+
+TEST(WatersFactors, RadialFactorRisesToRsAndFallsToRf) {
+  EXPECT_NEAR(WatersRadialFactor(0, 5, 10), 0.0, 1e-15);    // cos(pi/2)
+  EXPECT_NEAR(WatersRadialFactor(2.5, 5, 10), kR2, 1e-15);  // cos((1 - 0.5) pi/2)
+  EXPECT_DOUBLE_EQ(WatersRadialFactor(5, 5, 10), 1.0);      // cos(0)
+  EXPECT_NEAR(WatersRadialFactor(7.5, 5, 10), kR2, 1e-15);  // cos(2.5/5 pi/2)
+  EXPECT_NEAR(WatersRadialFactor(10, 5, 10), 0.0, 1e-15);
+  EXPECT_EQ(WatersRadialFactor(10.001, 5, 10), 0.0);
+  // Continuous at Rs from both sides.
+  EXPECT_NEAR(WatersRadialFactor(5 - 1e-9, 5, 10), WatersRadialFactor(5 + 1e-9, 5, 10), 1e-8);
+}
+
+TEST(WatersFactors, SheetFalloffs) {
+  EXPECT_NEAR(SheetLengthFalloff(0.0, 0.25), 0.0, 1e-15);
+  EXPECT_NEAR(SheetLengthFalloff(0.125, 0.25), kR2, 1e-15);
+  EXPECT_DOUBLE_EQ(SheetLengthFalloff(0.25, 0.25), 1.0);
+  EXPECT_NEAR(SheetLengthFalloff(0.625, 0.25), kR2, 1e-15);  // (0.625-0.25)/0.75 = 1/2
+  EXPECT_NEAR(SheetLengthFalloff(1.0, 0.25), 0.0, 1e-15);
+  EXPECT_EQ(SheetLengthFalloff(-0.01, 0.25), 0.0);
+  EXPECT_EQ(SheetLengthFalloff(1.01, 0.25), 0.0);
+  EXPECT_DOUBLE_EQ(SheetWidthFalloff(0.0), 1.0);
+  EXPECT_NEAR(SheetWidthFalloff(0.5), kR2, 1e-15);
+  EXPECT_NEAR(SheetWidthFalloff(1.0), 0.0, 1e-15);
+  EXPECT_EQ(SheetWidthFalloff(1.01), 0.0);
+}
+
+TEST(LinearMuscle, DisplacementAtInteriorPoints) {
+  const LinearMuscleSpec m = Linear();
+  const float k = 2.f;
+  // On the axis at D = Rs: A = 1, R = 1, unit direction (-1, 0, 0).
+  ExpectNear3(LinearMuscleDisplacement(m, {5, 0, 0}, k), -2.0, 0, 0);
+  // D = 2.5: R = cos(pi/4).
+  ExpectNear3(LinearMuscleDisplacement(m, {2.5f, 0, 0}, k), -2.0 * kR2, 0, 0);
+  // D = 7.5: R = cos(pi/4).
+  ExpectNear3(LinearMuscleDisplacement(m, {7.5f, 0, 0}, k), -2.0 * kR2, 0, 0);
+  // mu = 30 degrees (half the zone), D = 5: A = cos(pi/4), R = 1; direction -p/5.
+  const double c = std::cos(kPi / 6), s = std::sin(kPi / 6);
+  const float3 p{float(5 * c), float(5 * s), 0.f};
+  ExpectNear3(LinearMuscleDisplacement(m, p, k), -2.0 * kR2 * c, -2.0 * kR2 * s, 0, 1e-6);
+}
+
+TEST(LinearMuscle, ZoneBoundariesGiveZero) {
+  const LinearMuscleSpec m = Linear();
+  const double a = kPi / 3;
+  // On the angular boundary A = cos(pi/2) ~ 0; just outside exactly 0.
+  const float3 edge{float(5 * std::cos(a)), float(5 * std::sin(a)), 0};
+  EXPECT_LT(Length(LinearMuscleDisplacement(m, edge, 1.f)), 1e-6f);
+  const float3 outside{float(5 * std::cos(a + 0.01)), float(5 * std::sin(a + 0.01)), 0};
+  EXPECT_EQ(LinearMuscleDisplacement(m, outside, 1.f), float3{});
+  // Radial boundary and beyond; behind the attachment; at the attachment itself.
+  EXPECT_LT(Length(LinearMuscleDisplacement(m, {10, 0, 0}, 1.f)), 1e-6f);
+  EXPECT_EQ(LinearMuscleDisplacement(m, {10.01f, 0, 0}, 1.f), float3{});
+  EXPECT_EQ(LinearMuscleDisplacement(m, {-5, 0, 0}, 1.f), float3{});
+  EXPECT_EQ(LinearMuscleDisplacement(m, {0, 0, 0}, 1.f), float3{});
+}
+
+TEST(LinearMuscle, MovesTowardTheAttachment) {
+  const LinearMuscleSpec m = Linear();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-10.f, 10.f);
+  int inside = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const float3 p{u(rng), u(rng), u(rng)};
+    const float3 d = LinearMuscleDisplacement(m, p, 1.f);
+    if (d == float3{}) continue;
+    ++inside;
+    const float3 to_v1 = m.attachment - p;
+    // Parallel to (v1 - p) and pointing the same way.
+    EXPECT_GT(Dot(d, to_v1), 0.f);
+    EXPECT_LT(Length(Cross(d, to_v1)), 1e-4f * Length(d) * Length(to_v1));
+  }
+  EXPECT_GT(inside, 50);
+}
+
+TEST(SheetMuscle, DisplacementAtInteriorPoints) {
+  const SheetMuscleSpec m = Sheet();
+  const float k = 3.f;
+  ExpectNear3(SheetMuscleDisplacement(m, {5, 0, 0}, k), -3.0, 0, 0);        // Fl = Fw = 1
+  ExpectNear3(SheetMuscleDisplacement(m, {2.5f, 5, 0}, k), -1.5, 0, 0);     // kR2 * kR2
+  ExpectNear3(SheetMuscleDisplacement(m, {12.5f, 0, 0}, k), -3.0 * kR2, 0, 0);
+  // h is the distance to the central fiber in 3D: (5, 0, 5) has h = 5 -> gamma = 0.5.
+  ExpectNear3(SheetMuscleDisplacement(m, {5, 0, 5}, k), -3.0 * kR2, 0, 0);
+}
+
+TEST(SheetMuscle, OutsideTheAreaOfInfluenceGivesZero) {
+  const SheetMuscleSpec m = Sheet();
+  EXPECT_EQ(SheetMuscleDisplacement(m, {-0.5f, 0, 0}, 1.f), float3{});  // lambda < 0
+  EXPECT_EQ(SheetMuscleDisplacement(m, {20.5f, 0, 0}, 1.f), float3{});  // lambda > 1
+  EXPECT_EQ(SheetMuscleDisplacement(m, {5, 10.5f, 0}, 1.f), float3{});  // gamma > 1
+  EXPECT_LT(Length(SheetMuscleDisplacement(m, {5, 10, 0}, 1.f)), 1e-6f);  // gamma = 1
+  EXPECT_LT(Length(SheetMuscleDisplacement(m, {20, 0, 0}, 1.f)), 1e-6f);  // lambda = 1
+}
+
+TEST(SheetMuscle, MovesAlongTheFiberTowardTheAttachmentLine) {
+  SheetMuscleSpec m = Sheet();
+  // Tilt the muscle: fiber along (1, 1, 0)/sqrt2.
+  m.attachment[0] = {-7, 7, 0};
+  m.attachment[1] = {7, -7, 0};
+  m.insertion[0] = {7, 21, 0};
+  m.insertion[1] = {21, 7, 0};
+  const float3 p{5, 5, 0};  // on the fiber, l = sqrt(50) ~ 7.07, inside
+  const float3 d = SheetMuscleDisplacement(m, p, 1.f);
+  EXPECT_LT(d.x, 0.f);
+  EXPECT_NEAR(d.x, d.y, 1e-6f);
+  EXPECT_EQ(d.z, 0.f);
+}
+
+std::vector<MuscleSpec> TwoMuscles() {
+  MuscleSpec a;
+  a.name = "lin";
+  a.type = MuscleType::kLinear;
+  a.strength = 2.f;
+  a.linear = Linear();
+  MuscleSpec b;
+  b.name = "sheet";
+  b.type = MuscleType::kSheet;
+  b.strength = 1.5f;
+  b.sheet = Sheet();
+  return {a, b};
+}
+
+std::vector<float3> GridPoints() {
+  std::vector<float3> pts;
+  for (int j = -12; j <= 12; ++j)
+    for (int i = -4; i <= 24; ++i) pts.push_back({float(i) * 0.93f, float(j) * 0.91f, 0.3f});
+  return pts;
+}
+
+TEST(MuscleTable, AgreesWithDirectEvaluation) {
+  const std::vector<MuscleSpec> muscles = TwoMuscles();
+  const std::vector<float3> rest = GridPoints();
+  const MuscleTable table = BuildMuscleTable(muscles, rest);
+  ASSERT_EQ(table.point_count(), rest.size());
+  const std::vector<float> activations = {0.37f, 0.81f};
+  std::vector<float3> out(rest.size());
+  MuscleDeformJob job;
+  job.table = &table;
+  job.activations = activations;
+  job.rest_points = rest;
+  job.out_points = out;
+  job.begin = 0;
+  job.end = uint32_t(rest.size());
+  ASSERT_TRUE(job.Run());
+  size_t moved = 0;
+  for (size_t p = 0; p < rest.size(); ++p) {
+    float3 expect = rest[p];
+    for (size_t m = 0; m < muscles.size(); ++m)
+      expect += MuscleDisplacement(muscles[m], rest[p], activations[m] * muscles[m].strength);
+    EXPECT_NEAR(out[p].x, expect.x, 1e-6f) << p;
+    EXPECT_NEAR(out[p].y, expect.y, 1e-6f) << p;
+    EXPECT_NEAR(out[p].z, expect.z, 1e-6f) << p;
+    moved += out[p] != rest[p];
+  }
+  EXPECT_GT(moved, 100u);
+  // The table holds only points some muscle reaches: fewer entries than points x muscles.
+  EXPECT_LT(table.entries.size(), rest.size() * muscles.size());
+}
+
+TEST(MuscleTable, ZeroActivationReturnsRestBitForBit) {
+  const std::vector<MuscleSpec> muscles = TwoMuscles();
+  const std::vector<float3> rest = GridPoints();
+  const MuscleTable table = BuildMuscleTable(muscles, rest);
+  const std::vector<float> zero = {0.f, 0.f};
+  std::vector<float3> out(rest.size(), float3{9, 9, 9});
+  MuscleDeformJob job{&table, zero, rest, out, 0, uint32_t(rest.size())};
+  ASSERT_TRUE(job.Run());
+  EXPECT_EQ(std::memcmp(out.data(), rest.data(), rest.size() * sizeof(float3)), 0);
+}
+
+TEST(MuscleTable, ActivationsAreClampedAndNaNIsZero) {
+  const std::vector<MuscleSpec> muscles = TwoMuscles();
+  const std::vector<float3> rest = GridPoints();
+  const MuscleTable table = BuildMuscleTable(muscles, rest);
+  std::vector<float3> a(rest.size()), b(rest.size());
+  const std::vector<float> wild = {7.f, std::nanf("")};
+  const std::vector<float> tame = {1.f, 0.f};
+  MuscleDeformJob ja{&table, wild, rest, a, 0, uint32_t(rest.size())};
+  MuscleDeformJob jb{&table, tame, rest, b, 0, uint32_t(rest.size())};
+  ASSERT_TRUE(ja.Run());
+  ASSERT_TRUE(jb.Run());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float3)), 0);
+}
+
+TEST(MuscleDeformJob, ValidityTable) {
+  const std::vector<MuscleSpec> muscles = TwoMuscles();
+  const std::vector<float3> rest = GridPoints();
+  const MuscleTable table = BuildMuscleTable(muscles, rest);
+  const uint32_t n = uint32_t(rest.size());
+  std::vector<float> act(2, 0.5f);
+  std::vector<float3> out(n);
+  const MuscleDeformJob good{&table, act, rest, out, 0, n};
+  EXPECT_TRUE(good.Validate());
+  MuscleDeformJob j = good;
+  j.table = nullptr;
+  EXPECT_FALSE(j.Validate());
+  j = good;
+  j.activations = span<const float>(act).first(1);
+  EXPECT_FALSE(j.Validate());
+  j = good;
+  j.rest_points = span<const float3>(rest).first(n - 1);
+  EXPECT_FALSE(j.Validate());
+  j = good;
+  j.out_points = span<float3>(out).first(n - 1);
+  EXPECT_FALSE(j.Validate());
+  j = good;
+  j.end = n + 1;
+  EXPECT_FALSE(j.Validate());
+  j = good;
+  j.begin = 5;
+  j.end = 4;
+  EXPECT_FALSE(j.Validate());
+  // Invalid jobs leave the output untouched.
+  std::vector<float3> before = out;
+  j.Run();
+  EXPECT_EQ(std::memcmp(before.data(), out.data(), n * sizeof(float3)), 0);
+}
+
+}  // namespace
+}  // namespace mimetic

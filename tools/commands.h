@@ -1,0 +1,19 @@
+// tools/commands.h: the `mimetic` subcommands. Each takes its arguments (after the command
+// name) and returns the process exit code: 0 success, 1 bad input or failure, 2 bad usage.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace mimetic::tools {
+
+using Args = std::vector<std::string>;
+
+int CmdInfo(const Args& args);
+int CmdValidate(const Args& args);
+int CmdEval(const Args& args);
+int CmdMakeSurface(const Args& args);  // the procedural test surface
+int CmdMakeHead(const Args& args);     // the sample head (tools/cmd_head.cpp)
+int CmdRender(const Args& args);       // software render to PNG (tools/cmd_render.cpp)
+
+}  // namespace mimetic::tools

@@ -1,0 +1,54 @@
+// tools/main.cpp: the `mimetic` command line.
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "tools/commands.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  int (*run)(const mimetic::tools::Args&);
+  const char* summary;
+};
+
+const Command kCommands[] = {
+    {"info", mimetic::tools::CmdInfo, "print what a rig contains"},
+    {"validate", mimetic::tools::CmdValidate, "check a rig and its mesh; list every problem"},
+    {"eval", mimetic::tools::CmdEval, "pose a rig with muscle activations and write the mesh"},
+    {"make-surface", mimetic::tools::CmdMakeSurface, "write the procedural test surface mesh"},
+};
+
+void PrintHelp(FILE* out) {
+  std::fprintf(out,
+               "mimetic: a muscle-driven facial rig with wrinkles\n\n"
+               "usage: mimetic <command> [arguments]    (mimetic <command> --help for details)\n\n"
+               "commands:\n");
+  for (const Command& c : kCommands) std::fprintf(out, "  %-13s %s\n", c.name, c.summary);
+  std::fprintf(out, "\nexit status: 0 success, 1 bad input or failure, 2 bad usage\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    PrintHelp(stderr);
+    return 2;
+  }
+  const std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    PrintHelp(stdout);
+    return 0;
+  }
+  if (name == "--version") {
+    std::printf("mimetic 0.1.0\n");
+    return 0;
+  }
+  for (const Command& c : kCommands) {
+    if (name == c.name) return c.run(mimetic::tools::Args(argv + 2, argv + argc));
+  }
+  std::fprintf(stderr, "mimetic: unknown command '%s'\n\n", name.c_str());
+  PrintHelp(stderr);
+  return 2;
+}
