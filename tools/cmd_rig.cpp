@@ -1,9 +1,11 @@
 // tools/cmd_rig.cpp: `mimetic info`, `mimetic validate`, `mimetic eval`.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "core/file_util.h"
 #include "expressions/offline/activation_binding.h"
 #include "rig/offline/mesh.h"
 #include "rig/offline/rig_builder.h"
@@ -158,6 +160,9 @@ int CmdEval(const Args& args) {
     const float d = Length(posed.positions[v] - loaded.mesh.positions[v]);
     if (d > max_disp) max_disp = d, max_vertex = v;
   }
+  const std::string out_dir = DirectoryOf(out_path);
+  std::error_code ec;
+  if (!out_dir.empty()) std::filesystem::create_directories(out_dir, ec);
   if (!ExportMesh(out_path, posed, &diag)) {
     PrintDiagnostics(diag);
     return 1;

@@ -1,0 +1,269 @@
+// EvaluateJob: validity, zero allocation, determinism (rerun and 2-thread split), seams,
+// strides, and normals/positions against hand-computed values.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <thread>
+#include <vector>
+
+#include "muscles/offline/waters.h"
+#include "rig/offline/procedural.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/runtime/evaluate_job.h"
+
+// Global allocation counter for the zero-allocation test.
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace mimetic {
+namespace {
+
+Rig BuildOrDie(const RigSpec& spec, const MeshData& mesh) {
+  Rig rig;
+  Diagnostics diag;
+  EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  return rig;
+}
+
+struct Surface {
+  MeshData mesh;
+  RigSpec spec;
+  Rig rig;
+};
+
+Surface MakeSurface(uint32_t side = 60, uint32_t muscles = 6) {
+  Surface s;
+  s.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
+  s.spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  s.rig = BuildOrDie(s.spec, s.mesh);
+  return s;
+}
+
+std::vector<float> SomeActivations(const Rig& rig) {
+  std::vector<float> a(rig.muscle_count());
+  for (size_t m = 0; m < a.size(); ++m) a[m] = 0.2f + 0.13f * float(m % 6);
+  return a;
+}
+
+EvaluateJob MakeJob(const Rig& rig, EvaluateContext* ctx, span<const float> act,
+                    std::vector<float>* pos, std::vector<float>* nrm) {
+  pos->assign(3 * rig.vertex_count(), 0.f);
+  nrm->assign(3 * rig.vertex_count(), 0.f);
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = ctx;
+  job.activations = act;
+  job.out_positions = *pos;
+  job.out_normals = *nrm;
+  return job;
+}
+
+TEST(EvaluateJob, ValidityTable) {
+  const Surface s = MakeSurface(20, 4);
+  const Surface other = MakeSurface(20, 4);  // same sizes, different rig
+  EvaluateContext ctx(s.rig), other_ctx(other.rig);
+  const std::vector<float> act = SomeActivations(s.rig);
+  std::vector<float> pos, nrm;
+  const EvaluateJob good = MakeJob(s.rig, &ctx, act, &pos, &nrm);
+  EXPECT_TRUE(good.Validate());
+  const size_t n3 = 3 * s.rig.vertex_count();
+
+  EvaluateJob j = good;
+  j.rig = nullptr;
+  EXPECT_FALSE(j.Validate()) << "null rig";
+  j = good;
+  j.context = nullptr;
+  EXPECT_FALSE(j.Validate()) << "null context";
+  j = good;
+  j.context = &other_ctx;
+  EXPECT_FALSE(j.Validate()) << "context sized for another rig";
+  EvaluateContext empty_ctx;
+  j = good;
+  j.context = &empty_ctx;
+  EXPECT_FALSE(j.Validate()) << "context never sized";
+  j = good;
+  j.activations = good.activations.first(act.size() - 1);
+  EXPECT_FALSE(j.Validate()) << "activations one short";
+  j = good;
+  j.out_positions = good.out_positions.first(n3 - 1);
+  EXPECT_FALSE(j.Validate()) << "positions one float short";
+  j = good;
+  j.out_normals = good.out_normals.first(n3 - 1);
+  EXPECT_FALSE(j.Validate()) << "normals one float short";
+  j = good;
+  j.out_normals = {};
+  EXPECT_TRUE(j.Validate()) << "normals are optional";
+  j = good;
+  j.out_positions_stride = 8;
+  EXPECT_FALSE(j.Validate()) << "stride below 12";
+  j = good;
+  j.out_normals_stride = 14;
+  EXPECT_FALSE(j.Validate()) << "stride not a multiple of 4";
+  j = good;
+  j.out_positions_stride = 16;
+  EXPECT_FALSE(j.Validate()) << "stride 16 needs more room";
+
+  // Invalid jobs leave the outputs untouched.
+  std::fill(pos.begin(), pos.end(), 42.f);
+  j = good;
+  j.activations = good.activations.first(act.size() - 1);
+  EXPECT_FALSE(j.Run());
+  for (float f : pos) ASSERT_EQ(f, 42.f);
+}
+
+TEST(EvaluateJob, NoAllocationOver100Runs) {
+  const Surface s = MakeSurface(40, 6);
+  EvaluateContext ctx(s.rig);
+  std::vector<float> act = SomeActivations(s.rig);
+  std::vector<float> pos, nrm;
+  const EvaluateJob job = MakeJob(s.rig, &ctx, act, &pos, &nrm);
+  ASSERT_TRUE(job.Run());
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) {
+    act[i % act.size()] = float(i % 10) / 10.f;
+    ASSERT_TRUE(job.Run());
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+TEST(EvaluateJob, BitIdenticalOnRerun) {
+  const Surface s = MakeSurface(50, 8);
+  EvaluateContext ctx(s.rig);
+  const std::vector<float> act = SomeActivations(s.rig);
+  std::vector<float> pos1, nrm1, pos2, nrm2;
+  ASSERT_TRUE(MakeJob(s.rig, &ctx, act, &pos1, &nrm1).Run());
+  EvaluateContext ctx2(s.rig);
+  ASSERT_TRUE(MakeJob(s.rig, &ctx2, act, &pos2, &nrm2).Run());
+  EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);
+}
+
+// Splits every stage into two halves run on two threads.
+void TwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
+  const uint32_t mid = count / 2 + 7 < count ? count / 2 + 7 : count / 2;  // uneven on purpose
+  std::thread t([&] { task(data, 0, mid); });
+  task(data, mid, count);
+  t.join();
+}
+
+TEST(EvaluateJob, BitIdenticalWhenSplitAcrossTwoThreads) {
+  const Surface s = MakeSurface(70, 10);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(s.rig);
+  std::vector<float> pos1, nrm1, pos2, nrm2;
+  ASSERT_TRUE(MakeJob(s.rig, &c1, act, &pos1, &nrm1).Run());
+  EvaluateJob threaded = MakeJob(s.rig, &c2, act, &pos2, &nrm2);
+  threaded.parallel_for = TwoThreads;
+  ASSERT_TRUE(threaded.Run());
+  EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);
+}
+
+TEST(EvaluateJob, ZeroActivationReturnsRestPositionsBitForBit) {
+  const Surface s = MakeSurface(30, 6);
+  EvaluateContext ctx(s.rig);
+  const std::vector<float> zero(s.rig.muscle_count(), 0.f);
+  std::vector<float> pos, nrm;
+  ASSERT_TRUE(MakeJob(s.rig, &ctx, zero, &pos, &nrm).Run());
+  EXPECT_EQ(std::memcmp(pos.data(), s.mesh.positions.data(), pos.size() * 4), 0);
+}
+
+TEST(EvaluateJob, PositionsMatchDirectMuscleFormulas) {
+  const Surface s = MakeSurface(45, 6);
+  EvaluateContext ctx(s.rig);
+  const std::vector<float> act = SomeActivations(s.rig);
+  std::vector<float> pos, nrm;
+  ASSERT_TRUE(MakeJob(s.rig, &ctx, act, &pos, &nrm).Run());
+  size_t moved = 0;
+  for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+    float3 expect = s.mesh.positions[v];
+    for (size_t m = 0; m < s.spec.muscles.size(); ++m)
+      expect += MuscleDisplacement(s.spec.muscles[m], s.mesh.positions[v],
+                                   act[m] * s.spec.muscles[m].strength);
+    ASSERT_NEAR(pos[3 * v], expect.x, 1e-5f);
+    ASSERT_NEAR(pos[3 * v + 1], expect.y, 1e-5f);
+    ASSERT_NEAR(pos[3 * v + 2], expect.z, 1e-5f);
+    moved += Length(expect - s.mesh.positions[v]) > 1e-3f;
+  }
+  EXPECT_GT(moved, s.mesh.vertex_count() / 10);
+}
+
+// Two triangles sharing edge AB, hand-computed area-weighted normals:
+//   ABC: (B-A) x (C-A) = (1,0,0) x (0,1,0) = (0,0,1)
+//   ADB: (D-A) x (B-A) = (0,-2,2) x (1,0,0) = (0,2,2)
+// A and B: (0,2,3)/sqrt(13); C: (0,0,1); D: (0,1,1)/sqrt(2).
+TEST(EvaluateJob, AreaWeightedNormalsByHand) {
+  MeshData mesh;
+  mesh.source = "two triangles";
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -2, 2}};
+  mesh.indices = {0, 1, 2, 0, 3, 1};
+  RigSpec spec;
+  spec.units = "mm";
+  const Rig rig = BuildOrDie(spec, mesh);
+  EvaluateContext ctx(rig);
+  std::vector<float> pos, nrm;
+  ASSERT_TRUE(MakeJob(rig, &ctx, {}, &pos, &nrm).Run());
+  const double s13 = std::sqrt(13.0), s2 = std::sqrt(2.0);
+  const double expect[4][3] = {{0, 2 / s13, 3 / s13}, {0, 2 / s13, 3 / s13}, {0, 0, 1}, {0, 1 / s2, 1 / s2}};
+  for (int v = 0; v < 4; ++v)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(nrm[3 * v + c], expect[v][c], 1e-6) << v << "," << c;
+}
+
+// A strip split at a UV seam: the duplicated vertices must come out identical (no crack),
+// and an interleaved output (stride 32 bytes) leaves the other floats alone.
+TEST(EvaluateJob, SeamVerticesStayTogetherAndStridesAreHonoured) {
+  Surface s = MakeSurface(21, 4);
+  // Duplicate column 10 of the grid as a seam: triangles right of it use the copies.
+  const uint32_t side = 21;
+  MeshData mesh = s.mesh;
+  std::vector<uint32_t> copy_of(mesh.vertex_count(), UINT32_MAX);
+  for (uint32_t j = 0; j < side; ++j) {
+    const uint32_t v = j * side + 10;
+    copy_of[v] = uint32_t(mesh.positions.size());
+    mesh.positions.push_back(mesh.positions[v]);
+    mesh.uvs.push_back({1.f, mesh.uvs[v].y});
+  }
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    uint32_t* tri = &mesh.indices[3 * t];
+    const float cx = (mesh.positions[tri[0]].x + mesh.positions[tri[1]].x + mesh.positions[tri[2]].x) / 3;
+    if (cx > mesh.positions[10].x)
+      for (int k = 0; k < 3; ++k)
+        if (copy_of[tri[k]] != UINT32_MAX) tri[k] = copy_of[tri[k]];
+  }
+  const Rig rig = BuildOrDie(s.spec, mesh);
+  ASSERT_EQ(rig.vertex_count(), side * side + side);
+  ASSERT_EQ(rig.point_count(), side * side);
+  EvaluateContext ctx(rig);
+  const std::vector<float> act = SomeActivations(rig);
+  std::vector<float> inter(8 * rig.vertex_count(), -7.f);  // pos(3) normal(3) uv(2)
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &ctx;
+  job.activations = act;
+  job.out_positions = span<float>(inter);
+  job.out_positions_stride = 32;
+  job.out_normals = span<float>(inter).subspan(3);
+  job.out_normals_stride = 32;
+  ASSERT_TRUE(job.Run());
+  for (uint32_t j = 0; j < side; ++j) {
+    const uint32_t a = j * side + 10, b = copy_of[a];
+    EXPECT_EQ(std::memcmp(&inter[8 * a], &inter[8 * b], 6 * sizeof(float)), 0) << "row " << j;
+  }
+  for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
+    ASSERT_EQ(inter[8 * v + 6], -7.f);
+    ASSERT_EQ(inter[8 * v + 7], -7.f);
+  }
+}
+
+}  // namespace
+}  // namespace mimetic

@@ -1,0 +1,152 @@
+// Runs the built `mimetic` tool: help, info, validate, eval, and its errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "muscles/offline/waters.h"
+#include "rig/offline/mesh.h"
+#include "rig/offline/rig_spec.h"
+#include "test_support.h"
+
+namespace mimetic {
+namespace {
+
+using test::RunTool;
+
+std::string SurfaceRig() { return test::SourceDir() + "/assets/surface/surface.rig.json"; }
+
+bool Contains(const std::string& haystack, const std::string& needle) {
+  return haystack.find(needle) != std::string::npos;
+}
+
+TEST(Cli, HelpListsEveryCommandAndEachCommandHasHelp) {
+  const auto top = RunTool({"--help"});
+  EXPECT_EQ(top.exit_code, 0);
+  for (const char* cmd : {"info", "validate", "eval", "make-surface"}) {
+    EXPECT_TRUE(Contains(top.output, cmd)) << cmd;
+    const auto r = RunTool({cmd, "--help"});
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_TRUE(Contains(r.output, std::string("usage: mimetic ") + cmd)) << r.output;
+  }
+}
+
+TEST(Cli, UnknownCommandAndMissingArgumentsAreUsageErrors) {
+  EXPECT_EQ(RunTool({"frobnicate"}).exit_code, 2);
+  EXPECT_EQ(RunTool({}).exit_code, 2);
+  EXPECT_EQ(RunTool({"info"}).exit_code, 2);
+  EXPECT_EQ(RunTool({"eval", SurfaceRig()}).exit_code, 2);                        // no --out
+  EXPECT_EQ(RunTool({"eval", SurfaceRig(), "--out", "x.stl"}).exit_code, 2);      // bad format
+  EXPECT_EQ(RunTool({"info", SurfaceRig(), "--bogus"}).exit_code, 2);
+}
+
+TEST(Cli, InfoReportsTheSurfaceRig) {
+  const auto r = RunTool({"info", SurfaceRig()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // 41 x 41 grid: 1681 vertices, 40 * 40 * 2 = 3200 triangles; two muscles.
+  EXPECT_TRUE(Contains(r.output, "vertices:   1681")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "triangles:  3200")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "muscles:    2")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "zygomatic")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "frontalis")) << r.output;
+}
+
+TEST(Cli, ValidateAcceptsGoodAndRejectsBadRigs) {
+  const auto ok = RunTool({"validate", SurfaceRig()});
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_TRUE(Contains(ok.output, "ok")) << ok.output;
+
+  const std::string dir = test::TempDir();
+  const std::string bad = dir + "/bad.rig.json";
+  std::ofstream(bad) << R"({"format":"mimetic-rig","version":1,"mesh":{"path":"nowhere.obj"},
+    "units":"mm","muscles":[{"name":"a","type":"sphincter","strength":1}]})";
+  const auto r = RunTool({"validate", bad});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Contains(r.output, "muscles[0].type")) << r.output;
+  EXPECT_TRUE(Contains(r.output, "sphincter")) << r.output;
+
+  const std::string missing_mesh = dir + "/missing.rig.json";
+  std::ofstream(missing_mesh) << R"({"format":"mimetic-rig","version":1,
+    "mesh":{"path":"nowhere.obj"},"units":"mm","muscles":[]})";
+  const auto m = RunTool({"validate", missing_mesh});
+  EXPECT_EQ(m.exit_code, 1);
+  EXPECT_TRUE(Contains(m.output, "nowhere.obj")) << m.output;
+
+  const auto none = RunTool({"validate", dir + "/does-not-exist.rig.json"});
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_TRUE(Contains(none.output, "does-not-exist.rig.json")) << none.output;
+}
+
+// The posed mesh equals rest + the direct Waters formulas (a second method).
+TEST(Cli, EvalWritesThePosedMesh) {
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadRigSpec(SurfaceRig(), &spec, &diag)) << diag.Format();
+  MeshData rest;
+  ASSERT_TRUE(ImportMesh(spec.mesh_path, "", &rest, &diag)) << diag.Format();
+
+  for (const char* ext : {".obj", ".glb"}) {
+    const std::string out = test::TempDir() + "/sub/posed" + ext;
+    const auto r = RunTool({"eval", SurfaceRig(), "--set", "zygomatic=0.8", "--set",
+                            "frontalis=0.5", "--out", out});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(Contains(r.output, "wrote " + out)) << r.output;
+    MeshData posed;
+    ASSERT_TRUE(ImportMesh(out, "", &posed, &diag)) << diag.Format();
+    ASSERT_EQ(posed.vertex_count(), rest.vertex_count());
+    ASSERT_EQ(posed.indices, rest.indices);
+    size_t moved = 0;
+    for (size_t v = 0; v < rest.vertex_count(); ++v) {
+      const float3 p = rest.positions[v];
+      const float3 expect = p + MuscleDisplacement(spec.muscles[0], p, 0.8f * spec.muscles[0].strength) +
+                            MuscleDisplacement(spec.muscles[1], p, 0.5f * spec.muscles[1].strength);
+      ASSERT_NEAR(posed.positions[v].x, expect.x, 1e-4f) << ext << " vertex " << v;
+      ASSERT_NEAR(posed.positions[v].y, expect.y, 1e-4f);
+      ASSERT_NEAR(posed.positions[v].z, expect.z, 1e-4f);
+      moved += Length(expect - p) > 0.01f;
+    }
+    EXPECT_GT(moved, 100u) << ext;
+  }
+}
+
+TEST(Cli, EvalRejectsUnknownMusclesAndBadValues) {
+  const std::string out = test::TempDir() + "/x.obj";
+  struct Case {
+    std::string set, expect;
+  } cases[] = {
+      {"zygomatik=0.5", "unknown muscle 'zygomatik'; closest: zygomatic"},
+      {"zygomatic=abc", "not a finite number"},
+      {"zygomatic=nan", "not a finite number"},
+      {"zygomatic=1.5", "outside [0, 1]"},
+      {"zygomatic=-0.1", "outside [0, 1]"},
+      {"zygomatic", "expected NAME=VALUE"},
+      {"zygomatic=", "not a finite number"},
+  };
+  for (const Case& c : cases) {
+    const auto r = RunTool({"eval", SurfaceRig(), "--set", c.set, "--out", out});
+    EXPECT_EQ(r.exit_code, 1) << c.set;
+    EXPECT_TRUE(Contains(r.output, c.expect)) << c.set << "\n" << r.output;
+  }
+  const auto twice = RunTool({"eval", SurfaceRig(), "--set", "frontalis=0.1", "--set",
+                              "frontalis=0.2", "--out", out});
+  EXPECT_EQ(twice.exit_code, 1);
+  EXPECT_TRUE(Contains(twice.output, "more than once")) << twice.output;
+  std::ifstream written(out);
+  EXPECT_FALSE(written.good()) << "nothing is written on error";
+}
+
+TEST(Cli, MakeSurfaceWritesTheGridItSays) {
+  const std::string out = test::TempDir() + "/s.obj";
+  const auto r = RunTool({"make-surface", "--out", out, "--columns", "5", "--rows", "4"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  MeshData mesh;
+  Diagnostics diag;
+  ASSERT_TRUE(ImportMesh(out, "", &mesh, &diag)) << diag.Format();
+  EXPECT_EQ(mesh.vertex_count(), 20u);
+  EXPECT_EQ(mesh.triangle_count(), 4u * 3u * 2u);
+  EXPECT_EQ(RunTool({"make-surface", "--out", out, "--columns", "1"}).exit_code, 2);
+  EXPECT_EQ(RunTool({"make-surface", "--out", out, "--width", "abc"}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace mimetic

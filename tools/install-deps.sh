@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs what mimetic needs to build and test on Debian 12, non-interactively and
+# idempotently: packages already present are not touched, and apt-get runs only when
+# something is missing. Run as root (CI and the README's commands do).
+#   bash tools/install-deps.sh            # build + tests + benchmark
+#   bash tools/install-deps.sh --viewer   # also GLFW, Dear ImGui and Xvfb for the viewer
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git
+  nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libglm-dev libstb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-jsonschema
+)
+if [[ "${1:-}" == "--viewer" ]]; then
+  packages+=(libglfw3-dev libimgui-dev libgl-dev xvfb xauth)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if (( ${#missing[@]} == 0 )); then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: done"
