@@ -1,0 +1,110 @@
+// wrinkles/runtime/wrinkle_jobs.cpp: MODEL.md §6-8 wrinkle displacement (see wrinkle_jobs.h).
+#include "wrinkles/runtime/wrinkle_jobs.h"
+
+#include <cmath>
+
+#include "wrinkles/runtime/job_util.h"
+#include "wrinkles/runtime/profiles.h"
+
+namespace mimetic {
+
+// ----------------------------------------------------------------------------------------------
+bool MuscleWrinkleJob::Validate() const {
+  if (begin > end || points.size() < end || phase.size() < end || attenuation.size() < end ||
+      compression.size() < end) {
+    return false;
+  }
+  if (!out_amplitudes.empty() && out_amplitudes.size() < end) return false;
+  if (!(half_cycle > 0.f) || !std::isfinite(half_cycle) || !std::isfinite(furrow_depth) ||
+      !std::isfinite(shape)) {
+    return false;
+  }
+  const auto rows = points.subspan(begin, end - begin);
+  return detail::IndicesBelow(rows, normals.size()) && detail::IndicesBelow(rows, positions.size());
+}
+
+bool MuscleWrinkleJob::Run() const {
+  if (!Validate()) return false;
+  for (size_t i = begin; i < end; ++i) {
+    // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6); no activation factor (see header).
+    const float w = ZhangShape(phase[i], half_cycle, furrow_depth, shape) *
+                    Anisotropy(compression[i]) * ClampOrLow(attenuation[i], 0.f, 1.f);
+    const uint32_t p = points[i];
+    positions[p] += normals[p] * w;
+    if (!out_amplitudes.empty()) out_amplitudes[i] = w;
+  }
+  return true;
+}
+
+// ----------------------------------------------------------------------------------------------
+float CurveWrinkleValue(const CurveWrinkleParams& p, float l, float s, float r) {
+  const bool directional = p.modulation == CurveWrinkleModulation::kDirectional;
+  if (p.profile == CurveWrinkleProfile::kBando) {
+    // 000 eq. 2 times 000 eq. 5 or 002 eq. 6 (MODEL.md §7).
+    const float m = directional ? DirectionalModulation(s, p.rest_amplitude)
+                                : AreaModulation(r, p.rest_amplitude);
+    return CurveProfile(l, p.depth, p.width) * m;
+  }
+  // Yang-Zhang (MODEL.md §8): skin length ratio across the furrow, a = S a0 (004 eq. 8).
+  float S = directional ? 1.f - s : r;
+  if (!(S >= 0.f)) S = S != S ? 1.f : 0.f;
+  if (!(S < 1e6f)) S = 1e6f;  // far past the point where the depth is 0
+  const float a = S * p.width;
+  const float h = p.profile == CurveWrinkleProfile::kYangZhang
+                      ? YangZhangDepth(p.depth, p.width, S)
+                      : static_cast<float>(YangZhangDepthNewton(p.depth, p.width, S,
+                                                                p.rest_length,
+                                                                YangZhangSpan::kFlank));
+  return YangZhangProfile(l, a, h);
+}
+
+bool CurveWrinkleJob::Validate() const {
+  if (points.size() < end || !detail::RowsValid(begin, end, offsets, entries.size())) {
+    return false;
+  }
+  if (!out_amplitudes.empty() && out_amplitudes.size() < end) return false;
+  bool any_directional = false, any_area = false;
+  for (const CurveWrinkleParams& p : wrinkles) {
+    if (p.profile != CurveWrinkleProfile::kBando && p.profile != CurveWrinkleProfile::kYangZhang &&
+        p.profile != CurveWrinkleProfile::kYangZhangExact) {
+      return false;
+    }
+    if (p.modulation == CurveWrinkleModulation::kDirectional) {
+      any_directional = true;
+    } else if (p.modulation == CurveWrinkleModulation::kArea) {
+      any_area = true;
+    } else {
+      return false;
+    }
+  }
+  if (any_directional && entry_shrinkage.size() < offsets[end]) return false;
+  const auto rows = points.subspan(begin, end - begin);
+  if (!detail::IndicesBelow(rows, normals.size()) || !detail::IndicesBelow(rows, positions.size())) {
+    return false;
+  }
+  if (any_area && !detail::IndicesBelow(rows, area_ratios.size())) return false;
+  for (uint32_t k = offsets[begin]; k < offsets[end]; ++k) {
+    if (entries[k].wrinkle >= wrinkles.size()) return false;
+  }
+  return true;
+}
+
+bool CurveWrinkleJob::Run() const {
+  if (!Validate()) return false;
+  for (size_t i = begin; i < end; ++i) {
+    const uint32_t p = points[i];
+    float sum = 0.f;
+    for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const CurveWrinkleParams& params = wrinkles[entries[k].wrinkle];
+      const bool directional = params.modulation == CurveWrinkleModulation::kDirectional;
+      const float s = directional ? entry_shrinkage[k] : 0.f;
+      const float r = directional ? 1.f : area_ratios[p];
+      sum += CurveWrinkleValue(params, entries[k].distance, s, r);
+    }
+    positions[p] += normals[p] * sum;  // MODEL.md §7: x' = x + S(l) M N
+    if (!out_amplitudes.empty()) out_amplitudes[i] = sum;
+  }
+  return true;
+}
+
+}  // namespace mimetic
