@@ -27,12 +27,17 @@ const char* kValidateUsage =
     "expected. Exit status 0 when the rig is usable, 1 when it is not.\n";
 
 const char* kEvalUsage =
-    "usage: mimetic eval RIG [--set MUSCLE=VALUE]... --out FILE\n\n"
+    "usage: mimetic eval RIG [--set MUSCLE=VALUE]... --out FILE [--no-thickness]\n"
+    "                    [--no-muscle-wrinkles] [--no-curve-wrinkles]\n\n"
     "Poses RIG with the given muscle activations (each in [0, 1]; unset muscles are 0) and\n"
-    "writes the deformed mesh, in the mesh file's own vertex layout, with normals and UVs.\n\n"
+    "writes the deformed mesh, in the rig's vertex layout (the mesh file's own, refined where\n"
+    "wrinkles act), with normals and UVs.\n\n"
     "options:\n"
-    "  --set MUSCLE=VALUE   activation of one muscle (repeatable)\n"
-    "  --out FILE           output mesh: .obj or .glb\n";
+    "  --set MUSCLE=VALUE      activation of one muscle (repeatable)\n"
+    "  --out FILE              output mesh: .obj or .glb\n"
+    "  --no-thickness          skip the volume-preserving thickness layer (MODEL.md §4)\n"
+    "  --no-muscle-wrinkles    skip muscle-derived wrinkles (MODEL.md §6)\n"
+    "  --no-curve-wrinkles     skip curve wrinkles (MODEL.md §7-8)\n";
 
 void PrintDiagnostics(const Diagnostics& diag) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
@@ -112,7 +117,8 @@ int CmdValidate(const Args& args) {
 }
 
 int CmdEval(const Args& args) {
-  const ParsedArgs parsed = ParseArgs(args, {"set", "out"}, {});
+  const ParsedArgs parsed = ParseArgs(args, {"set", "out"},
+                                      {"no-thickness", "no-muscle-wrinkles", "no-curve-wrinkles"});
   if (parsed.help) return std::fputs(kEvalUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("eval", parsed.error, kEvalUsage);
   const std::string out_path = parsed.Get("out");
@@ -138,10 +144,11 @@ int CmdEval(const Args& args) {
   }
 
   EvaluateContext context(rig);
+  const MeshData rest = RestMesh(rig);
   MeshData posed;
   posed.positions.resize(rig.vertex_count());
   posed.normals.resize(rig.vertex_count());
-  posed.uvs = loaded.mesh.uvs;
+  posed.uvs = rig.vertex_uvs;
   posed.indices = rig.vertex_indices;
   EvaluateJob job;
   job.rig = &rig;
@@ -149,6 +156,9 @@ int CmdEval(const Args& args) {
   job.activations = activations;
   job.out_positions = span<float>(&posed.positions[0].x, posed.positions.size() * 3);
   job.out_normals = span<float>(&posed.normals[0].x, posed.normals.size() * 3);
+  job.layers.thickness = !parsed.flags.count("no-thickness");
+  job.layers.muscle_wrinkles = !parsed.flags.count("no-muscle-wrinkles");
+  job.layers.curve_wrinkles = !parsed.flags.count("no-curve-wrinkles");
   if (!job.Run()) {
     std::fprintf(stderr, "mimetic eval: evaluation failed (internal error: job did not validate)\n");
     return 1;
@@ -157,7 +167,7 @@ int CmdEval(const Args& args) {
   float max_disp = 0.f;
   uint32_t max_vertex = 0;
   for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
-    const float d = Length(posed.positions[v] - loaded.mesh.positions[v]);
+    const float d = Length(posed.positions[v] - rest.positions[v]);
     if (d > max_disp) max_disp = d, max_vertex = v;
   }
   const std::string out_dir = DirectoryOf(out_path);
@@ -176,6 +186,17 @@ int CmdEval(const Args& args) {
     }
   }
   if (!any) std::printf(" all muscles at rest");
+  std::printf("\nlayers: muscles");
+  const struct {
+    bool compiled, enabled;
+    const char* name;
+  } layer_list[] = {{rig.layers.thickness, job.layers.thickness, "thickness"},
+                    {rig.layers.muscle_wrinkles, job.layers.muscle_wrinkles, "muscle wrinkles"},
+                    {rig.layers.curve_wrinkles, job.layers.curve_wrinkles, "curve wrinkles"}};
+  for (const auto& l : layer_list) {
+    if (l.compiled && l.enabled) std::printf(", %s", l.name);
+    else if (l.compiled) std::printf(" (%s switched off)", l.name);
+  }
   std::printf("\nlargest displacement: %.4g %s at vertex %u\n", max_disp, loaded.spec.units.c_str(),
               max_vertex);
   std::printf("wrote %s (%u vertices, %u triangles, with normals%s)\n", out_path.c_str(),

@@ -8,31 +8,18 @@
 
 #include "muscles/offline/muscle_builder.h"
 #include "rig/offline/weld.h"
+#include "wrinkles/offline/wrinkle_builder.h"
 
 namespace mimetic {
 namespace {
 
 std::atomic<uint64_t> g_next_uid{1};
 
-// Grayscale image sampled bilinearly in texture space (u right, v down from the top row).
-struct GrayImage {
-  int width = 0, height = 0;
-  std::vector<float> values;  // [0, 1]
-  float Sample(float u, float v) const {
-    const float x = ClampOrLow(u, 0.f, 1.f) * float(width - 1);
-    const float y = ClampOrLow(v, 0.f, 1.f) * float(height - 1);
-    const int x0 = int(x), y0 = int(y);
-    const int x1 = x0 + 1 < width ? x0 + 1 : x0, y1 = y0 + 1 < height ? y0 + 1 : y0;
-    const float fx = x - float(x0), fy = y - float(y0);
-    auto at = [&](int xi, int yi) { return values[size_t(yi) * width + xi]; };
-    return (at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) +
-           (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
-  }
-};
-
-bool LoadGray(const std::string& path, GrayImage* out, Diagnostics* diag) {
-  int w = 0, h = 0, channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 1);
+// Reads a grayscale image (any format stb_image reads) into 8-bit values.
+bool LoadGray(const std::string& path, std::vector<uint8_t>* gray, int* width, int* height,
+              Diagnostics* diag) {
+  int channels = 0;
+  unsigned char* data = stbi_load(path.c_str(), width, height, &channels, 1);
   if (!data) {
     const char* reason = stbi_failure_reason();
     diag->Error("thickness.path", "cannot read thickness image '" + path +
@@ -40,10 +27,7 @@ bool LoadGray(const std::string& path, GrayImage* out, Diagnostics* diag) {
                                       " (expected a PNG, JPEG, TGA or BMP image)");
     return false;
   }
-  out->width = w;
-  out->height = h;
-  out->values.resize(size_t(w) * h);
-  for (size_t i = 0; i < out->values.size(); ++i) out->values[i] = data[i] / 255.f;
+  gray->assign(data, data + size_t(*width) * size_t(*height));
   stbi_image_free(data);
   return true;
 }
@@ -77,12 +61,16 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
                                      mesh.source + "' has none");
         return false;
       }
-      GrayImage image;
-      if (!LoadGray(spec.image_path, &image, diag)) return false;
+      std::vector<uint8_t> gray;
+      int width = 0, height = 0;
+      if (!LoadGray(spec.image_path, &gray, &width, &height, diag)) return false;
+      // Gray level in [0, 1] at every file vertex (002 §6), then min + (max - min) * g.
+      std::vector<float> level;
+      if (!SampleThicknessMap(gray, width, height, 1.f, mesh.uvs, "thickness", &level, diag))
+        return false;
       std::vector<uint32_t> count(points, 0);
       for (size_t v = 0; v < mesh.vertex_count(); ++v) {
-        const float g = image.Sample(mesh.uvs[v].x, mesh.uvs[v].y);
-        (*out)[welded.point_of_vertex[v]] += spec.min + (spec.max - spec.min) * g;
+        (*out)[welded.point_of_vertex[v]] += spec.min + (spec.max - spec.min) * level[v];
         ++count[welded.point_of_vertex[v]];
       }
       for (size_t p = 0; p < points; ++p) (*out)[p] /= float(count[p] ? count[p] : 1);
@@ -90,6 +78,94 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
     }
   }
   return false;
+}
+
+WrinkleMuscleGeometry GeometryOf(const MuscleSpec& m) {
+  WrinkleMuscleGeometry g;
+  if (m.type == MuscleType::kLinear) {
+    g.kind = WrinkleMuscleKind::kLinear;
+    g.attachment = m.linear.attachment;
+    g.insertion = m.linear.insertion;
+    g.zone_angle = m.linear.zone_angle;
+    g.radius = m.linear.falloff_end;  // 001's R is Waters' Rf
+  } else {
+    g.kind = WrinkleMuscleKind::kSheet;
+    g.attachment_line[0] = m.sheet.attachment[0];
+    g.attachment_line[1] = m.sheet.attachment[1];
+    g.insertion_line[0] = m.sheet.insertion[0];
+    g.insertion_line[1] = m.sheet.insertion[1];
+    g.length = m.sheet.length;
+    g.width = m.sheet.width;
+  }
+  return g;
+}
+
+// MODEL.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
+bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh, Rig* rig, Diagnostics* diag) {
+  bool ok = true;
+  bool any_thickness = false;
+  for (float h : rig->point_thickness) any_thickness |= h > 0.f;
+  rig->layers.thickness = spec.layers.thickness && any_thickness;
+
+  if (spec.layers.muscle_wrinkles && !spec.muscle_wrinkles.empty()) {
+    const CsrTable neighbors = BuildPointNeighbors(rig->triangles, rig->point_count());
+    for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
+      if (!spec.muscle_wrinkles[m]) continue;
+      MuscleWrinkleTable table;
+      const std::string where = "muscles[" + std::to_string(m) + "].wrinkles";
+      if (!BuildMuscleWrinkleTable(*spec.muscle_wrinkles[m], GeometryOf(spec.muscles[m]),
+                                   rig->rest_points, neighbors, where, &table, diag)) {
+        ok = false;
+        continue;
+      }
+      if (table.points.empty()) continue;
+      RigMuscleWrinkles w;
+      w.muscle = uint32_t(m);
+      w.points = std::move(table.points);
+      w.phase = std::move(table.phase);
+      w.attenuation = std::move(table.attenuation);
+      w.edge_offsets = std::move(table.edge_offsets);
+      w.edge_neighbors = std::move(table.edge_neighbors);
+      w.edge_rest_lengths = std::move(table.edge_rest_lengths);
+      w.edge_weights = std::move(table.edge_weights);
+      w.half_cycle = table.half_cycle;
+      w.furrow_depth = table.furrow_depth;
+      w.shape = table.shape;
+      rig->muscle_wrinkles.push_back(std::move(w));
+    }
+  }
+  rig->layers.muscle_wrinkles = !rig->muscle_wrinkles.empty();
+
+  if (spec.layers.curve_wrinkles && !spec.curve_wrinkles.empty()) {
+    if (mesh.uvs.size() != mesh.vertex_count()) {
+      diag->Error("curve_wrinkles", "curve wrinkles are drawn in texture space, and mesh '" +
+                                        mesh.source + "' has no texture coordinates");
+      ok = false;
+    } else {
+      std::vector<float2> corner_uvs(mesh.indices.size());
+      for (size_t i = 0; i < mesh.indices.size(); ++i) corner_uvs[i] = mesh.uvs[mesh.indices[i]];
+      std::vector<CurveWrinkleSpec> specs;
+      for (const NamedCurveWrinkle& c : spec.curve_wrinkles) specs.push_back(c.spec);
+      CurveWrinkleTable table;
+      if (BuildCurveWrinkleTable(specs, rig->rest_points, rig->triangles, corner_uvs,
+                                 "curve_wrinkles", &table, diag)) {
+        RigCurveWrinkles& c = rig->curve_wrinkles;
+        for (const NamedCurveWrinkle& n : spec.curve_wrinkles) c.names.push_back(n.name);
+        c.wrinkles = std::move(table.wrinkles);
+        c.points = std::move(table.points);
+        c.offsets = std::move(table.offsets);
+        c.entries = std::move(table.entries);
+        c.probes = std::move(table.probes);
+      } else {
+        ok = false;
+      }
+    }
+  }
+  rig->layers.curve_wrinkles = !rig->curve_wrinkles.entries.empty();
+
+  if (rig->layers.thickness || rig->layers.muscle_wrinkles || rig->layers.curve_wrinkles)
+    rig->rest_triangle_areas = ComputeTriangleAreas(rig->rest_points, rig->triangles);
+  return ok;
 }
 
 }  // namespace
@@ -131,9 +207,21 @@ bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& opt
                     "reaches no vertex of the mesh: check its position and fall-off radii "
                     "against the mesh's units and placement");
   }
+  ok = CompileSkinLayers(spec, mesh, &rig, diag) && ok;
   if (!ok) return false;
   *out = std::move(rig);
   return true;
+}
+
+MeshData RestMesh(const Rig& rig) {
+  MeshData mesh;
+  mesh.source = "rig rest pose";
+  mesh.positions.resize(rig.vertex_count());
+  for (uint32_t v = 0; v < rig.vertex_count(); ++v)
+    mesh.positions[v] = rig.rest_points[rig.vertex_points[v]];
+  mesh.uvs = rig.vertex_uvs;
+  mesh.indices = rig.vertex_indices;
+  return mesh;
 }
 
 bool LoadRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag,

@@ -21,6 +21,10 @@ struct BuildOptions {
 bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& options, Rig* out,
               Diagnostics* diag);
 
+// The rig's rest mesh in its output layout (refined where wrinkles act): positions, uvs and
+// triangles per output vertex. Tools use it to write posed meshes and measure displacements.
+MeshData RestMesh(const Rig& rig);
+
 // Everything a tool needs about one rig file.
 struct LoadedRig {
   RigSpec spec;

@@ -1,12 +1,14 @@
 // rig/offline/rig_spec.h: the rig file (docs/rig-format.md) once parsed, before compiling.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "core/diagnostics.h"
 #include "muscles/offline/muscle_spec.h"
+#include "wrinkles/offline/wrinkle_spec.h"
 
 namespace mimetic {
 
@@ -20,6 +22,26 @@ struct ThicknessSpec {
   float min = 0.f, max = 0.f;      // kImage: black -> min, white -> max
 };
 
+// Which skin layers a rig evaluates (MODEL.md §1 steps 3-4). Each can also be switched off
+// per evaluation (EvaluateJob::layers); a layer off in the rig is not compiled at all.
+struct LayerSpec {
+  bool thickness = true;        // MODEL.md §4
+  bool muscle_wrinkles = true;  // MODEL.md §6
+  bool curve_wrinkles = true;   // MODEL.md §7-8
+};
+
+// Compile-time refinement (MODEL.md §11): triangles in a wrinkle's support are split until
+// their edges are shorter than `edge_fraction` times the wrinkle's width.
+struct RefinementSpec {
+  bool enabled = true;
+  float edge_fraction = 0.25f;  // (0, 1]
+};
+
+struct NamedCurveWrinkle {
+  std::string name;             // unique among curve wrinkles
+  CurveWrinkleSpec spec;
+};
+
 struct RigSpec {
   std::string file;        // the rig file this came from ("" when parsed from text)
   std::string mesh_path;   // resolved against the rig file's directory
@@ -27,6 +49,13 @@ struct RigSpec {
   std::string units;       // "mm", "cm", "dm", "m" or "in"
   ThicknessSpec thickness;
   std::vector<MuscleSpec> muscles;
+  // Parallel to `muscles`: the optional wrinkle block of each muscle (MODEL.md §6). Empty
+  // vector or nullopt entries mean no wrinkles. (Kept here, not in MuscleSpec, because
+  // muscles/ and wrinkles/ are siblings that do not include each other.)
+  std::vector<std::optional<MuscleWrinkleSpec>> muscle_wrinkles;
+  std::vector<NamedCurveWrinkle> curve_wrinkles;  // MODEL.md §7-8
+  LayerSpec layers;
+  RefinementSpec refinement;
 };
 
 // Parses and validates a rig file. Every problem is recorded with its JSON path

@@ -1,5 +1,7 @@
 #include "rig/runtime/evaluate_job.h"
 
+#include <algorithm>
+
 #include "expressions/runtime/activations.h"
 #include "rig/runtime/normals_job.h"
 
@@ -14,6 +16,14 @@ void EvaluateContext::Resize(const Rig& rig) {
   points_.assign(point_count_, float3{});
   face_normals_.assign(triangle_count_, float3{});
   point_normals_.assign(point_count_, float3{});
+  const bool skin = rig.layers.thickness || rig.layers.muscle_wrinkles || rig.layers.curve_wrinkles;
+  normals1_.assign(skin ? point_count_ : 0, float3{});
+  triangle_ratios_.assign(skin ? triangle_count_ : 0, 1.f);
+  point_ratios_.assign(point_count_, 1.f);
+  size_t rows = 0;
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
+  compression_.assign(rows, 0.f);
+  shrinkage_.assign(rig.curve_wrinkles.entries.size(), 0.f);
 }
 
 bool EvaluateContext::IsFor(const Rig& rig) const {
@@ -77,21 +87,8 @@ bool EvaluateJob::Run() const {
   const Rig& r = *rig;
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
 
-  // 1. Muscles (MODEL.md §1 step 1): summed on the rest pose.
-  ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
-    MuscleDeformJob job;
-    job.table = &r.muscles;
-    job.activations = ctx.activations_;
-    job.rest_points = r.rest_points;
-    job.out_points = ctx.points_;
-    job.begin = b;
-    job.end = e;
-    job.Run();
-  });
-
-  // 2. Normals of the deformed points, area-weighted.
-  const bool want_normals = !out_normals.empty();
-  if (want_normals) {
+  // Normals of ctx.points_ into `out` (area-weighted, MODEL.md §1 steps 2 and 5).
+  auto normals = [&](span<float3> out) {
     ParallelFor(*this, r.triangle_count(), [&](uint32_t b, uint32_t e) {
       FaceNormalsJob job;
       job.points = ctx.points_;
@@ -106,14 +103,154 @@ bool EvaluateJob::Run() const {
       job.face_normals = ctx.face_normals_;
       job.point_triangle_offsets = r.point_triangle_offsets;
       job.point_triangles = r.point_triangles;
-      job.out_normals = ctx.point_normals_;
+      job.out_normals = out;
       job.begin = b;
       job.end = e;
       job.Run();
     });
+  };
+
+  // 1. Muscles (MODEL.md §1 step 1): summed on the rest pose.
+  ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
+    MuscleDeformJob job;
+    job.table = &r.muscles;
+    job.activations = ctx.activations_;
+    job.rest_points = r.rest_points;
+    job.out_points = ctx.points_;
+    job.begin = b;
+    job.end = e;
+    job.Run();
+  });
+
+  const bool thickness = layers.thickness && r.layers.thickness;
+  const bool muscle_wrinkles = layers.muscle_wrinkles && r.layers.muscle_wrinkles;
+  const bool curve_wrinkles = layers.curve_wrinkles && r.layers.curve_wrinkles;
+  const bool want_normals = !out_normals.empty();
+
+  if (thickness || muscle_wrinkles || curve_wrinkles) {
+    // 2. N1 and the strain of X1 against the rest pose (MODEL.md §4-5).
+    normals(ctx.normals1_);
+    const bool need_ratio = thickness || curve_wrinkles;
+    if (need_ratio) {
+      ParallelFor(*this, r.triangle_count(), [&](uint32_t b, uint32_t e) {
+        TriangleAreaRatioJob job;
+        job.positions = ctx.points_;
+        job.triangles = r.triangles;
+        job.rest_areas = r.rest_triangle_areas;
+        job.begin = b;
+        job.end = e;
+        job.out_ratios = ctx.triangle_ratios_;
+        job.Run();
+      });
+      ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
+        PointAreaRatioJob job;
+        job.triangle_ratios = ctx.triangle_ratios_;
+        job.offsets = r.point_triangle_offsets;
+        job.point_triangles = r.point_triangles;
+        job.begin = b;
+        job.end = e;
+        job.out_ratios = ctx.point_ratios_;
+        job.Run();
+      });
+    }
+    if (muscle_wrinkles) {
+      size_t row0 = 0;
+      for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
+        const span<float> eps = span<float>(ctx.compression_).subspan(row0, w.row_count());
+        ParallelFor(*this, w.row_count(), [&](uint32_t b, uint32_t e) {
+          EdgeCompressionJob job;
+          job.positions = ctx.points_;
+          job.points = w.points;
+          job.offsets = w.edge_offsets;
+          job.neighbors = w.edge_neighbors;
+          job.rest_lengths = w.edge_rest_lengths;
+          job.weights = w.edge_weights;
+          job.begin = b;
+          job.end = e;
+          job.out_compression = eps;
+          job.Run();
+        });
+        row0 += w.row_count();
+      }
+    }
+    if (curve_wrinkles) {
+      ParallelFor(*this, uint32_t(r.curve_wrinkles.probes.size()), [&](uint32_t b, uint32_t e) {
+        DirectionalShrinkageJob job;
+        job.positions = ctx.points_;
+        job.probes = r.curve_wrinkles.probes;
+        job.begin = b;
+        job.end = e;
+        job.out_shrinkage = ctx.shrinkage_;
+        job.Run();
+      });
+    }
+
+    // 3. Volume-preserving thickness, in place: X2 (MODEL.md §4).
+    if (thickness) {
+      ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
+        ThicknessJob job;
+        job.positions = ctx.points_;
+        job.normals = ctx.normals1_;
+        job.area_ratios = ctx.point_ratios_;
+        job.thickness = r.point_thickness;
+        job.min_area_ratio = r.min_area_ratio;
+        job.begin = b;
+        job.end = e;
+        job.out_positions = ctx.points_;
+        job.Run();
+      });
+    }
+
+    // 4. Large-scale wrinkles along N1: X3 (MODEL.md §6-8). Tables may share points, so they
+    // run one after another in rig order; rows within a table split freely.
+    if (muscle_wrinkles) {
+      size_t row0 = 0;
+      for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
+        const span<const float> eps =
+            span<const float>(ctx.compression_).subspan(row0, w.row_count());
+        ParallelFor(*this, w.row_count(), [&](uint32_t b, uint32_t e) {
+          MuscleWrinkleJob job;
+          job.normals = ctx.normals1_;
+          job.points = w.points;
+          job.phase = w.phase;
+          job.attenuation = w.attenuation;
+          job.compression = eps;
+          job.half_cycle = w.half_cycle;
+          job.furrow_depth = w.furrow_depth;
+          job.shape = w.shape;
+          job.begin = b;
+          job.end = e;
+          job.positions = ctx.points_;
+          job.Run();
+        });
+        row0 += w.row_count();
+      }
+    }
+    if (curve_wrinkles) {
+      const RigCurveWrinkles& c = r.curve_wrinkles;
+      ParallelFor(*this, c.row_count(), [&](uint32_t b, uint32_t e) {
+        CurveWrinkleJob job;
+        job.normals = ctx.normals1_;
+        job.wrinkles = c.wrinkles;
+        job.points = c.points;
+        job.offsets = c.offsets;
+        job.entries = c.entries;
+        job.entry_shrinkage = ctx.shrinkage_;
+        job.area_ratios = ctx.point_ratios_;
+        job.begin = b;
+        job.end = e;
+        job.positions = ctx.points_;
+        job.Run();
+      });
+    }
+    // 5. Normals of X3.
+    if (want_normals) normals(ctx.point_normals_);
+  } else {
+    std::fill(ctx.point_ratios_.begin(), ctx.point_ratios_.end(), 1.f);
+    if (want_normals) normals(ctx.point_normals_);
   }
 
-  // 3. Scatter to the file's vertex layout.
+  // 6. Scatter to the file's vertex layout.
   ParallelFor(*this, r.vertex_count(), [&](uint32_t b, uint32_t e) {
     Scatter(ctx.points_, r.vertex_points, out_positions, out_positions_stride, b, e);
     if (want_normals)

@@ -2,9 +2,17 @@
 //
 // rest mesh + activations -> positions and normals (MODEL.md §1). Stages, each a job over
 // spans that an engine may also run itself:
-//   1. MuscleDeformJob   (points)     X1 = X + sum_m a_m U_m             MODEL.md §1-3
-//   2. FaceNormalsJob    (triangles)  then PointNormalsJob (points)
-//   3. scatter           (vertices)   points -> the file's vertex layout, with strides
+//   1. MuscleDeformJob (points)            X1 = X + sum_m a_m U_m             MODEL.md §1-3
+//   2. normals N1 of X1; strain of X1 vs X: area ratio r (TriangleAreaRatioJob,
+//      PointAreaRatioJob), compression eps per wrinkled muscle (EdgeCompressionJob),
+//      shrinkage s across each curve wrinkle (DirectionalShrinkageJob)     MODEL.md §4-5
+//   3. ThicknessJob                        X2 = X1 + (1/r - 1) h N1           MODEL.md §4
+//   4. MuscleWrinkleJob per wrinkled muscle, then CurveWrinkleJob
+//                                          X3 = X2 + sum W N1                 MODEL.md §6-8
+//   5. normals of X3 (FaceNormalsJob, PointNormalsJob)
+//   6. scatter (vertices): points -> the file's vertex layout, with strides
+// Steps 2-5 run only for the layers both compiled into the rig and enabled in `layers`; with
+// none, N1 is the output normal.
 // EvaluateJob owns no buffer; Run() allocates nothing; the same build and the same inputs
 // give the same bits, however the work is split by `parallel_for`.
 #pragma once
@@ -33,6 +41,8 @@ class EvaluateContext {
   span<const float> activations() const { return activations_; }
   span<const float3> points() const { return points_; }
   span<const float3> point_normals() const { return point_normals_; }
+  // Per-point area ratio r of the last frame (MODEL.md §4); 1 where no skin layer ran.
+  span<const float> area_ratios() const { return point_ratios_; }
 
  private:
   friend struct EvaluateJob;
@@ -41,7 +51,19 @@ class EvaluateContext {
   std::vector<float> activations_;     // #muscles, sanitised
   std::vector<float3> points_;         // #P deformed
   std::vector<float3> face_normals_;   // #T
-  std::vector<float3> point_normals_;  // #P
+  std::vector<float3> point_normals_;  // #P, output normals
+  std::vector<float3> normals1_;       // #P, N1 (normals of X1) when a skin layer runs
+  std::vector<float> triangle_ratios_; // #T
+  std::vector<float> point_ratios_;    // #P
+  std::vector<float> compression_;     // sum of rows of the rig's muscle wrinkle tables
+  std::vector<float> shrinkage_;       // one per curve-wrinkle entry
+};
+
+// Per-evaluation switches (the viewer toggles them); ANDed with what the rig compiled.
+struct EvaluateLayers {
+  bool thickness = true;
+  bool muscle_wrinkles = true;
+  bool curve_wrinkles = true;
 };
 
 // A caller-supplied parallel loop: must call task(task_data, begin, end) over disjoint ranges
@@ -67,6 +89,8 @@ struct EvaluateJob {
   size_t out_positions_stride = 12;   // bytes, >= 12, multiple of 4
   span<float> out_normals;            // optional (empty = skip); unit length; same layout rule
   size_t out_normals_stride = 12;     // bytes, >= 12, multiple of 4
+
+  EvaluateLayers layers;              // which skin layers run (default: all the rig has)
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
   void* parallel_for_user = nullptr;

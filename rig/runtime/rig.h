@@ -12,8 +12,47 @@
 
 #include "core/math.h"
 #include "muscles/runtime/muscle_table.h"
+#include "wrinkles/runtime/strain_jobs.h"
+#include "wrinkles/runtime/thickness_job.h"
+#include "wrinkles/runtime/wrinkle_jobs.h"
 
 namespace mimetic {
+
+// The skin layers a rig was compiled with (MODEL.md §1 steps 3-4). A layer is on when the
+// rig file enables it and it has something to do (a non-zero thickness, a non-empty region).
+struct RigLayers {
+  bool thickness = false;
+  bool muscle_wrinkles = false;
+  bool curve_wrinkles = false;
+};
+
+// One muscle's wrinkling region (MODEL.md §6), fixed on the rest pose; see MuscleWrinkleJob
+// and EdgeCompressionJob for the meaning of each array (rows = region points).
+struct RigMuscleWrinkles {
+  uint32_t muscle = 0;                    // index into the rig's muscles
+  std::vector<uint32_t> points;           // rows
+  std::vector<float> phase;               // w_i, mesh units
+  std::vector<float> attenuation;         // At_i
+  std::vector<uint32_t> edge_offsets;     // rows + 1
+  std::vector<uint32_t> edge_neighbors;
+  std::vector<float> edge_rest_lengths;   // mesh units
+  std::vector<float> edge_weights;        // |cos theta|
+  float half_cycle = 0.f;                 // u, mesh units
+  float furrow_depth = 0.f;               // k0, mesh units
+  float shape = 0.f;                      // alpha
+  uint32_t row_count() const { return uint32_t(points.size()); }
+};
+
+// Every curve wrinkle of the rig in one table (MODEL.md §7-8); see CurveWrinkleJob.
+struct RigCurveWrinkles {
+  std::vector<std::string> names;            // one per wrinkle
+  std::vector<CurveWrinkleParams> wrinkles;  // one per wrinkle
+  std::vector<uint32_t> points;              // rows
+  std::vector<uint32_t> offsets;             // rows + 1
+  std::vector<CurveWrinkleEntry> entries;
+  std::vector<ShrinkageProbe> probes;        // one per entry
+  uint32_t row_count() const { return uint32_t(points.size()); }
+};
 
 struct Rig {
   // Identity used by EvaluateContext to refuse a context sized for another rig. Unique per
@@ -31,8 +70,13 @@ struct Rig {
   std::vector<uint32_t> vertex_indices;  // 3 * #T, into vertices (the file's index buffer)
   std::vector<float2> vertex_uvs;        // #V, or empty when the mesh has none
 
-  // Skin.
+  // Skin (MODEL.md §4-8).
+  RigLayers layers;                      // what was compiled
   std::vector<float> point_thickness;    // #P, mesh units (MODEL.md §4)
+  std::vector<float> rest_triangle_areas;  // #T, mesh units^2 (when any skin layer is on)
+  float min_area_ratio = kDefaultMinAreaRatio;  // r_min (MODEL.md §4 choice)
+  std::vector<RigMuscleWrinkles> muscle_wrinkles;  // one per wrinkled muscle, muscle order
+  RigCurveWrinkles curve_wrinkles;
 
   // Muscles.
   std::vector<std::string> muscle_names;  // rig order = activation order

@@ -183,7 +183,9 @@ TEST(EvaluateJob, PositionsMatchDirectMuscleFormulas) {
   EvaluateContext ctx(s.rig);
   const std::vector<float> act = SomeActivations(s.rig);
   std::vector<float> pos, nrm;
-  ASSERT_TRUE(MakeJob(s.rig, &ctx, act, &pos, &nrm).Run());
+  EvaluateJob job = MakeJob(s.rig, &ctx, act, &pos, &nrm);
+  job.layers = {false, false, false};  // muscles only (MODEL.md §1 step 1)
+  ASSERT_TRUE(job.Run());
   size_t moved = 0;
   for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
     float3 expect = s.mesh.positions[v];

@@ -87,8 +87,9 @@ TEST(Cli, EvalWritesThePosedMesh) {
 
   for (const char* ext : {".obj", ".glb"}) {
     const std::string out = test::TempDir() + "/sub/posed" + ext;
+    // Muscles only: the thickness layer is checked below and in tests/wrinkles.
     const auto r = RunTool({"eval", SurfaceRig(), "--set", "zygomatic=0.8", "--set",
-                            "frontalis=0.5", "--out", out});
+                            "frontalis=0.5", "--out", out, "--no-thickness"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(Contains(r.output, "wrote " + out)) << r.output;
     MeshData posed;
@@ -107,6 +108,36 @@ TEST(Cli, EvalWritesThePosedMesh) {
     }
     EXPECT_GT(moved, 100u) << ext;
   }
+}
+
+// With the thickness layer (the surface rig has h = 3 mm): points no muscle reaches keep r = 1
+// and do not move; points a muscle compresses move along the normal, outward (r < 1).
+TEST(Cli, EvalAppliesTheThicknessLayer) {
+  const std::string dir = test::TempDir();
+  const auto with = RunTool({"eval", SurfaceRig(), "--set", "zygomatic=1", "--out", dir + "/a.glb"});
+  const auto without = RunTool({"eval", SurfaceRig(), "--set", "zygomatic=1", "--out",
+                                dir + "/b.glb", "--no-thickness"});
+  ASSERT_EQ(with.exit_code, 0) << with.output;
+  ASSERT_EQ(without.exit_code, 0) << without.output;
+  EXPECT_TRUE(Contains(with.output, "layers: muscles, thickness")) << with.output;
+  EXPECT_TRUE(Contains(without.output, "thickness switched off")) << without.output;
+  MeshData a, b;
+  Diagnostics diag;
+  ASSERT_TRUE(ImportMesh(dir + "/a.glb", "", &a, &diag));
+  ASSERT_TRUE(ImportMesh(dir + "/b.glb", "", &b, &diag));
+  ASSERT_EQ(b.normals.size(), b.vertex_count());
+  size_t differ = 0;
+  for (size_t v = 0; v < a.vertex_count(); ++v) {
+    const float3 d = a.positions[v] - b.positions[v];
+    // The thickness displacement is along the normal, at most 19 h = 57 mm (r_min = 0.05).
+    EXPECT_LT(Length(d), 57.f);
+    if (Length(d) > 1e-4f) {
+      ++differ;
+      EXPECT_GT(std::fabs(Dot(d, b.normals[v])), 0.9f * Length(d)) << v;
+    }
+  }
+  EXPECT_GT(differ, 10u);
+  EXPECT_LT(differ, a.vertex_count() / 2);
 }
 
 TEST(Cli, EvalRejectsUnknownMusclesAndBadValues) {

@@ -70,7 +70,9 @@ std::vector<float> ComputeTriangleAreas(span<const float3> points, span<const ui
   for (size_t t = 0; t < tri_count; ++t) {
     const uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
     if (a >= points.size() || b >= points.size() || c >= points.size()) continue;
-    areas[t] = static_cast<float>(TriangleArea3(points[a], points[b], points[c]));
+    // The run-time expression (TriangleAreaRatioJob), so that the rest pose gives r = 1
+    // exactly and an unposed face comes back bit for bit.
+    areas[t] = 0.5f * Length(Cross(points[b] - points[a], points[c] - points[a]));
   }
   return areas;
 }
@@ -90,7 +92,8 @@ void ComputeCompressionWeights(span<const float3> rest_points, span<const uint32
       if (neighbors[k] >= rest_points.size()) continue;
       const float3 e = rest_points[neighbors[k]] - xi;
       const double len = Len3(e);
-      (*rest_lengths)[k] = static_cast<float>(len);
+      // The run-time expression (EdgeCompressionJob), so that eps = 0 exactly at rest.
+      (*rest_lengths)[k] = Length(xi - rest_points[neighbors[k]]);
       if (len > 0.0) {
         (*weights)[k] = static_cast<float>(std::fabs(Dot3(e, row_directions[i]) / len));
       }
@@ -99,6 +102,46 @@ void ComputeCompressionWeights(span<const float3> rest_points, span<const uint32
 }
 
 // ----------------------------------------------------------------------------------------------
+MuscleWrinkleSample SampleMuscleWrinkleRegion(const MuscleWrinkleSpec& spec,
+                                              const WrinkleMuscleGeometry& muscle, float3 x) {
+  MuscleWrinkleSample out;
+  const bool linear = muscle.kind == WrinkleMuscleKind::kLinear;
+  const double R = linear ? muscle.radius : muscle.length;  // 001: R -> Ls for sheets
+  const double lambda_w = spec.lambda_w;
+  const double u = (1.0 - lambda_w) * R / (2.0 * spec.count);  // 001 eq. 6
+  out.half_cycle = static_cast<float>(u);
+  const float3 origin = linear ? muscle.attachment
+                               : (muscle.attachment_line[0] + muscle.attachment_line[1]) * 0.5f;
+  const float3 tip = linear ? muscle.insertion
+                            : (muscle.insertion_line[0] + muscle.insertion_line[1]) * 0.5f;
+  const float3 axis = NormalizeOr(tip - origin, {1.f, 0.f, 0.f});
+  const float3 v = x - origin;
+  const double l = Dot3(v, axis);  // linear: |x - mA| cos(phi_i) (eq. 1); sheet: along fiber
+  double gamma, q;
+  if (linear) {
+    const double dist = Len3(v);
+    const double c = dist > 0.0 ? std::clamp(l / dist, -1.0, 1.0) : 1.0;
+    const double phi_i = std::acos(c);
+    gamma = phi_i / muscle.zone_angle;                                    // eq. 2
+    q = (phi_i - spec.phi_c) / (double(muscle.zone_angle) - spec.phi_c);  // eq. 12
+    out.direction = NormalizeOr(origin - x, axis * -1.f);                 // x_i -> mA
+  } else {
+    const float3 across = v - axis * static_cast<float>(l);
+    const double h = Len3(across);                          // distance to the fiber
+    gamma = 2.0 * h / muscle.width;                         // eq. 13
+    q = (h - spec.h_c) / (0.5 * muscle.width - spec.h_c);  // eq. 15
+    out.direction = axis;
+  }
+  const double lambda = l / R;
+  out.inside = lambda >= lambda_w && lambda <= 1.0 && gamma >= 0.0 && gamma <= 1.0;  // eq. 3
+  if (!out.inside) return out;
+  double w = std::fmod(l - lambda_w * R, 2.0 * u);  // eq. 7
+  if (w < 0.0) w = 0.0;
+  out.phase = static_cast<float>(w);
+  out.attenuation = static_cast<float>(Attenuation(q));
+  return out;
+}
+
 bool BuildMuscleWrinkleTable(const MuscleWrinkleSpec& spec, const WrinkleMuscleGeometry& muscle,
                              span<const float3> rest_points, const CsrTable& neighbors,
                              const std::string& where, MuscleWrinkleTable* out, Diagnostics* diag) {
@@ -111,46 +154,16 @@ bool BuildMuscleWrinkleTable(const MuscleWrinkleSpec& spec, const WrinkleMuscleG
                            std::to_string(rest_points.size() + 1));
     return false;
   }
-  const bool linear = muscle.kind == WrinkleMuscleKind::kLinear;
-  const double R = linear ? muscle.radius : muscle.length;  // 001: R -> Ls for sheets
-  const double lambda_w = spec.lambda_w;
-  const double u = (1.0 - lambda_w) * R / (2.0 * spec.count);  // 001 eq. 6
-  out->half_cycle = static_cast<float>(u);
   out->furrow_depth = spec.depth;
   out->shape = spec.shape;
-
-  const float3 origin = linear ? muscle.attachment
-                               : (muscle.attachment_line[0] + muscle.attachment_line[1]) * 0.5f;
-  const float3 tip = linear ? muscle.insertion
-                            : (muscle.insertion_line[0] + muscle.insertion_line[1]) * 0.5f;
-  const float3 axis = NormalizeOr(tip - origin, {1.f, 0.f, 0.f});
+  out->half_cycle = SampleMuscleWrinkleRegion(spec, muscle, {}).half_cycle;
   for (size_t p = 0; p < rest_points.size(); ++p) {
-    const float3 v = rest_points[p] - origin;
-    const double l = Dot3(v, axis);  // linear: |x - mA| cos(phi_i) (eq. 1); sheet: along fiber
-    double gamma, q;
-    float3 direction;
-    if (linear) {
-      const double dist = Len3(v);
-      const double c = dist > 0.0 ? std::clamp(l / dist, -1.0, 1.0) : 1.0;
-      const double phi_i = std::acos(c);
-      gamma = phi_i / muscle.zone_angle;                               // eq. 2
-      q = (phi_i - spec.phi_c) / (double(muscle.zone_angle) - spec.phi_c);  // eq. 12
-      direction = NormalizeOr(origin - rest_points[p], axis * -1.f);   // x_i -> mA
-    } else {
-      const float3 across = v - axis * static_cast<float>(l);
-      const double h = Len3(across);                                   // distance to the fiber
-      gamma = 2.0 * h / muscle.width;                                   // eq. 13
-      q = (h - spec.h_c) / (0.5 * muscle.width - spec.h_c);            // eq. 15
-      direction = axis;
-    }
-    const double lambda = l / R;
-    if (!(lambda >= lambda_w && lambda <= 1.0 && gamma >= 0.0 && gamma <= 1.0)) continue;  // eq. 3
-    double w = std::fmod(l - lambda_w * R, 2.0 * u);  // eq. 7
-    if (w < 0.0) w = 0.0;
+    const MuscleWrinkleSample sample = SampleMuscleWrinkleRegion(spec, muscle, rest_points[p]);
+    if (!sample.inside) continue;
     out->points.push_back(static_cast<uint32_t>(p));
-    out->phase.push_back(static_cast<float>(w));
-    out->attenuation.push_back(static_cast<float>(Attenuation(q)));
-    out->directions.push_back(direction);
+    out->phase.push_back(sample.phase);
+    out->attenuation.push_back(sample.attenuation);
+    out->directions.push_back(sample.direction);
   }
   if (out->points.empty()) {
     diag->Warning(where, "no mesh point lies in the wrinkling region (lambda_w = " +
@@ -208,8 +221,8 @@ ShrinkageProbe BuildShrinkageProbe(uint32_t point, float2 dp, span<const float3>
       side.v2 = v2;
       side.v3 = v3;
       side.beta = static_cast<float>(std::clamp(betap / (alpha + betap), 0.0, 1.0));
-      side.rest_length2 = static_cast<float>(Len3(rest_points[v2] - rest_points[point]));
-      side.rest_length3 = static_cast<float>(Len3(rest_points[v3] - rest_points[point]));
+      side.rest_length2 = Length(rest_points[v2] - rest_points[point]);  // as at run time
+      side.rest_length3 = Length(rest_points[v3] - rest_points[point]);
       if (!(side.rest_length2 > 0.f) || !(side.rest_length3 > 0.f)) continue;
       probe.sides[probe.side_count++] = side;
       break;

@@ -55,6 +55,18 @@ struct MuscleWrinkleTable {
   float shape = 0.f;                   // alpha
 };
 
+// One point's place in a muscle's wrinkling region (the per-point part of the table below).
+// The spec must be valid (ValidateMuscleWrinkleSpec).
+struct MuscleWrinkleSample {
+  bool inside = false;       // in S_w (001 eq. 3 / 14)
+  float phase = 0.f;         // w_i (eq. 7), mesh units, when inside
+  float attenuation = 0.f;   // At_i (eq. 12 / 15), when inside
+  float3 direction;          // unit contraction direction at the point
+  float half_cycle = 0.f;    // u (eq. 6), mesh units (independent of the point)
+};
+MuscleWrinkleSample SampleMuscleWrinkleRegion(const MuscleWrinkleSpec& spec,
+                                              const WrinkleMuscleGeometry& muscle, float3 x);
+
 // Membership, per point, from the rest positions (001 eq. 1-3 / 13-14):
 // linear: phi_i = angle(mI - mA, x_i - mA), l_i = |x_i - mA| cos(phi_i), lambda_i = l_i/R,
 //         gamma_i = phi_i/phi; sheet: l_i = (x_i - mAc).f, h_i = distance to the central fiber,
