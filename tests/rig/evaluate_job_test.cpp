@@ -16,6 +16,9 @@
 #include "rig/runtime/evaluate_job.h"
 
 // Global allocation counter for the zero-allocation test.
+// Counting replacements of the global allocation functions (malloc/free pair correctly; GCC's
+// -Wmismatched-new-delete cannot see that they replace new/delete).
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 static std::atomic<long> g_allocations{0};
 void* operator new(std::size_t n) {
   ++g_allocations;

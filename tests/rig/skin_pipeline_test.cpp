@@ -1,0 +1,274 @@
+// The whole per-frame pipeline with skin layers (MODEL.md §1): the 002 Fig. 3/5 set-up,
+// finiteness under collapse, zero allocation and thread-split determinism with every layer on.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "rig/offline/procedural.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/runtime/evaluate_job.h"
+
+// Counting replacements of the global allocation functions (malloc/free pair correctly; GCC's
+// -Wmismatched-new-delete cannot see that they replace new/delete).
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace mimetic {
+namespace {
+
+// 002 §5 / Fig. 3, 5: a flat square of side 450, thickness 60, one straight wrinkle with
+// k_d = 70, k_w = 50, k_r = 0 (area modulation), compressed across the wrinkle by a sheet
+// muscle whose fibres run along +x (the wrinkle runs along y through x = 0).
+struct Fig3 {
+  MeshData mesh;
+  RigSpec spec;
+  Rig rig;
+  Fig3() {
+    mesh = MakeSurfaceMesh(91, 91, 450.f, 450.f, 0.f);  // 5-unit spacing, uv = x/450 + 0.5
+    spec.units = "mm";
+    spec.thickness.kind = ThicknessSpec::Kind::kConstant;
+    spec.thickness.value = 60.f;
+    MuscleSpec m;
+    m.name = "sheet";
+    m.type = MuscleType::kSheet;
+    m.strength = 40.f;
+    m.sheet.attachment[0] = {-200.f, -220.f, 0.f};
+    m.sheet.attachment[1] = {-200.f, 220.f, 0.f};
+    m.sheet.insertion[0] = {150.f, -220.f, 0.f};
+    m.sheet.insertion[1] = {150.f, 220.f, 0.f};
+    m.sheet.length = 350.f;
+    m.sheet.width = 440.f;
+    m.sheet.falloff_start = 300.f;  // Fl rises over x in [-200, 100]: compression at x = 0
+    spec.muscles.push_back(m);
+    NamedCurveWrinkle w;
+    w.name = "fig3";
+    w.spec.control[0] = {0.5f, 0.1f};
+    w.spec.control[1] = {0.5f, 0.1f + 0.8f / 3};
+    w.spec.control[2] = {0.5f, 0.1f + 1.6f / 3};
+    w.spec.control[3] = {0.5f, 0.9f};
+    w.spec.depth = 70.f;
+    w.spec.width = 50.f;
+    w.spec.modulation = CurveWrinkleModulation::kArea;
+    w.spec.rest_amplitude = 0.f;
+    w.spec.profile = CurveWrinkleProfile::kBando;
+    spec.curve_wrinkles.push_back(w);
+    spec.refinement.enabled = false;  // the 5-unit grid already resolves k_w = 50
+    Diagnostics diag;
+    EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  }
+};
+
+std::vector<float> Evaluate(const Rig& rig, span<const float> act, EvaluateLayers layers,
+                            std::vector<float>* normals = nullptr) {
+  EvaluateContext ctx(rig);
+  std::vector<float> pos(3 * rig.vertex_count()), nrm(3 * rig.vertex_count());
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &ctx;
+  job.activations = act;
+  job.out_positions = pos;
+  job.out_normals = nrm;
+  job.layers = layers;
+  EXPECT_TRUE(job.Run());
+  if (normals) *normals = nrm;
+  return pos;
+}
+
+TEST(SkinPipeline, Bando2003Fig3WrinkleMatchesSTimesC) {
+  const Fig3 f;
+  ASSERT_TRUE(f.rig.layers.thickness);
+  ASSERT_TRUE(f.rig.layers.curve_wrinkles);
+  const std::vector<float> act = {1.f};
+  // X1 (muscles only) gives the strain; the wrinkle is the difference of the runs with and
+  // without the curve-wrinkle layer: S(l) C(r) N1 (MODEL.md §7, 002 eq. 4-6).
+  const std::vector<float> x1 = Evaluate(f.rig, act, {false, false, false});
+  const std::vector<float> on = Evaluate(f.rig, act, {true, true, true});
+  const std::vector<float> off = Evaluate(f.rig, act, {true, true, false});
+
+  // Area ratio r per vertex, computed here from X1 and the rest mesh (002 eq. 1).
+  const size_t nv = f.mesh.vertex_count();
+  std::vector<double> sum(nv, 0.0);
+  std::vector<int> count(nv, 0);
+  for (size_t t = 0; t < f.mesh.triangle_count(); ++t) {
+    const uint32_t* i = &f.mesh.indices[3 * t];
+    auto area = [&](auto p) {
+      const double ax = p(i[1], 0) - p(i[0], 0), ay = p(i[1], 1) - p(i[0], 1), az = p(i[1], 2) - p(i[0], 2);
+      const double bx = p(i[2], 0) - p(i[0], 0), by = p(i[2], 1) - p(i[0], 1), bz = p(i[2], 2) - p(i[0], 2);
+      const double cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+      return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+    };
+    const double rest = area([&](uint32_t v, int c) { return double((&f.mesh.positions[v].x)[c]); });
+    const double now = area([&](uint32_t v, int c) { return double(x1[3 * v + c]); });
+    for (int k = 0; k < 3; ++k) sum[i[k]] += now / rest, ++count[i[k]];
+  }
+
+  const double kd = 70, kw = 50, kr = 0;
+  int checked = 0, compressed = 0;
+  for (size_t v = 0; v < nv; ++v) {
+    const float3 p = f.mesh.positions[v];
+    if (std::fabs(p.x) > 150.f || std::fabs(p.y) > 100.f) continue;  // away from the curve's ends
+    const double l = std::fabs(p.x);          // distance to the furrow line, mesh units
+    const double r = sum[v] / count[v];
+    const double S = kd * (l / kw - 1.0) * std::exp(-l / kw);          // 000 eq. 2
+    const double C = r <= 1.0 ? (kr - 1.0) * r + 1.0 : kr * std::exp((1.0 - 1.0 / kr) * (r - 1.0));
+    const double dz = double(on[3 * v + 2]) - double(off[3 * v + 2]);
+    EXPECT_NEAR(dz, S * C, 0.01 * kd) << "vertex " << v << " at x = " << p.x << ", r = " << r;
+    // The flat sheet stays flat under an in-plane muscle: N1 = +Z, no in-plane wrinkle motion.
+    EXPECT_NEAR(on[3 * v], off[3 * v], 1e-3);
+    EXPECT_NEAR(on[3 * v + 1], off[3 * v + 1], 1e-3);
+    ++checked;
+    compressed += r < 0.95;
+  }
+  EXPECT_GT(checked, 300);
+  EXPECT_GT(compressed, 50) << "the muscle must compress the skin across the wrinkle";
+}
+
+// Every activation in [0, 1], including strengths that collapse triangles to points: all
+// outputs finite (accept g).
+TEST(SkinPipeline, NoNaNOrInfinityEvenWhenTrianglesCollapse) {
+  MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(8, 100.f, 100.f, 10.f, 0.3f, 200.f);  // absurdly strong
+  spec.thickness.value = 5.f;
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  for (size_t m = 0; m < spec.muscles.size(); ++m) {
+    MuscleWrinkleSpec w;
+    w.lambda_w = 0.3f;
+    w.count = 3;
+    w.depth = 2.f;
+    w.shape = 0.5f;
+    w.phi_c = spec.muscles[m].type == MuscleType::kLinear ? 0.2f : 0.f;
+    w.h_c = spec.muscles[m].type == MuscleType::kSheet ? 0.1f * spec.muscles[m].sheet.width : 0.f;
+    spec.muscle_wrinkles[m] = w;
+  }
+  for (int k = 0; k < 3; ++k) {
+    NamedCurveWrinkle c;
+    c.name = "c" + std::to_string(k);
+    c.spec.control[0] = {0.2f, 0.2f + 0.3f * k};
+    c.spec.control[1] = {0.4f, 0.25f + 0.3f * k};
+    c.spec.control[2] = {0.6f, 0.15f + 0.3f * k};
+    c.spec.control[3] = {0.8f, 0.2f + 0.3f * k};
+    c.spec.depth = 2.f;
+    c.spec.width = 3.f;
+    c.spec.modulation = k == 1 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
+    c.spec.profile = CurveWrinkleProfile(k);
+    c.spec.rest_amplitude = 0.2f;
+    spec.curve_wrinkles.push_back(c);
+  }
+  spec.refinement.enabled = false;
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  ASSERT_TRUE(rig.layers.thickness && rig.layers.muscle_wrinkles && rig.layers.curve_wrinkles);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<float> act(rig.muscle_count());
+  for (int frame = 0; frame < 40; ++frame) {
+    for (float& a : act) a = frame % 4 == 0 ? 1.f : u(rng);
+    std::vector<float> nrm;
+    const std::vector<float> pos = Evaluate(rig, act, {}, &nrm);
+    for (size_t i = 0; i < pos.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(pos[i])) << "frame " << frame << " float " << i;
+      ASSERT_TRUE(std::isfinite(nrm[i])) << "frame " << frame << " float " << i;
+    }
+  }
+}
+
+Rig WrinkledSurface() {
+  MeshData mesh = MakeSurfaceMesh(61, 61, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 10.f, 0.2f, 4.f);
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  MuscleWrinkleSpec w;
+  w.lambda_w = 0.3f;
+  w.depth = 0.5f;
+  spec.muscle_wrinkles[1] = w;  // a sheet
+  NamedCurveWrinkle c;
+  c.name = "c";
+  c.spec.control[0] = {0.2f, 0.5f};
+  c.spec.control[1] = {0.4f, 0.45f};
+  c.spec.control[2] = {0.6f, 0.55f};
+  c.spec.control[3] = {0.8f, 0.5f};
+  c.spec.depth = 1.f;
+  c.spec.width = 2.f;
+  spec.curve_wrinkles.push_back(c);
+  spec.refinement.enabled = false;
+  Rig rig;
+  Diagnostics diag;
+  EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  EXPECT_TRUE(rig.layers.thickness && rig.layers.muscle_wrinkles && rig.layers.curve_wrinkles);
+  return rig;
+}
+
+TEST(SkinPipeline, NoAllocationWithEveryLayerOn) {
+  const Rig rig = WrinkledSurface();
+  EvaluateContext ctx(rig);
+  std::vector<float> act(rig.muscle_count(), 0.7f);
+  std::vector<float> pos(3 * rig.vertex_count()), nrm(3 * rig.vertex_count());
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &ctx;
+  job.activations = act;
+  job.out_positions = pos;
+  job.out_normals = nrm;
+  ASSERT_TRUE(job.Run());
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) {
+    act[i % act.size()] = float(i % 10) / 10.f;
+    ASSERT_TRUE(job.Run());
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+void TwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
+  const uint32_t mid = count / 3;
+  std::thread t([&] { task(data, 0, mid); });
+  task(data, mid, count);
+  t.join();
+}
+
+TEST(SkinPipeline, BitIdenticalWhenSplitAcrossTwoThreads) {
+  const Rig rig = WrinkledSurface();
+  std::vector<float> act(rig.muscle_count());
+  for (size_t m = 0; m < act.size(); ++m) act[m] = 0.3f + 0.1f * float(m);
+  std::vector<float> n1;
+  const std::vector<float> serial = Evaluate(rig, act, {}, &n1);
+  EvaluateContext ctx(rig);
+  std::vector<float> pos(3 * rig.vertex_count()), nrm(3 * rig.vertex_count());
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &ctx;
+  job.activations = act;
+  job.out_positions = pos;
+  job.out_normals = nrm;
+  job.parallel_for = TwoThreads;
+  ASSERT_TRUE(job.Run());
+  EXPECT_EQ(std::memcmp(serial.data(), pos.data(), pos.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(n1.data(), nrm.data(), nrm.size() * 4), 0);
+  // And the layers did something.
+  const std::vector<float> bare = Evaluate(rig, act, {false, false, false});
+  EXPECT_NE(std::memcmp(serial.data(), bare.data(), bare.size() * 4), 0);
+}
+
+TEST(SkinPipeline, RestPoseComesBackBitForBitWithEveryLayerOn) {
+  const Rig rig = WrinkledSurface();  // its curve wrinkle has rest amplitude 0
+  const std::vector<float> zero(rig.muscle_count(), 0.f);
+  const std::vector<float> pos = Evaluate(rig, zero, {});
+  const MeshData rest = RestMesh(rig);
+  EXPECT_EQ(std::memcmp(pos.data(), rest.positions.data(), pos.size() * 4), 0);
+}
+
+}  // namespace
+}  // namespace mimetic
