@@ -1,13 +1,17 @@
 #include "rig/offline/rig_builder.h"
 
 #include <atomic>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <stb/stb_image.h>
 
 #include "muscles/offline/muscle_builder.h"
+#include "rig/offline/refine.h"
 #include "rig/offline/weld.h"
+#include "wrinkles/offline/bezier.h"
 #include "wrinkles/offline/wrinkle_builder.h"
 
 namespace mimetic {
@@ -168,10 +172,104 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh, Rig* rig, Diag
   return ok;
 }
 
+// MODEL.md §11: the target edge length at a surface place, the smallest over the wrinkles
+// whose support holds it (fraction x width: u for a muscle wrinkle, whose furrows are u wide,
+// w or a0 for a curve wrinkle), +infinity elsewhere. Supports are widened by the longest input
+// edge so that sampling at centroids and edge midpoints cannot miss a narrow one.
+EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
+  double area3 = 0, area2 = 0, longest = 0;
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t* i = &mesh.indices[3 * t];
+    const float3 a = mesh.positions[i[0]], b = mesh.positions[i[1]], c = mesh.positions[i[2]];
+    area3 += 0.5 * Length(Cross(b - a, c - a));
+    longest = std::max({longest, double(Length(b - a)), double(Length(c - b)), double(Length(a - c))});
+    if (mesh.uvs.size() == mesh.vertex_count()) {
+      const float2 p = mesh.uvs[i[0]], q = mesh.uvs[i[1]], r = mesh.uvs[i[2]];
+      area2 += 0.5 * std::fabs(double(q.x - p.x) * (r.y - p.y) - double(q.y - p.y) * (r.x - p.x));
+    }
+  }
+  // Texture -> mesh units (a global estimate; only used to decide where to refine).
+  const float uv_scale = area2 > 0 ? float(std::sqrt(area3 / area2)) : 0.f;
+  const float margin = float(longest);
+  const float fraction = spec.refinement.edge_fraction;
+
+  struct MuscleRegion {
+    MuscleWrinkleSpec spec;
+    WrinkleMuscleGeometry geometry;
+    float target;
+  };
+  struct Curve {
+    CurveWrinkleSpec spec;
+    float reach, target;  // mesh units
+  };
+  std::vector<MuscleRegion> regions;
+  std::vector<Curve> curves;
+  if (spec.layers.muscle_wrinkles) {
+    for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
+      if (!spec.muscle_wrinkles[m]) continue;
+      MuscleRegion r{*spec.muscle_wrinkles[m], GeometryOf(spec.muscles[m]), 0.f};
+      r.target = fraction * SampleMuscleWrinkleRegion(r.spec, r.geometry, {}).half_cycle;
+      regions.push_back(r);
+    }
+  }
+  if (spec.layers.curve_wrinkles && uv_scale > 0.f) {
+    for (const NamedCurveWrinkle& c : spec.curve_wrinkles)
+      curves.push_back({c.spec, CurveWrinkleSupport(c.spec) + margin, fraction * c.spec.width});
+  }
+  return [regions, curves, uv_scale](float3 position, float2 uv) {
+    float target = std::numeric_limits<float>::infinity();
+    for (const MuscleRegion& r : regions)
+      if (r.target > 0.f && SampleMuscleWrinkleRegion(r.spec, r.geometry, position).inside)
+        target = std::min(target, r.target);
+    for (const Curve& c : curves)
+      if (c.target > 0.f && ClosestPointOnBezier(c.spec.control, uv).distance * uv_scale <= c.reach)
+        target = std::min(target, c.target);
+    return target;
+  };
+}
+
+bool NeedsRefinement(const RigSpec& spec) {
+  if (!spec.refinement.enabled) return false;
+  bool any = spec.layers.curve_wrinkles && !spec.curve_wrinkles.empty();
+  if (spec.layers.muscle_wrinkles)
+    for (const auto& w : spec.muscle_wrinkles) any |= w.has_value();
+  return any;
+}
+
 }  // namespace
 
-bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& options, Rig* out,
-              Diagnostics* diag) {
+bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOptions& options,
+              Rig* out, Diagnostics* diag) {
+  // Refine where wrinkles act (MODEL.md §11); everything below runs on the refined layout.
+  const MeshData* mesh_ptr = &file_mesh;
+  const RigSpec* spec_ptr = &spec_in;
+  RefineResult refined;
+  RigSpec carried;
+  if (NeedsRefinement(spec_in)) {
+    if (spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex &&
+        spec_in.thickness.per_vertex.size() != file_mesh.vertex_count()) {
+      diag->Error("thickness.values",
+                  "expected one value per mesh vertex (" + std::to_string(file_mesh.vertex_count()) +
+                      "), got " + std::to_string(spec_in.thickness.per_vertex.size()));
+      return false;
+    }
+    RefineOptions refine_options;
+    refine_options.weld_tolerance = options.weld_tolerance;
+    Diagnostics refine_diag;
+    const bool refined_ok = RefineMesh(file_mesh, MakeRefinementField(spec_in, file_mesh),
+                                       refine_options, &refined, &refine_diag);
+    diag->Append(refine_diag, file_mesh.source);
+    if (!refined_ok) return false;
+    mesh_ptr = &refined.mesh;
+    if (spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex) {
+      carried = spec_in;
+      carried.thickness.per_vertex = CarryAttribute(refined, spec_in.thickness.per_vertex);
+      spec_ptr = &carried;
+    }
+  }
+  const MeshData& mesh = *mesh_ptr;
+  const RigSpec& spec = *spec_ptr;
+
   WeldedMesh welded;
   Diagnostics weld_diag;
   const bool welded_ok = WeldMesh(mesh, options.weld_tolerance, &welded, &weld_diag);

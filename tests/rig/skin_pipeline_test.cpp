@@ -2,6 +2,7 @@
 // finiteness under collapse, zero allocation and thread-split determinism with every layer on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -268,6 +269,66 @@ TEST(SkinPipeline, RestPoseComesBackBitForBitWithEveryLayerOn) {
   const std::vector<float> pos = Evaluate(rig, zero, {});
   const MeshData rest = RestMesh(rig);
   EXPECT_EQ(std::memcmp(pos.data(), rest.positions.data(), pos.size() * 4), 0);
+}
+
+}  // namespace
+}  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+// Accept f at the rig level: BuildRig refines inside a curve wrinkle's support until edges are
+// at most width/4 (the default fraction), and the triangles far from it are the file's own.
+TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
+  const MeshData mesh = MakeSurfaceMesh(21, 21, 100.f, 100.f, 0.f);  // 5 mm edges
+  RigSpec spec;
+  spec.units = "mm";
+  NamedCurveWrinkle c;
+  c.name = "line";
+  // A straight furrow along x at y = 0 (uv v = 0.5), from x = -30 to x = 30.
+  c.spec.control[0] = {0.2f, 0.5f};
+  c.spec.control[1] = {0.4f, 0.5f};
+  c.spec.control[2] = {0.6f, 0.5f};
+  c.spec.control[3] = {0.8f, 0.5f};
+  c.spec.depth = 1.f;
+  c.spec.width = 2.f;  // target edge: 0.5 mm; Bando support 12 w = 24 mm
+  spec.curve_wrinkles.push_back(c);
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  ASSERT_GT(rig.vertex_count(), mesh.vertex_count());
+  // The first #V output vertices are the file's, unchanged.
+  for (size_t v = 0; v < mesh.vertex_count(); ++v)
+    ASSERT_EQ(rig.rest_points[rig.vertex_points[v]], mesh.positions[v]);
+  size_t near = 0, far_kept = 0, far = 0;
+  for (uint32_t t = 0; t < rig.triangle_count(); ++t) {
+    const float3 a = rig.rest_points[rig.triangles[3 * t]], b = rig.rest_points[rig.triangles[3 * t + 1]],
+                 d = rig.rest_points[rig.triangles[3 * t + 2]];
+    const float3 centroid = (a + b + d) / 3.f;
+    const float longest = std::max({Length(b - a), Length(d - b), Length(a - d)});
+    // Within the Bando support (12 w = 24 mm) of the segment, away from its ends.
+    if (std::fabs(centroid.x) < 25.f && std::fabs(centroid.y) < 20.f) {
+      EXPECT_LE(longest, 0.5f + 1e-4f) << "triangle " << t;
+      ++near;
+    }
+    // Farther than the support, widened by the longest input edge (7.07 mm) and by two more
+    // for the bisection's closure: the file's 5 mm triangles, untouched.
+    if (std::fabs(centroid.y) > 24.f + 3 * 7.08f) {
+      ++far;
+      far_kept += rig.vertex_indices[3 * t] < mesh.vertex_count() &&
+                  rig.vertex_indices[3 * t + 1] < mesh.vertex_count() &&
+                  rig.vertex_indices[3 * t + 2] < mesh.vertex_count() && longest > 5.f;
+    }
+  }
+  EXPECT_GT(near, 1000u);
+  EXPECT_GT(far, 0u);
+  EXPECT_EQ(far_kept, far);
+  // Switching refinement off keeps the file's layout exactly.
+  spec.refinement.enabled = false;
+  Rig plain;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &plain, &diag)) << diag.Format();
+  EXPECT_EQ(plain.vertex_count(), mesh.vertex_count());
+  EXPECT_EQ(plain.vertex_indices, mesh.indices);
 }
 
 }  // namespace
