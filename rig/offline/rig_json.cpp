@@ -1,11 +1,13 @@
 // rig/offline/rig_json.cpp: the rig file (docs/rig-format.md, version 1): parse, validate, save.
 //
-// The file holds what MODEL.md §2 (linear muscles), §3 (sheet muscles) and §4 (skin thickness)
-// need. Angles are degrees in the file and radians in the spec structs. Every problem in the
-// file is recorded in `Diagnostics` with its JSON path and what was expected; nothing throws out
-// of this file (nlohmann::json exceptions are caught at the boundary).
+// The file holds what MODEL.md §2 (linear muscles), §3 (sheet muscles), §4 (skin thickness),
+// §6 (muscle-derived wrinkles), §7-8 (curve wrinkles) and §11 (refinement) need. Angles are
+// degrees in the file and radians in the spec structs. Every problem in the file is recorded in
+// `Diagnostics` with its JSON path and what was expected; nothing throws out of this file
+// (nlohmann::json exceptions are caught at the boundary).
 #include <algorithm>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -32,19 +34,47 @@ constexpr int kFormatVersion = 1;
 constexpr size_t kMaxElementErrors = 20;
 
 const std::vector<std::string> kUnits = {"mm", "cm", "dm", "m", "in"};
-const std::vector<std::string> kTopKeys = {"format", "version", "mesh", "units", "thickness",
-                                           "muscles"};
-const std::vector<std::string> kReservedTopKeys = {"wrinkles", "curve_wrinkles", "fine_scale",
-                                                   "expressions"};
+const std::vector<std::string> kTopKeys = {"format",  "version",        "mesh",
+                                           "units",   "thickness",      "muscles",
+                                           "curve_wrinkles", "layers", "refinement"};
+const std::vector<std::string> kReservedTopKeys = {"fine_scale", "expressions"};
 const std::vector<std::string> kMeshKeys = {"path", "name"};
-const std::vector<std::string> kLinearKeys = {"name",           "type",          "strength",
-                                              "attachment",     "insertion",     "zone_angle_deg",
-                                              "falloff_start",  "falloff_end"};
+const std::vector<std::string> kLinearKeys = {"name",          "type",        "strength",
+                                              "attachment",    "insertion",   "zone_angle_deg",
+                                              "falloff_start", "falloff_end", "wrinkles"};
 const std::vector<std::string> kSheetKeys = {"name",      "type",   "strength", "attachment",
-                                             "insertion", "length", "width",    "falloff_start"};
+                                             "insertion", "length", "width",    "falloff_start",
+                                             "wrinkles"};
 const std::vector<std::string> kAnyMuscleKeys = {
     "name",          "type",        "strength", "attachment", "insertion", "zone_angle_deg",
-    "falloff_start", "falloff_end", "length",   "width"};
+    "falloff_start", "falloff_end", "length",   "width",      "wrinkles"};
+// MODEL.md §6: the wrinkle block of a muscle; the attenuation key depends on the muscle type.
+const std::vector<std::string> kLinearWrinkleKeys = {"lambda_w", "count", "depth", "shape",
+                                                     "phi_c_deg"};
+const std::vector<std::string> kSheetWrinkleKeys = {"lambda_w", "count", "depth", "shape", "h_c"};
+// MODEL.md §7-8.
+const std::vector<std::string> kCurveWrinkleKeys = {"name",    "control",    "depth",
+                                                    "width",   "profile",    "modulation",
+                                                    "rest_amplitude"};
+const std::vector<std::string> kLayerKeys = {"thickness", "muscle_wrinkles", "curve_wrinkles"};
+const std::vector<std::string> kRefinementKeys = {"enabled", "edge_fraction"};
+
+const std::vector<std::string>& ProfileNames() {
+  static const std::vector<std::string> names = {
+      CurveWrinkleProfileName(CurveWrinkleProfile::kBando),
+      CurveWrinkleProfileName(CurveWrinkleProfile::kYangZhang),
+      CurveWrinkleProfileName(CurveWrinkleProfile::kYangZhangExact)};
+  return names;
+}
+const std::vector<std::string>& ModulationNames() {
+  static const std::vector<std::string> names = {
+      CurveWrinkleModulationName(CurveWrinkleModulation::kDirectional),
+      CurveWrinkleModulationName(CurveWrinkleModulation::kArea)};
+  return names;
+}
+
+// Degrees in the file -> radians in the spec (zone angles and phi_c).
+float DegreesToRadians(double deg) { return static_cast<float>(deg * std::numbers::pi / 180.0); }
 
 // ---------------------------------------------------------------------------------------------
 // Small text helpers.
@@ -325,6 +355,8 @@ class RigChecker {
       std::string what = "unknown key " + Quoted(it.key());
       if (path.empty() && Contains(kReservedTopKeys, it.key()))
         what += " (reserved for a later version of the format; this build reads version 1)";
+      if (path.empty() && it.key() == "wrinkles")
+        what += " (muscle-derived wrinkles go inside each muscle: muscles[i].wrinkles)";
       what += "; allowed keys" + (owner.empty() ? std::string() : " for " + owner) + ": " +
               JoinList(allowed, false);
       Error(Key(path, it.key()), what);
@@ -436,11 +468,43 @@ class RigChecker {
     return false;
   }
 
+  bool ReadBool(const json& v, const std::string& path, bool* out) {
+    if (!v.is_boolean()) {
+      Error(path, "expected boolean (true or false), got " + Describe(v));
+      return false;
+    }
+    *out = v.get<bool>();
+    return true;
+  }
+
+  // A whole number in [min, INT_MAX] (3.0 counts as whole, as in JSON Schema).
+  bool ReadInt(const json& v, const std::string& path, int min, int* out) {
+    const std::string expect = "an integer >= " + std::to_string(min);
+    if (!v.is_number()) {
+      Error(path, "expected " + expect + ", got " + TypeName(v));
+      return false;
+    }
+    const double d = v.get<double>();
+    if (!(d >= min && d <= static_cast<double>(INT_MAX) && d == std::floor(d))) {
+      Error(path, "expected " + expect + ", got " + Describe(v));
+      return false;
+    }
+    *out = static_cast<int>(d);
+    return true;
+  }
+
   void CheckFormatAndVersion(const json& root, bool* version_supported);
   void CheckMesh(const json& root, RigSpec* spec);
   void CheckThickness(const json& v, ThicknessSpec* out);
-  void CheckMuscles(const json& v, std::vector<MuscleSpec>* out);
-  bool CheckMuscle(const json& v, const std::string& path, MuscleSpec* out);
+  void CheckMuscles(const json& v, RigSpec* spec);
+  bool CheckMuscle(const json& v, const std::string& path, MuscleSpec* out,
+                   std::optional<MuscleWrinkleSpec>* wrinkles);
+  bool CheckMuscleWrinkles(const json& v, const std::string& path, const json& muscle_json,
+                           const MuscleSpec& muscle, bool muscle_ok, MuscleWrinkleSpec* out);
+  void CheckCurveWrinkles(const json& v, std::vector<NamedCurveWrinkle>* out);
+  bool CheckCurveWrinkle(const json& v, const std::string& path, NamedCurveWrinkle* out);
+  void CheckLayers(const json& v, LayerSpec* out);
+  void CheckRefinement(const json& v, RefinementSpec* out);
   bool CheckLinear(const json& v, const std::string& path, LinearMuscleSpec* out);
   bool CheckSheet(const json& v, const std::string& path, SheetMuscleSpec* out);
 
@@ -466,7 +530,14 @@ void RigChecker::CheckRoot(const json& root, RigSpec* spec) {
   if (const json* thickness = Member(root, "", "thickness", ""))
     CheckThickness(*thickness, &spec->thickness);
   if (const json* muscles = Member(root, "", "muscles", "array of muscles (may be empty)"))
-    CheckMuscles(*muscles, &spec->muscles);
+    CheckMuscles(*muscles, spec);
+  // Always parallel to `muscles` (nullopt = no wrinkle block).
+  spec->muscle_wrinkles.resize(spec->muscles.size());
+  if (const json* curves = Member(root, "", "curve_wrinkles", ""))
+    CheckCurveWrinkles(*curves, &spec->curve_wrinkles);
+  if (const json* layers = Member(root, "", "layers", "")) CheckLayers(*layers, &spec->layers);
+  if (const json* refinement = Member(root, "", "refinement", ""))
+    CheckRefinement(*refinement, &spec->refinement);
 }
 
 void RigChecker::CheckFormatAndVersion(const json& root, bool* version_supported) {
@@ -584,7 +655,7 @@ void RigChecker::CheckThickness(const json& v, ThicknessSpec* out) {
   }
 }
 
-void RigChecker::CheckMuscles(const json& v, std::vector<MuscleSpec>* out) {
+void RigChecker::CheckMuscles(const json& v, RigSpec* spec) {
   if (!v.is_array()) {
     Error("muscles", std::string("expected array of muscles, got ") + TypeName(v));
     return;
@@ -593,7 +664,8 @@ void RigChecker::CheckMuscles(const json& v, std::vector<MuscleSpec>* out) {
   for (size_t i = 0; i < v.size(); ++i) {
     const std::string path = Index("muscles", i);
     MuscleSpec muscle;
-    const bool ok = CheckMuscle(v[i], path, &muscle);
+    std::optional<MuscleWrinkleSpec> wrinkles;
+    const bool ok = CheckMuscle(v[i], path, &muscle, &wrinkles);
     if (!muscle.name.empty()) {
       const auto [it, inserted] = first_use.emplace(muscle.name, i);
       if (!inserted) {
@@ -602,11 +674,15 @@ void RigChecker::CheckMuscles(const json& v, std::vector<MuscleSpec>* out) {
                                      "); expected a name unique within the rig");
       }
     }
-    if (ok) out->push_back(std::move(muscle));
+    if (ok) {
+      spec->muscles.push_back(std::move(muscle));
+      spec->muscle_wrinkles.push_back(wrinkles);
+    }
   }
 }
 
-bool RigChecker::CheckMuscle(const json& v, const std::string& path, MuscleSpec* out) {
+bool RigChecker::CheckMuscle(const json& v, const std::string& path, MuscleSpec* out,
+                             std::optional<MuscleWrinkleSpec>* wrinkles) {
   if (!v.is_object()) {
     Error(path, std::string("expected object (a muscle), got ") + TypeName(v));
     return false;
@@ -656,7 +732,298 @@ bool RigChecker::CheckMuscle(const json& v, const std::string& path, MuscleSpec*
   } else {
     ok = false;
   }
+
+  // MODEL.md §6: the optional wrinkle block, checked against the muscle's geometry.
+  if (type != kUnknown) {
+    if (const json* w = Member(v, path, "wrinkles", "")) {
+      MuscleWrinkleSpec spec;
+      if (CheckMuscleWrinkles(*w, Key(path, "wrinkles"), v, *out, ok, &spec)) {
+        *wrinkles = spec;
+      } else {
+        ok = false;
+      }
+    }
+  }
   return ok;
+}
+
+// MODEL.md §6 (001 eq. 5-7, 12, 15). `muscle` is the parsed muscle; its geometry is trusted only
+// when `muscle_ok` (otherwise the muscle's own errors are already reported and only the ranges
+// that do not depend on it are checked).
+bool RigChecker::CheckMuscleWrinkles(const json& v, const std::string& path,
+                                     const json& muscle_json, const MuscleSpec& muscle,
+                                     bool muscle_ok, MuscleWrinkleSpec* out) {
+  const bool linear = muscle.type == MuscleType::kLinear;
+  if (!v.is_object()) {
+    Error(path, std::string("expected object {\"lambda_w\": ..., \"count\": ..., \"depth\": "
+                            "..., \"shape\": ..., ") +
+                    (linear ? "\"phi_c_deg\"" : "\"h_c\"") + ": ...}, got " + TypeName(v));
+    return false;
+  }
+  bool ok = true;
+  // The attenuation key of the other muscle type gets its own message.
+  const std::string wrong_key = linear ? "h_c" : "phi_c_deg";
+  if (v.contains(wrong_key)) {
+    Error(Key(path, wrong_key),
+          linear ? std::string("\"h_c\" is for the wrinkles of a sheet muscle, and this is a "
+                               "linear muscle; expected \"phi_c_deg\" (degrees, where the "
+                               "attenuation across the zone starts)")
+                 : std::string("\"phi_c_deg\" is for the wrinkles of a linear muscle, and this "
+                               "is a sheet muscle; expected \"h_c\" (mesh units, distance from "
+                               "the central fiber where the attenuation starts)"));
+    ok = false;
+  }
+  // Unknown keys, listing the allowed ones (the wrong-type key was reported above).
+  const std::vector<std::string>& allowed = linear ? kLinearWrinkleKeys : kSheetWrinkleKeys;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    if (Contains(allowed, it.key()) || it.key() == wrong_key) continue;
+    Error(Key(path, it.key()), "unknown key " + Quoted(it.key()) +
+                                   "; allowed keys for the wrinkles of a " +
+                                   (linear ? "linear" : "sheet") +
+                                   " muscle: " + JoinList(allowed, false));
+    ok = false;
+  }
+
+  MuscleWrinkleSpec spec;  // defaults for absent optional keys
+  if (const json* lw = Member(v, path, "lambda_w", "")) {
+    const std::string expect = "a number in [0, 1) (start of the wrinkling region, fraction of " +
+                               std::string(linear ? "falloff_end" : "length") + ")";
+    float f = 0.f;
+    if (ReadFloat(*lw, Key(path, "lambda_w"), expect, &f)) {
+      if (f >= 0.f && f < 1.f) {
+        spec.lambda_w = f;
+      } else {
+        Error(Key(path, "lambda_w"), "expected " + expect + ", got " + Describe(*lw));
+        ok = false;
+      }
+    } else {
+      ok = false;
+    }
+  }
+  if (const json* n = Member(v, path, "count", ""))
+    ok &= ReadInt(*n, Key(path, "count"), 1, &spec.count);
+  if (const json* d = Member(v, path, "depth", "a finite number >= 0 (k0, mesh units)")) {
+    ok &= ReadNonNegative(*d, Key(path, "depth"), &spec.depth);
+  } else {
+    ok = false;
+  }
+  if (const json* a = Member(v, path, "shape", ""))
+    ok &= ReadFloat(*a, Key(path, "shape"), "a finite number (alpha)", &spec.shape);
+
+  if (linear) {
+    const bool have_zone = muscle_ok && muscle.linear.zone_angle > 0.f;
+    const json* zone = muscle_json.contains("zone_angle_deg") ? &muscle_json["zone_angle_deg"]
+                                                              : nullptr;
+    const std::string expect =
+        have_zone && zone ? "a number in [0, zone_angle_deg = " + zone->dump() + ") (degrees)"
+                          : std::string("a number in [0, zone_angle_deg) (degrees)");
+    if (const json* pc = Member(v, path, "phi_c_deg", "")) {
+      float deg = 0.f;
+      if (ReadFloat(*pc, Key(path, "phi_c_deg"), expect, &deg)) {
+        const double d = pc->get<double>();
+        const float rad = DegreesToRadians(d);
+        if (d >= 0.0 && d < 180.0 && (!have_zone || rad < muscle.linear.zone_angle)) {
+          spec.phi_c = rad;
+        } else {
+          Error(Key(path, "phi_c_deg"), "expected " + expect + ", got " + Describe(*pc));
+          ok = false;
+        }
+      } else {
+        ok = false;
+      }
+    }
+  } else {
+    const bool have_width = muscle_ok && muscle.sheet.width > 0.f;
+    const std::string expect =
+        have_width ? "a number in [0, width/2 = " + FormatFloat(0.5f * muscle.sheet.width) +
+                         ") (mesh units)"
+                   : std::string("a number in [0, width/2) (mesh units)");
+    if (const json* hc = Member(v, path, "h_c", "")) {
+      float f = 0.f;
+      if (ReadFloat(*hc, Key(path, "h_c"), expect, &f)) {
+        if (f >= 0.f && (!have_width || f < 0.5f * muscle.sheet.width)) {
+          spec.h_c = f;
+        } else {
+          Error(Key(path, "h_c"), "expected " + expect + ", got " + Describe(*hc));
+          ok = false;
+        }
+      } else {
+        ok = false;
+      }
+    }
+  }
+  if (!ok) return false;
+  *out = spec;
+  if (!muscle_ok) return true;  // the muscle's own errors make the rig fail anyway
+
+  // The wrinkle module's own check (same ranges; reported only if it is stricter than the above).
+  WrinkleMuscleGeometry geometry;
+  if (linear) {
+    geometry.kind = WrinkleMuscleKind::kLinear;
+    geometry.attachment = muscle.linear.attachment;
+    geometry.insertion = muscle.linear.insertion;
+    geometry.zone_angle = muscle.linear.zone_angle;
+    geometry.radius = muscle.linear.falloff_end;
+  } else {
+    geometry.kind = WrinkleMuscleKind::kSheet;
+    for (int k = 0; k < 2; ++k) {
+      geometry.attachment_line[k] = muscle.sheet.attachment[k];
+      geometry.insertion_line[k] = muscle.sheet.insertion[k];
+    }
+    geometry.length = muscle.sheet.length;
+    geometry.width = muscle.sheet.width;
+  }
+  return ValidateMuscleWrinkleSpec(spec, geometry, path, diag_);
+}
+
+// MODEL.md §7-8.
+void RigChecker::CheckCurveWrinkles(const json& v, std::vector<NamedCurveWrinkle>* out) {
+  if (!v.is_array()) {
+    Error("curve_wrinkles", std::string("expected array of curve wrinkles, got ") + TypeName(v));
+    return;
+  }
+  std::map<std::string, size_t> first_use;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string path = Index("curve_wrinkles", i);
+    NamedCurveWrinkle curve;
+    const bool ok = CheckCurveWrinkle(v[i], path, &curve);
+    if (!curve.name.empty()) {
+      const auto [it, inserted] = first_use.emplace(curve.name, i);
+      if (!inserted) {
+        Error(Key(path, "name"), "duplicate curve wrinkle name " + Quoted(curve.name) +
+                                     " (first used by " + Index("curve_wrinkles", it->second) +
+                                     "); expected a name unique among the curve wrinkles");
+      }
+    }
+    if (ok) out->push_back(std::move(curve));
+  }
+}
+
+bool RigChecker::CheckCurveWrinkle(const json& v, const std::string& path, NamedCurveWrinkle* out) {
+  if (!v.is_object()) {
+    Error(path, std::string("expected object (a curve wrinkle), got ") + TypeName(v));
+    return false;
+  }
+  const size_t errors_before = diag_->ErrorCount();
+  CheckKeys(v, path, kCurveWrinkleKeys, "a curve wrinkle");
+  bool ok = diag_->ErrorCount() == errors_before;
+  if (const json* name = Member(v, path, "name", "non-empty string")) {
+    ok &= ReadNonEmptyString(*name, Key(path, "name"), "non-empty string", &out->name);
+  } else {
+    ok = false;
+  }
+  CurveWrinkleSpec& spec = out->spec;
+  const std::string control_expect =
+      "array of 4 points (cubic Bezier control points, each [u, v] in texture space)";
+  if (const json* c = Member(v, path, "control", control_expect)) {
+    const std::string cpath = Key(path, "control");
+    if (!c->is_array() || c->size() != 4) {
+      Error(cpath, "expected " + control_expect + ", got " +
+                       (c->is_array() ? Describe(*c) : std::string(TypeName(*c))));
+      ok = false;
+    } else {
+      for (size_t k = 0; k < 4; ++k) {
+        const json& p = (*c)[k];
+        const std::string ppath = Index(cpath, k);
+        if (!p.is_array() || p.size() != 2) {
+          Error(ppath, "expected array of 2 numbers [u, v], got " +
+                           (p.is_array() ? Describe(p) : std::string(TypeName(p))));
+          ok = false;
+          continue;
+        }
+        ok &= ReadFloat(p[0], Index(ppath, 0), "a finite number", &spec.control[k].x);
+        ok &= ReadFloat(p[1], Index(ppath, 1), "a finite number", &spec.control[k].y);
+      }
+    }
+  } else {
+    ok = false;
+  }
+  if (const json* d = Member(v, path, "depth", "a finite number > 0 (mesh units)")) {
+    ok &= ReadPositive(*d, Key(path, "depth"), &spec.depth);
+  } else {
+    ok = false;
+  }
+  if (const json* w = Member(v, path, "width", "a finite number > 0 (mesh units)")) {
+    ok &= ReadPositive(*w, Key(path, "width"), &spec.width);
+  } else {
+    ok = false;
+  }
+  if (const json* p = Member(v, path, "profile", "")) {
+    std::string s;
+    if (ReadChoice(*p, Key(path, "profile"), ProfileNames(), &s)) {
+      spec.profile = s == ProfileNames()[0]   ? CurveWrinkleProfile::kBando
+                     : s == ProfileNames()[1] ? CurveWrinkleProfile::kYangZhang
+                                              : CurveWrinkleProfile::kYangZhangExact;
+    } else {
+      ok = false;
+    }
+  }
+  if (const json* m = Member(v, path, "modulation", "")) {
+    std::string s;
+    if (ReadChoice(*m, Key(path, "modulation"), ModulationNames(), &s)) {
+      spec.modulation = s == ModulationNames()[0] ? CurveWrinkleModulation::kDirectional
+                                                  : CurveWrinkleModulation::kArea;
+    } else {
+      ok = false;
+    }
+  }
+  if (const json* r = Member(v, path, "rest_amplitude", "")) {
+    const std::string expect = "a number in [0, 1]";
+    float f = 0.f;
+    if (ReadFloat(*r, Key(path, "rest_amplitude"), expect, &f)) {
+      if (f >= 0.f && f <= 1.f) {
+        spec.rest_amplitude = f;
+      } else {
+        Error(Key(path, "rest_amplitude"), "expected " + expect + ", got " + Describe(*r));
+        ok = false;
+      }
+    } else {
+      ok = false;
+    }
+  }
+  if (!ok) return false;
+  // The wrinkle module's own check (same ranges; reported only if it is stricter than the above).
+  return ValidateCurveWrinkleSpec(spec, path, diag_);
+}
+
+void RigChecker::CheckLayers(const json& v, LayerSpec* out) {
+  if (!v.is_object()) {
+    Error("layers", std::string("expected object {\"thickness\": true, \"muscle_wrinkles\": "
+                                "true, \"curve_wrinkles\": true}, got ") +
+                        TypeName(v));
+    return;
+  }
+  CheckKeys(v, "layers", kLayerKeys, "layers");
+  if (const json* b = Member(v, "layers", "thickness", ""))
+    ReadBool(*b, "layers.thickness", &out->thickness);
+  if (const json* b = Member(v, "layers", "muscle_wrinkles", ""))
+    ReadBool(*b, "layers.muscle_wrinkles", &out->muscle_wrinkles);
+  if (const json* b = Member(v, "layers", "curve_wrinkles", ""))
+    ReadBool(*b, "layers.curve_wrinkles", &out->curve_wrinkles);
+}
+
+// MODEL.md §11.
+void RigChecker::CheckRefinement(const json& v, RefinementSpec* out) {
+  if (!v.is_object()) {
+    Error("refinement", std::string("expected object {\"enabled\": true, \"edge_fraction\": "
+                                    "0.25}, got ") +
+                            TypeName(v));
+    return;
+  }
+  CheckKeys(v, "refinement", kRefinementKeys, "refinement");
+  if (const json* b = Member(v, "refinement", "enabled", ""))
+    ReadBool(*b, "refinement.enabled", &out->enabled);
+  if (const json* e = Member(v, "refinement", "edge_fraction", "")) {
+    const std::string expect = "a number in (0, 1] (fraction of the wrinkle width)";
+    float f = 0.f;
+    if (ReadFloat(*e, "refinement.edge_fraction", expect, &f)) {
+      if (f > 0.f && f <= 1.f) {
+        out->edge_fraction = f;
+      } else {
+        Error("refinement.edge_fraction", "expected " + expect + ", got " + Describe(*e));
+      }
+    }
+  }
 }
 
 // MODEL.md §2: v1 (attachment), v2 (insertion), Omega, Rs, Rf.
@@ -678,7 +1045,7 @@ bool RigChecker::CheckLinear(const json& v, const std::string& path, LinearMuscl
     float deg = 0.f;
     if (ReadFloat(*angle, Key(path, "zone_angle_deg"), angle_expect, &deg)) {
       const double d = angle->get<double>();
-      const float rad = static_cast<float>(d * std::numbers::pi / 180.0);
+      const float rad = DegreesToRadians(d);
       if (!(d > 0.0 && d < 180.0 && rad > 0.f)) {
         Error(Key(path, "zone_angle_deg"), "expected " + angle_expect + ", got " + Describe(*angle));
         ok = false;
@@ -869,9 +1236,66 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       j["width"] = ShortestDecimal(m.sheet.width);
       j["falloff_start"] = ShortestDecimal(m.sheet.falloff_start);
     }
+    const size_t i = muscles.size();
+    if (i < spec.muscle_wrinkles.size() && spec.muscle_wrinkles[i]) {
+      const MuscleWrinkleSpec& w = *spec.muscle_wrinkles[i];
+      ordered_json wj;
+      wj["lambda_w"] = ShortestDecimal(w.lambda_w);
+      wj["count"] = w.count;
+      wj["depth"] = ShortestDecimal(w.depth);
+      wj["shape"] = ShortestDecimal(w.shape);
+      // Only the attenuation parameter of the muscle's type (the other one is unused).
+      if (m.type == MuscleType::kLinear)
+        wj["phi_c_deg"] = ShortestDegrees(w.phi_c);
+      else
+        wj["h_c"] = ShortestDecimal(w.h_c);
+      j["wrinkles"] = std::move(wj);
+    }
     muscles.push_back(std::move(j));
   }
   root["muscles"] = std::move(muscles);
+
+  if (!spec.curve_wrinkles.empty()) {
+    ordered_json curves = ordered_json::array();
+    for (const NamedCurveWrinkle& c : spec.curve_wrinkles) {
+      ordered_json j;
+      j["name"] = c.name;
+      ordered_json control = ordered_json::array();
+      for (const float2& p : c.spec.control)
+        control.push_back(ordered_json::array({ShortestDecimal(p.x), ShortestDecimal(p.y)}));
+      j["control"] = std::move(control);
+      j["depth"] = ShortestDecimal(c.spec.depth);
+      j["width"] = ShortestDecimal(c.spec.width);
+      j["profile"] = CurveWrinkleProfileName(c.spec.profile);
+      j["modulation"] = CurveWrinkleModulationName(c.spec.modulation);
+      j["rest_amplitude"] = ShortestDecimal(c.spec.rest_amplitude);
+      curves.push_back(std::move(j));
+    }
+    root["curve_wrinkles"] = std::move(curves);
+  }
+
+  const LayerSpec default_layers;
+  const LayerSpec& l = spec.layers;
+  if (l.thickness != default_layers.thickness ||
+      l.muscle_wrinkles != default_layers.muscle_wrinkles ||
+      l.curve_wrinkles != default_layers.curve_wrinkles) {
+    ordered_json j;
+    j["thickness"] = l.thickness;
+    j["muscle_wrinkles"] = l.muscle_wrinkles;
+    j["curve_wrinkles"] = l.curve_wrinkles;
+    root["layers"] = std::move(j);
+  }
+
+  const RefinementSpec default_refinement;
+  const RefinementSpec& r = spec.refinement;
+  // `!(a == b)` so that a NaN edge fraction is written (and then refused by the check).
+  if (r.enabled != default_refinement.enabled ||
+      !(r.edge_fraction == default_refinement.edge_fraction)) {
+    ordered_json j;
+    j["enabled"] = r.enabled;
+    j["edge_fraction"] = ShortestDecimal(r.edge_fraction);
+    root["refinement"] = std::move(j);
+  }
   return root;
 }
 
@@ -944,6 +1368,14 @@ bool SaveRigSpec(const std::string& path, const RigSpec& spec, Diagnostics* diag
   if (!diag) diag = &local_fallback;
   try {
     const std::string dir = DirectoryOf(path);
+    // `muscle_wrinkles` is parallel to `muscles`; a wrinkle block without its muscle is lost.
+    for (size_t i = spec.muscles.size(); i < spec.muscle_wrinkles.size(); ++i) {
+      if (!spec.muscle_wrinkles[i]) continue;
+      diag->Error(path, "not saved: muscle_wrinkles[" + std::to_string(i) + "] has a wrinkle block "
+                        "but the rig has only " + std::to_string(spec.muscles.size()) +
+                        " muscles; expected muscle_wrinkles parallel to muscles");
+      return false;
+    }
     const std::string text =
         ToJson(spec, dir).dump(2, ' ', false, ordered_json::error_handler_t::strict) + "\n";
     // Refuse to write a file that would not load back (NaN, empty names, bad ranges, ...).
