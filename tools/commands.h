@@ -15,5 +15,6 @@ int CmdEval(const Args& args);
 int CmdMakeSurface(const Args& args);  // the procedural test surface
 int CmdMakeHead(const Args& args);     // the sample head (tools/cmd_head.cpp)
 int CmdRender(const Args& args);       // software render to PNG (tools/cmd_render.cpp)
+int CmdFit(const Args& args);          // place a muscle template on a head (tools/cmd_fit.cpp)
 
 }  // namespace mimetic::tools

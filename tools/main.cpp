@@ -18,6 +18,9 @@ const Command kCommands[] = {
     {"validate", mimetic::tools::CmdValidate, "check a rig and its mesh; list every problem"},
     {"eval", mimetic::tools::CmdEval, "pose a rig with muscle activations and write the mesh"},
     {"make-surface", mimetic::tools::CmdMakeSurface, "write the procedural test surface mesh"},
+    {"make-head", mimetic::tools::CmdMakeHead, "write the procedural sample head and its landmarks"},
+    {"render", mimetic::tools::CmdRender, "render a mesh to a PNG image (software, no GPU)"},
+    {"fit", mimetic::tools::CmdFit, "place a muscle template on a head from its landmarks"},
 };
 
 void PrintHelp(FILE* out) {

@@ -1,0 +1,87 @@
+// rig/offline/muscle_template.h: a head-independent muscle layout, expressed relative to the
+// 68 iBUG facial landmarks (docs/template-format.md, docs/fitting.md).
+//
+// A template says where each Waters muscle (MODEL.md §2 linear, §3 sheet) lies on a face in
+// the face frame of fit.h: origin at the nose bridge top (landmark 27), x from the subject's
+// right outer eye corner (36) to the left one (45), y up (chin 8 -> bridge 27, made
+// orthogonal to x), z = x cross y toward the viewer, unit s = |45 - 36|. Every length in a
+// template (offsets, depths, radii, strengths, thickness) is in units of s, so one template
+// fits heads of any size, unit and proportion; FitTemplate (fit.h) turns it into a RigSpec.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+#include "muscles/offline/muscle_spec.h"
+
+namespace mimetic {
+
+inline constexpr int kTemplateLandmarkCount = 68;  // iBUG / Multi-PIE 68-point order
+
+// The iBUG landmark that mirrors `index` across the face's midline (0 <-> 16, 36 <-> 45, ...;
+// midline points such as 8, 27..30, 33, 51, 57, 62, 66 map to themselves). -1 when out of range.
+int IbugMirrorLandmark(int index);
+
+// One point of a muscle: the weighted mean of some landmarks, moved by `offset` in the face
+// plane, projected onto the surface along -z of the face frame, then `depth` under it along
+// the inward surface normal.
+struct TemplatePoint {
+  std::vector<int> landmarks;  // iBUG indices in [0, 68), at least one, no repeats
+  std::vector<float> weights;  // one per landmark, >= 0, normalised to sum 1 by the parser
+  float2 offset;               // face-frame (dx, dy), units of s
+  float depth = 0.f;           // under the surface along the inward normal, units of s, >= 0
+};
+
+struct TemplateMuscle {
+  std::string name;  // unique; `_L` / `_R` = subject's left (+x) / right
+  MuscleType type = MuscleType::kLinear;
+  float strength = 0.f;  // contraction at activation 1, units of s, >= 0
+  // Linear: attachment[0] = v1 (bone), insertion[0] = v2 (skin). Sheet: both ends of the
+  // attachment line and of the insertion line.
+  TemplatePoint attachment[2];
+  TemplatePoint insertion[2];
+  float zone_angle_deg = 0.f;  // linear: Omega, degrees, (0, 180)
+  float falloff_start = 0.f;   // linear: Rs; sheet: Rs in (0, length); units of s
+  float falloff_end = 0.f;     // linear: Rf > Rs, units of s
+  float length = 0.f;          // sheet: Ls, units of s, > 0
+  float width = 0.f;           // sheet: Ws, units of s, > 0
+};
+
+// A region of the skin-thickness map (Bando et al. 2003 §6: the face is divided into regions
+// filled with their thickness, then blurred): a Gaussian weight around `center` with the
+// given radii (standard deviations) in the face plane.
+struct ThicknessRegion {
+  std::string name;
+  float2 center;  // face-frame (x, y), units of s
+  float2 radius;  // (sx, sy) > 0, units of s
+  float value = 0.f;  // thickness at the region's centre, units of s, >= 0
+};
+
+// h(p) = (w0 * base + sum_i g_i(p) v_i) / (w0 + sum_i g_i(p)), a normalised Gaussian blend,
+// g_i = exp(-((x - cx)^2 / sx^2 + (y - cy)^2 / sy^2) / 2) * F(z), w0 = exp(-2) (the base takes
+// over two radii away from every region), F(z) = smoothstep(front[0], front[1], z): the
+// regions hold on the face only, not on the back of the head that projects onto it.
+struct TemplateThickness {
+  float base = 0.f;  // units of s, >= 0
+  float front[2] = {-1.f, -0.5f};  // face-frame z range of the fade, units of s
+  std::vector<ThicknessRegion> regions;
+};
+
+struct MuscleTemplate {
+  std::string file;  // where it was loaded from ("" when parsed from text)
+  TemplateThickness thickness;
+  std::vector<TemplateMuscle> muscles;  // `mirror` entries already expanded, file order
+};
+
+// Thickness at face-frame position `p` (units of s, as FaceFrame::ToLocal gives), units of s.
+float EvaluateTemplateThickness(const TemplateThickness& t, float3 p);
+
+// Parses and validates a template (docs/template-format.md). Every problem is recorded with
+// its JSON path and what was expected; returns false when any error was recorded.
+bool ParseMuscleTemplate(std::string_view json_text, MuscleTemplate* out, Diagnostics* diag);
+bool LoadMuscleTemplate(const std::string& path, MuscleTemplate* out, Diagnostics* diag);
+
+}  // namespace mimetic
