@@ -1,13 +1,18 @@
 // bench/bench_evaluate.cpp: mimetic-bench.
 //
-//   BM_Evaluate/<vertices>   EvaluateJob (20 muscles + area-weighted normals + scatter)
-//   BM_Reference/<vertices>  52 sparse blendshapes x 15% of the vertices + the same normals
+//   BM_Evaluate/<vertices>             EvaluateJob with every layer on: 20 muscles, N1, strain,
+//                                      thickness, 6 muscle-wrinkle regions, 4 curve wrinkles,
+//                                      output normals, scatter
+//   BM_EvaluateMusclesOnly/<vertices>  EvaluateJob with the skin layers off: muscles + normals
+//   BM_Reference/<vertices>            52 sparse blendshapes x 15% of the vertices + the same
+//                                      normal recomputation and scatter
 //
 // Both run on the same procedural surface in the same process, one thread; compare their
 // ns/vertex (the `ns_per_vertex` counter). docs/performance.md records the results.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <string>
 #include <map>
 #include <memory>
 #include <vector>
@@ -35,7 +40,36 @@ const Fixture& GetFixture(int vertices) {
     slot = std::make_unique<Fixture>();
     const uint32_t side = uint32_t(std::lround(std::sqrt(double(vertices))));
     const MeshData mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
-    const RigSpec spec = MakeSurfaceRigSpec(20, 100.f, 100.f, 10.f, 0.15f, 3.f);
+    RigSpec spec = MakeSurfaceRigSpec(20, 100.f, 100.f, 10.f, 0.15f, 3.f);
+    // Wrinkles as on a face: 4 wrinkled muscles (forehead sheets, corrugators) and 4 curve
+    // wrinkles (nasolabial, crow's feet), reaching about a quarter of the vertices (the
+    // counters wrinkle_rows_per_vertex and curve_entries_per_vertex report it). No
+    // refinement, so the vertex count stays the one benchmarked.
+    spec.muscle_wrinkles.resize(spec.muscles.size());
+    for (uint32_t m = 0; m < 4; ++m) {
+      MuscleWrinkleSpec w;
+      w.lambda_w = 0.6f;
+      w.count = 3;
+      w.depth = 0.5f;
+      w.shape = 0.3f;
+      w.phi_c = 0.2f;
+      w.h_c = 0.f;
+      spec.muscle_wrinkles[m] = w;
+    }
+    for (int k = 0; k < 4; ++k) {
+      NamedCurveWrinkle c;
+      c.name = "curve_" + std::to_string(k);
+      const float v = 0.15f + 0.23f * float(k);
+      c.spec.control[0] = {0.35f, v};
+      c.spec.control[1] = {0.45f, v + 0.03f};
+      c.spec.control[2] = {0.55f, v - 0.03f};
+      c.spec.control[3] = {0.65f, v};
+      c.spec.depth = 1.f;
+      c.spec.width = 0.8f;
+      c.spec.modulation = k % 2 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
+      spec.curve_wrinkles.push_back(c);
+    }
+    spec.refinement.enabled = false;
     Diagnostics diag;
     if (!BuildRig(spec, mesh, {}, &slot->rig, &diag)) {
       std::fprintf(stderr, "%s", diag.Format().c_str());
@@ -54,7 +88,7 @@ void SetCounters(benchmark::State& state, const Rig& rig) {
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void BM_Evaluate(benchmark::State& state) {
+void RunEvaluate(benchmark::State& state, EvaluateLayers layers) {
   const Fixture& f = GetFixture(int(state.range(0)));
   const Rig& rig = f.rig;
   EvaluateContext context(rig);
@@ -66,6 +100,7 @@ void BM_Evaluate(benchmark::State& state) {
   job.activations = activations;
   job.out_positions = positions;
   job.out_normals = normals;
+  job.layers = layers;
   uint32_t frame = 0;
   for (auto _ : state) {
     for (size_t m = 0; m < activations.size(); ++m)
@@ -78,6 +113,19 @@ void BM_Evaluate(benchmark::State& state) {
   SetCounters(state, rig);
   state.counters["influences_per_vertex"] =
       double(rig.muscles.entries.size()) / double(rig.point_count());
+  if (layers.muscle_wrinkles) {
+    size_t rows = 0;
+    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
+    state.counters["wrinkle_rows_per_vertex"] = double(rows) / double(rig.point_count());
+  }
+  if (layers.curve_wrinkles)
+    state.counters["curve_entries_per_vertex"] =
+        double(rig.curve_wrinkles.entries.size()) / double(rig.point_count());
+}
+
+void BM_Evaluate(benchmark::State& state) { RunEvaluate(state, EvaluateLayers{}); }
+void BM_EvaluateMusclesOnly(benchmark::State& state) {
+  RunEvaluate(state, EvaluateLayers{false, false, false});
 }
 
 void BM_Reference(benchmark::State& state) {
@@ -99,6 +147,7 @@ void BM_Reference(benchmark::State& state) {
 }
 
 BENCHMARK(BM_Evaluate)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EvaluateMusclesOnly)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Reference)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

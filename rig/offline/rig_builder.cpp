@@ -11,6 +11,7 @@
 #include "muscles/offline/muscle_builder.h"
 #include "rig/offline/refine.h"
 #include "rig/offline/weld.h"
+#include "rig/runtime/normals_job.h"
 #include "wrinkles/offline/bezier.h"
 #include "wrinkles/offline/wrinkle_builder.h"
 
@@ -135,6 +136,10 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh, Rig* rig, Diag
       w.half_cycle = table.half_cycle;
       w.furrow_depth = table.furrow_depth;
       w.shape = table.shape;
+      w.profile.resize(w.points.size());
+      for (size_t i = 0; i < w.points.size(); ++i)
+        w.profile[i] = MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth, w.shape,
+                                            w.attenuation[i]);
       rig->muscle_wrinkles.push_back(std::move(w));
     }
   }
@@ -167,8 +172,13 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh, Rig* rig, Diag
   }
   rig->layers.curve_wrinkles = !rig->curve_wrinkles.entries.empty();
 
-  if (rig->layers.thickness || rig->layers.muscle_wrinkles || rig->layers.curve_wrinkles)
-    rig->rest_triangle_areas = ComputeTriangleAreas(rig->rest_points, rig->triangles);
+  if (rig->layers.thickness || rig->layers.muscle_wrinkles || rig->layers.curve_wrinkles) {
+    rig->rest_triangle_areas.resize(rig->triangle_count());
+    for (uint32_t t = 0; t < rig->triangle_count(); ++t)
+      rig->rest_triangle_areas[t] = TriangleRestArea(rig->rest_points[rig->triangles[3 * t]],
+                                                     rig->rest_points[rig->triangles[3 * t + 1]],
+                                                     rig->rest_points[rig->triangles[3 * t + 2]]);
+  }
   return ok;
 }
 

@@ -24,10 +24,76 @@ void EvaluateContext::Resize(const Rig& rig) {
   for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
   compression_.assign(rows, 0.f);
   shrinkage_.assign(rig.curve_wrinkles.entries.size(), 0.f);
+  tables_valid_ = CheckTables(rig);
+}
+
+// Every stage job over its full range, validated once; Run() then uses RunUnchecked().
+bool EvaluateContext::CheckTables(const Rig& r) {
+  const uint32_t points = r.point_count(), tris = r.triangle_count();
+  if (r.vertex_points.size() != r.vertex_count()) return false;
+  for (uint32_t p : r.vertex_points)
+    if (p >= points) return false;
+  for (uint32_t i : r.triangles)
+    if (i >= points) return false;
+  if (r.point_triangle_offsets.size() != size_t(points) + 1) return false;
+  for (uint32_t p = 0; p < points; ++p)
+    if (r.point_triangle_offsets[p] > r.point_triangle_offsets[p + 1]) return false;
+  if (r.point_triangle_offsets[points] > r.point_triangles.size()) return false;
+  for (uint32_t t : r.point_triangles)
+    if (t >= tris) return false;
+  if (MuscleDeformJob{&r.muscles, activations_, r.rest_points, points_, 0, points}.Validate() ==
+      false)
+    return false;
+  for (const MuscleInfluence& e : r.muscles.entries)
+    if (e.muscle >= r.muscle_count()) return false;
+  const bool skin = r.layers.thickness || r.layers.muscle_wrinkles || r.layers.curve_wrinkles;
+  if (!skin) return true;
+  if (r.rest_triangle_areas.size() < tris || r.point_thickness.size() < points) return false;
+  size_t row0 = 0;
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
+    EdgeCompressionJob eps;
+    eps.positions = points_;
+    eps.points = w.points;
+    eps.offsets = w.edge_offsets;
+    eps.neighbors = w.edge_neighbors;
+    eps.rest_lengths = w.edge_rest_lengths;
+    eps.weights = w.edge_weights;
+    eps.end = w.row_count();
+    eps.out_compression = span<float>(compression_).subspan(row0, w.row_count());
+    MuscleWrinkleJob wr;
+    wr.normals = normals1_;
+    wr.points = w.points;
+    wr.profile = w.profile;
+    wr.compression = eps.out_compression;
+    wr.end = w.row_count();
+    wr.positions = points_;
+    if (!eps.Validate() || !wr.Validate()) return false;
+    row0 += w.row_count();
+  }
+  const RigCurveWrinkles& c = r.curve_wrinkles;
+  if (!c.entries.empty()) {
+    DirectionalShrinkageJob s;
+    s.positions = points_;
+    s.probes = c.probes;
+    s.end = c.probes.size();
+    s.out_shrinkage = shrinkage_;
+    CurveWrinkleJob cw;
+    cw.normals = normals1_;
+    cw.wrinkles = c.wrinkles;
+    cw.points = c.points;
+    cw.offsets = c.offsets;
+    cw.entries = c.entries;
+    cw.entry_shrinkage = shrinkage_;
+    cw.area_ratios = point_ratios_;
+    cw.end = c.row_count();
+    cw.positions = points_;
+    if (!s.Validate() || !cw.Validate() || c.probes.size() != c.entries.size()) return false;
+  }
+  return true;
 }
 
 bool EvaluateContext::IsFor(const Rig& rig) const {
-  return rig_uid_ == rig.uid && point_count_ == rig.point_count() &&
+  return tables_valid_ && rig_uid_ == rig.uid && point_count_ == rig.point_count() &&
          triangle_count_ == rig.triangle_count() && muscle_count_ == rig.muscle_count();
 }
 
@@ -87,8 +153,9 @@ bool EvaluateJob::Run() const {
   const Rig& r = *rig;
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
 
-  // Normals of ctx.points_ into `out` (area-weighted, MODEL.md §1 steps 2 and 5).
-  auto normals = [&](span<float3> out) {
+  // Normals of ctx.points_ into `out` (area-weighted, MODEL.md §1 steps 2 and 5); with
+  // `ratios`, the area ratios r of MODEL.md §4 in the same two passes.
+  auto normals = [&](span<float3> out, bool ratios) {
     ParallelFor(*this, r.triangle_count(), [&](uint32_t b, uint32_t e) {
       FaceNormalsJob job;
       job.points = ctx.points_;
@@ -96,6 +163,10 @@ bool EvaluateJob::Run() const {
       job.out_face_normals = ctx.face_normals_;
       job.begin = b;
       job.end = e;
+      if (ratios) {
+        job.rest_areas = r.rest_triangle_areas;
+        job.out_area_ratios = ctx.triangle_ratios_;
+      }
       job.Run();
     });
     ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
@@ -106,6 +177,10 @@ bool EvaluateJob::Run() const {
       job.out_normals = out;
       job.begin = b;
       job.end = e;
+      if (ratios) {
+        job.triangle_ratios = ctx.triangle_ratios_;
+        job.out_ratios = ctx.point_ratios_;
+      }
       job.Run();
     });
   };
@@ -128,31 +203,10 @@ bool EvaluateJob::Run() const {
   const bool want_normals = !out_normals.empty();
 
   if (thickness || muscle_wrinkles || curve_wrinkles) {
-    // 2. N1 and the strain of X1 against the rest pose (MODEL.md §4-5).
-    normals(ctx.normals1_);
+    // 2. N1 and the strain of X1 against the rest pose (MODEL.md §4-5); the area ratio r
+    // rides along with the normals (same triangles, same gather).
     const bool need_ratio = thickness || curve_wrinkles;
-    if (need_ratio) {
-      ParallelFor(*this, r.triangle_count(), [&](uint32_t b, uint32_t e) {
-        TriangleAreaRatioJob job;
-        job.positions = ctx.points_;
-        job.triangles = r.triangles;
-        job.rest_areas = r.rest_triangle_areas;
-        job.begin = b;
-        job.end = e;
-        job.out_ratios = ctx.triangle_ratios_;
-        job.Run();
-      });
-      ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
-        PointAreaRatioJob job;
-        job.triangle_ratios = ctx.triangle_ratios_;
-        job.offsets = r.point_triangle_offsets;
-        job.point_triangles = r.point_triangles;
-        job.begin = b;
-        job.end = e;
-        job.out_ratios = ctx.point_ratios_;
-        job.Run();
-      });
-    }
+    normals(ctx.normals1_, need_ratio);
     if (muscle_wrinkles) {
       size_t row0 = 0;
       for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
@@ -168,7 +222,7 @@ bool EvaluateJob::Run() const {
           job.begin = b;
           job.end = e;
           job.out_compression = eps;
-          job.Run();
+          job.RunUnchecked();
         });
         row0 += w.row_count();
       }
@@ -181,7 +235,7 @@ bool EvaluateJob::Run() const {
         job.begin = b;
         job.end = e;
         job.out_shrinkage = ctx.shrinkage_;
-        job.Run();
+        job.RunUnchecked();
       });
     }
 
@@ -197,7 +251,7 @@ bool EvaluateJob::Run() const {
         job.begin = b;
         job.end = e;
         job.out_positions = ctx.points_;
-        job.Run();
+        job.RunUnchecked();
       });
     }
 
@@ -212,16 +266,12 @@ bool EvaluateJob::Run() const {
           MuscleWrinkleJob job;
           job.normals = ctx.normals1_;
           job.points = w.points;
-          job.phase = w.phase;
-          job.attenuation = w.attenuation;
+          job.profile = w.profile;
           job.compression = eps;
-          job.half_cycle = w.half_cycle;
-          job.furrow_depth = w.furrow_depth;
-          job.shape = w.shape;
           job.begin = b;
           job.end = e;
           job.positions = ctx.points_;
-          job.Run();
+          job.RunUnchecked();
         });
         row0 += w.row_count();
       }
@@ -240,14 +290,14 @@ bool EvaluateJob::Run() const {
         job.begin = b;
         job.end = e;
         job.positions = ctx.points_;
-        job.Run();
+        job.RunUnchecked();
       });
     }
     // 5. Normals of X3.
-    if (want_normals) normals(ctx.point_normals_);
+    if (want_normals) normals(ctx.point_normals_, false);
   } else {
     std::fill(ctx.point_ratios_.begin(), ctx.point_ratios_.end(), 1.f);
-    if (want_normals) normals(ctx.point_normals_);
+    if (want_normals) normals(ctx.point_normals_, false);
   }
 
   // 6. Scatter to the file's vertex layout.

@@ -3,8 +3,9 @@
 // rest mesh + activations -> positions and normals (MODEL.md §1). Stages, each a job over
 // spans that an engine may also run itself:
 //   1. MuscleDeformJob (points)            X1 = X + sum_m a_m U_m             MODEL.md §1-3
-//   2. normals N1 of X1; strain of X1 vs X: area ratio r (TriangleAreaRatioJob,
-//      PointAreaRatioJob), compression eps per wrinkled muscle (EdgeCompressionJob),
+//   2. normals N1 of X1 and, in the same passes, the area ratio r (FaceNormalsJob,
+//      PointNormalsJob with their ratio outputs); strain
+//      of X1 vs X: compression eps per wrinkled muscle (EdgeCompressionJob),
 //      shrinkage s across each curve wrinkle (DirectionalShrinkageJob)     MODEL.md §4-5
 //   3. ThicknessJob                        X2 = X1 + (1/r - 1) h N1           MODEL.md §4
 //   4. MuscleWrinkleJob per wrinkled muscle, then CurveWrinkleJob
@@ -34,7 +35,9 @@ class EvaluateContext {
   explicit EvaluateContext(const Rig& rig) { Resize(rig); }
   // (Re)sizes every buffer for `rig`. The only allocating call.
   void Resize(const Rig& rig);
-  // True when this context was sized for `rig`.
+  // True when this context was sized for `rig` and the rig's tables passed the one-time check
+  // Resize makes (every index in range, every CSR well formed), which lets Run() use the
+  // stage jobs without per-frame index checks.
   bool IsFor(const Rig& rig) const;
 
   // Read access to the last frame's intermediate results (for overlays and tests).
@@ -46,7 +49,9 @@ class EvaluateContext {
 
  private:
   friend struct EvaluateJob;
+  bool CheckTables(const Rig& rig);
   uint64_t rig_uid_ = 0;
+  bool tables_valid_ = false;
   uint32_t point_count_ = 0, triangle_count_ = 0, muscle_count_ = 0;
   std::vector<float> activations_;     // #muscles, sanitised
   std::vector<float3> points_;         // #P deformed

@@ -33,6 +33,7 @@ struct RigMuscleWrinkles {
   std::vector<uint32_t> points;           // rows
   std::vector<float> phase;               // w_i, mesh units
   std::vector<float> attenuation;         // At_i
+  std::vector<float> profile;             // H(w_i) At_i (MuscleWrinkleProfile), per row
   std::vector<uint32_t> edge_offsets;     // rows + 1
   std::vector<uint32_t> edge_neighbors;
   std::vector<float> edge_rest_lengths;   // mesh units

@@ -291,7 +291,7 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
   c.spec.control[2] = {0.6f, 0.5f};
   c.spec.control[3] = {0.8f, 0.5f};
   c.spec.depth = 1.f;
-  c.spec.width = 2.f;  // target edge: 0.5 mm; Bando support 12 w = 24 mm
+  c.spec.width = 2.f;  // target edge: 0.5 mm; Bando support 8 w = 16 mm
   spec.curve_wrinkles.push_back(c);
   Rig rig;
   Diagnostics diag;
@@ -306,14 +306,14 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
                  d = rig.rest_points[rig.triangles[3 * t + 2]];
     const float3 centroid = (a + b + d) / 3.f;
     const float longest = std::max({Length(b - a), Length(d - b), Length(a - d)});
-    // Within the Bando support (12 w = 24 mm) of the segment, away from its ends.
-    if (std::fabs(centroid.x) < 25.f && std::fabs(centroid.y) < 20.f) {
+    // Within the Bando support (8 w = 16 mm) of the segment, away from its ends.
+    if (std::fabs(centroid.x) < 25.f && std::fabs(centroid.y) < 14.f) {
       EXPECT_LE(longest, 0.5f + 1e-4f) << "triangle " << t;
       ++near;
     }
     // Farther than the support, widened by the longest input edge (7.07 mm) and by two more
     // for the bisection's closure: the file's 5 mm triangles, untouched.
-    if (std::fabs(centroid.y) > 24.f + 3 * 7.08f) {
+    if (std::fabs(centroid.y) > 16.f + 3 * 7.08f) {
       ++far;
       far_kept += rig.vertex_indices[3 * t] < mesh.vertex_count() &&
                   rig.vertex_indices[3 * t + 1] < mesh.vertex_count() &&

@@ -204,7 +204,7 @@ TEST(CurveTable, StraightWrinkleOnAGrid) {
   spec.control[2] = {0.5f, 1.f};
   spec.control[3] = {0.5f, 2.f};
   spec.depth = 0.1f;
-  spec.width = 0.055f;  // support 0.66 mesh units: columns x = 0.4 .. 1.6
+  spec.width = 0.0825f;  // support 8 w = 0.66 mesh units: columns x = 0.4 .. 1.6
   spec.rest_amplitude = 0.5f;
   CurveWrinkleTable table;
   Diagnostics diag;

@@ -190,7 +190,7 @@ TEST(MuscleWrinkle, KnownAnswerAlongTheNormal) {  // 001 eq. 4
   const std::vector<uint32_t> pts = {1};
   const std::vector<float> phase = {0.5f}, at = {0.6f}, eps = {0.5f};
   std::vector<float> amp(1);
-  MuscleWrinkleJob job{nrm, pts, phase, at, eps, 1.f, 2.f, 1.f, 0, 1, pos, amp};
+  MuscleWrinkleJob job{nrm, pts, phase, at, eps, 1.f, 2.f, 1.f, 0, 1, pos, amp, {}};
   ASSERT_TRUE(job.Run());
   // H(0.5) with u = 1, k0 = 2, alpha = 1: t = -0.5, d = 2 (4 - 1)/4 = 1.5; H = 2(1.25)(-0.5) + 1.5.
   const double H = 2.0 * 1.25 * -0.5 + 1.5;
@@ -357,7 +357,7 @@ TEST(Degenerate, AllOutputsFinite) {
     th.out_positions = out;
     ASSERT_TRUE(th.Run());
     MuscleWrinkleJob mj{nrm, mt.points, mt.phase, mt.attenuation, eps, mt.half_cycle,
-                        mt.furrow_depth, mt.shape, 0, mt.points.size(), out, {}};
+                        mt.furrow_depth, mt.shape, 0, mt.points.size(), out, {}, {}};
     ASSERT_TRUE(mj.Run());
     CurveWrinkleJob cj;
     cj.normals = nrm;
@@ -459,7 +459,7 @@ TEST(Validity, EverySpanOneShortIsRefused) {
 
   // Muscle wrinkles over every point (row i = point i; the last row uses the last point).
   std::vector<float> ph(n, 0.1f), at(n, 1.f), amp(n);
-  MuscleWrinkleJob mj{nrm, rows, ph, at, eps, 1.f, 0.1f, 1.f, 0, n, out, amp};
+  MuscleWrinkleJob mj{nrm, rows, ph, at, eps, 1.f, 0.1f, 1.f, 0, n, out, amp, {}};
   EXPECT_TRUE(mj.Validate());
   { auto j = mj; j.normals = Short(j.normals); EXPECT_FALSE(j.Validate()); }
   { auto j = mj; j.points = Short(j.points); EXPECT_FALSE(j.Validate()); }
@@ -561,7 +561,7 @@ TEST(RangeSplit, BitIdentical) {
     std::vector<float> ph(n), at(n, 0.7f);
     for (size_t p = 0; p < n; ++p) ph[p] = 0.017f * p;
     EXPECT_TRUE(ranges(n, [&](size_t b, size_t e) {
-      return MuscleWrinkleJob{nrm, rows, ph, at, eps, 0.5f, 0.02f, 0.7f, b, e, *result, {}}.Run(); }));
+      return MuscleWrinkleJob{nrm, rows, ph, at, eps, 0.5f, 0.02f, 0.7f, b, e, *result, {}, {}}.Run(); }));
     EXPECT_TRUE(ranges(ct.points.size(), [&](size_t b, size_t e) {
       CurveWrinkleJob cj{nrm, ct.wrinkles, ct.points, ct.offsets, ct.entries, cs, r, b, e, *result, {}};
       return cj.Run(); }));
@@ -577,6 +577,34 @@ TEST(RangeSplit, BitIdentical) {
   double moved = 0.0;
   for (size_t p = 0; p < n; ++p) moved += Length(whole[p] - x[p]);
   EXPECT_GT(moved, 0.0);
+}
+
+}  // namespace
+}  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+// The precomputed-profile path (what EvaluateJob runs) equals the general path.
+TEST(MuscleWrinkle, PrecomputedProfileMatchesTheGeneralPath) {
+  const size_t n = 40;
+  std::vector<float3> nrm(n, float3{0, 0, 1}), a(n), b(n);
+  std::vector<uint32_t> rows(n);
+  std::vector<float> ph(n), at(n), eps(n), profile(n);
+  for (size_t i = 0; i < n; ++i) {
+    rows[i] = uint32_t(i);
+    ph[i] = 0.05f * float(i);               // w in [0, 2u) with u = 1
+    at[i] = 1.f - float(i) / float(n);
+    eps[i] = -0.2f + 0.03f * float(i);
+    profile[i] = MuscleWrinkleProfile(ph[i], 1.f, 0.3f, 0.7f, at[i]);
+  }
+  MuscleWrinkleJob general{nrm, rows, ph, at, eps, 1.f, 0.3f, 0.7f, 0, n, a, {}, {}};
+  MuscleWrinkleJob fast{nrm, rows, {}, {}, eps, 0.f, 0.f, 0.f, 0, n, b, {}, profile};
+  ASSERT_TRUE(general.Run());
+  ASSERT_TRUE(fast.Run());
+  for (size_t i = 0; i < n; ++i) EXPECT_EQ(a[i].z, b[i].z) << i;
+  fast.profile = span<const float>(profile).first(n - 1);
+  EXPECT_FALSE(fast.Validate());
 }
 
 }  // namespace

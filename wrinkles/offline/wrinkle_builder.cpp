@@ -234,7 +234,9 @@ ShrinkageProbe BuildShrinkageProbe(uint32_t point, float2 dp, span<const float3>
 float CurveWrinkleSupport(const CurveWrinkleSpec& spec) {
   switch (spec.profile) {
     case CurveWrinkleProfile::kBando:
-      return 12.f * spec.width;
+      // **choice**: 8 w. Beyond it |S| < 7 e^-8 d = 0.0023 d and the tail holds 8 e^-8 d w,
+      // 0.18% of the furrow volume 4 d w / e; 12 w (1e-4) cost 50% more points per frame.
+      return 8.f * spec.width;
     case CurveWrinkleProfile::kYangZhang:
       return static_cast<float>(YangZhangWidth(std::hypot(double(spec.width), double(spec.depth))));
     case CurveWrinkleProfile::kYangZhangExact:

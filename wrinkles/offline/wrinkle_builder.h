@@ -89,8 +89,8 @@ ShrinkageProbe BuildShrinkageProbe(uint32_t point, float2 dp, span<const float3>
                                    span<const uint32_t> triangles, span<const float2> corner_uvs,
                                    const CsrTable& point_triangles);
 
-// How far a curve wrinkle reaches, mesh units: 12 w for Bando (the tail beyond holds < 1e-4 of
-// the furrow volume), 20/3 sqrt(a0^2 + h0^2) for Yang-Zhang with eq. 9 (the widest profile that
+// How far a curve wrinkle reaches, mesh units: 8 w for Bando (beyond it |S| < 0.0023 d and the
+// tail holds 0.18% of the furrow volume), 20/3 sqrt(a0^2 + h0^2) for Yang-Zhang with eq. 9 (the widest profile that
 // still has depth) and 20/3 times the flank length for the exact variant.
 float CurveWrinkleSupport(const CurveWrinkleSpec& spec);
 

@@ -18,6 +18,11 @@ bool TriangleAreaRatioJob::Validate() const {
 
 bool TriangleAreaRatioJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void TriangleAreaRatioJob::RunUnchecked() const {
   for (size_t t = begin; t < end; ++t) {
     const float3 a = positions[triangles[3 * t]];
     const float3 b = positions[triangles[3 * t + 1]];
@@ -26,7 +31,6 @@ bool TriangleAreaRatioJob::Run() const {
     const float rest = rest_areas[t];
     out_ratios[t] = rest > 0.f ? area / rest : 1.f;
   }
-  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -42,6 +46,11 @@ bool PointAreaRatioJob::Validate() const {
 
 bool PointAreaRatioJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void PointAreaRatioJob::RunUnchecked() const {
   for (size_t p = begin; p < end; ++p) {
     const uint32_t first = offsets[p], last = offsets[p + 1];
     if (first == last) {
@@ -52,7 +61,6 @@ bool PointAreaRatioJob::Run() const {
     for (uint32_t k = first; k < last; ++k) sum += triangle_ratios[point_triangles[k]];
     out_ratios[p] = sum / static_cast<float>(last - first);  // MODEL.md §4: mean over I_j
   }
-  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -70,6 +78,11 @@ bool EdgeCompressionJob::Validate() const {
 
 bool EdgeCompressionJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void EdgeCompressionJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     const float3 xi = positions[points[i]];
     float num = 0.f, den = 0.f;
@@ -84,7 +97,6 @@ bool EdgeCompressionJob::Run() const {
     // 001 eq. 10 with |cos| weights (MODEL.md §5 choice).
     out_compression[i] = den > 0.f ? num / den : 0.f;
   }
-  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -103,6 +115,11 @@ bool DirectionalShrinkageJob::Validate() const {
 
 bool DirectionalShrinkageJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void DirectionalShrinkageJob::RunUnchecked() const {
   for (size_t k = begin; k < end; ++k) {
     const ShrinkageProbe& probe = probes[k];
     const float3 x1 = positions[probe.point];
@@ -118,7 +135,6 @@ bool DirectionalShrinkageJob::Run() const {
     // 000 §7: average the two triangles hit along +dp and -dp.
     out_shrinkage[k] = probe.side_count > 0 ? sum / static_cast<float>(probe.side_count) : 0.f;
   }
-  return true;
 }
 
 }  // namespace mimetic

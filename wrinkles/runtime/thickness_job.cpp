@@ -14,6 +14,11 @@ bool ThicknessJob::Validate() const {
 
 bool ThicknessJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void ThicknessJob::RunUnchecked() const {
   const bool per_point = !thickness.empty();
   for (size_t p = begin; p < end; ++p) {
     float r = area_ratios[p];
@@ -21,7 +26,6 @@ bool ThicknessJob::Run() const {
     const float h = per_point ? thickness[p] : constant_thickness;
     out_positions[p] = positions[p] + normals[p] * ((1.f / r - 1.f) * h);  // 002 eq. 3
   }
-  return true;
 }
 
 }  // namespace mimetic

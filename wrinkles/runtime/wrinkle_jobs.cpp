@@ -9,14 +9,18 @@
 namespace mimetic {
 
 // ----------------------------------------------------------------------------------------------
+float MuscleWrinkleProfile(float phase, float half_cycle, float furrow_depth, float shape,
+                           float attenuation) {
+  return ZhangShape(phase, half_cycle, furrow_depth, shape) * ClampOrLow(attenuation, 0.f, 1.f);
+}
+
 bool MuscleWrinkleJob::Validate() const {
-  if (begin > end || points.size() < end || phase.size() < end || attenuation.size() < end ||
-      compression.size() < end) {
-    return false;
-  }
+  if (begin > end || points.size() < end || compression.size() < end) return false;
   if (!out_amplitudes.empty() && out_amplitudes.size() < end) return false;
-  if (!(half_cycle > 0.f) || !std::isfinite(half_cycle) || !std::isfinite(furrow_depth) ||
-      !std::isfinite(shape)) {
+  if (!profile.empty()) {
+    if (profile.size() < end) return false;
+  } else if (phase.size() < end || attenuation.size() < end || !(half_cycle > 0.f) ||
+             !std::isfinite(half_cycle) || !std::isfinite(furrow_depth) || !std::isfinite(shape)) {
     return false;
   }
   const auto rows = points.subspan(begin, end - begin);
@@ -25,15 +29,22 @@ bool MuscleWrinkleJob::Validate() const {
 
 bool MuscleWrinkleJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void MuscleWrinkleJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6); no activation factor (see header).
-    const float w = ZhangShape(phase[i], half_cycle, furrow_depth, shape) *
-                    Anisotropy(compression[i]) * ClampOrLow(attenuation[i], 0.f, 1.f);
+    const float h_at = profile.empty()
+                           ? MuscleWrinkleProfile(phase[i], half_cycle, furrow_depth, shape,
+                                                  attenuation[i])
+                           : profile[i];
+    const float w = h_at * Anisotropy(compression[i]);
     const uint32_t p = points[i];
     positions[p] += normals[p] * w;
     if (!out_amplitudes.empty()) out_amplitudes[i] = w;
   }
-  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -91,6 +102,11 @@ bool CurveWrinkleJob::Validate() const {
 
 bool CurveWrinkleJob::Run() const {
   if (!Validate()) return false;
+  RunUnchecked();
+  return true;
+}
+
+void CurveWrinkleJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     const uint32_t p = points[i];
     float sum = 0.f;
@@ -104,7 +120,6 @@ bool CurveWrinkleJob::Run() const {
     positions[p] += normals[p] * sum;  // MODEL.md §7: x' = x + S(l) M N
     if (!out_amplitudes.empty()) out_amplitudes[i] = sum;
   }
-  return true;
 }
 
 }  // namespace mimetic

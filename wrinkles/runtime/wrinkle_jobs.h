@@ -26,6 +26,9 @@ namespace mimetic {
 struct MuscleWrinkleJob {
   bool Validate() const;
   bool Run() const;
+  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
+  // validates a rig's tables when its context is sized). Undefined on invalid input.
+  void RunUnchecked() const;
 
   span<const float3> normals;        // N1, unit normals per point; every index used must exist
   span<const uint32_t> points;       // region point of each row; >= end
@@ -40,7 +43,16 @@ struct MuscleWrinkleJob {
   size_t end = 0;                    // one past the last row
   span<float3> positions;            // points, in/out (+= W N); every index used must exist
   span<float> out_amplitudes;        // optional: W_i per row for overlays; empty or >= end
+  // Optional: H(w_i) At_i per row, precomputed (both are fixed on the rest pose; the rig
+  // builder stores them). When non-empty (>= end), phase, attenuation, half_cycle,
+  // furrow_depth and shape are not read and W_i = profile_i A(eps_i): no pow() per frame.
+  span<const float> profile;
 };
+
+// H(w_i) At_i for one region row (001 eq. 5 and 12/15): the per-row constant of
+// MuscleWrinkleJob's fast path, computed exactly as its general path does.
+float MuscleWrinkleProfile(float phase, float half_cycle, float furrow_depth, float shape,
+                           float attenuation);
 
 // Cross-section of a curve wrinkle.
 enum class CurveWrinkleProfile : uint32_t {
@@ -84,6 +96,9 @@ struct CurveWrinkleEntry {
 struct CurveWrinkleJob {
   bool Validate() const;
   bool Run() const;
+  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
+  // validates a rig's tables when its context is sized). Undefined on invalid input.
+  void RunUnchecked() const;
 
   span<const float3> normals;                 // N1 per point; every index used must exist
   span<const CurveWrinkleParams> wrinkles;    // every entry's wrinkle index must exist
