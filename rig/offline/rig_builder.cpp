@@ -106,7 +106,8 @@ WrinkleMuscleGeometry GeometryOf(const MuscleSpec& m) {
 }
 
 // MODEL.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
-bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh, Rig* rig, Diagnostics* diag) {
+bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
+                       const std::vector<uint32_t>& file_triangle, Rig* rig, Diagnostics* diag) {
   bool ok = true;
   bool any_thickness = false;
   for (float h : rig->point_thickness) any_thickness |= h > 0.f;
@@ -151,8 +152,11 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh, Rig* rig, Diag
                                         mesh.source + "' has no texture coordinates");
       ok = false;
     } else {
+      // Texture coordinates of each internal triangle's corners, from its file triangle.
       std::vector<float2> corner_uvs(mesh.indices.size());
-      for (size_t i = 0; i < mesh.indices.size(); ++i) corner_uvs[i] = mesh.uvs[mesh.indices[i]];
+      for (size_t t = 0; t < file_triangle.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+          corner_uvs[3 * t + k] = mesh.uvs[mesh.indices[3 * size_t(file_triangle[t]) + k]];
       std::vector<CurveWrinkleSpec> specs;
       for (const NamedCurveWrinkle& c : spec.curve_wrinkles) specs.push_back(c.spec);
       CurveWrinkleTable table;
@@ -246,6 +250,109 @@ bool NeedsRefinement(const RigSpec& spec) {
   return any;
 }
 
+// Everything after welding: `welded` may be reordered (points and triangles); file_triangle[t]
+// is the file triangle of internal triangle t. The output's vertex layout and index buffer
+// stay the file's own.
+bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
+                   const std::vector<uint32_t>& file_triangle, Rig* out, Diagnostics* diag) {
+  Rig rig;
+  rig.rest_points = welded.points;
+  rig.triangles = welded.triangles;
+  rig.vertex_points = welded.point_of_vertex;
+  rig.vertex_indices = mesh.indices;
+  rig.vertex_uvs = mesh.uvs;
+
+  // Point -> triangle adjacency (CSR, ascending triangle order per point).
+  const uint32_t points = rig.point_count();
+  rig.point_triangle_offsets.assign(points + 1, 0);
+  for (uint32_t idx : rig.triangles) ++rig.point_triangle_offsets[idx + 1];
+  for (uint32_t p = 0; p < points; ++p)
+    rig.point_triangle_offsets[p + 1] += rig.point_triangle_offsets[p];
+  rig.point_triangles.resize(rig.triangles.size());
+  std::vector<uint32_t> fill(rig.point_triangle_offsets.begin(), rig.point_triangle_offsets.end() - 1);
+  for (uint32_t t = 0; t < rig.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) rig.point_triangles[fill[rig.triangles[3 * t + k]]++] = t;
+
+  bool ok = ResolveThickness(spec.thickness, mesh, welded, &rig.point_thickness, diag);
+
+  for (const MuscleSpec& m : spec.muscles) rig.muscle_names.push_back(m.name);
+  rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points);
+  for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
+    if (rig.muscles.CountInfluenced(m) == 0 && spec.muscles[m].strength > 0.f)
+      diag->Warning("muscles[" + std::to_string(m) + "] (" + spec.muscles[m].name + ")",
+                    "reaches no vertex of the mesh: check its position and fall-off radii "
+                    "against the mesh's units and placement");
+  }
+  ok = CompileSkinLayers(spec, mesh, file_triangle, &rig, diag) && ok;
+  if (!ok) return false;
+  *out = std::move(rig);
+  return true;
+}
+
+struct ActiveCounts {
+  uint32_t points = 0, normal_points = 0, triangles = 0;
+};
+
+// Orders points so that those whose position can change in a frame come first (the active
+// set A: points a muscle moves, points sharing a triangle with one (their area ratio, hence
+// their thickness displacement, changes), and wrinkle rows), then the points sharing a
+// triangle with A (their normals change), then the rest, which keep their rest position and
+// normal forever. Triangles touching A come first. Exact: nothing outside these ranges can
+// differ from the rest pose.
+ActiveCounts ActiveOrder(const Rig& rig, const WeldedMesh& welded, WeldedMesh* out,
+                         std::vector<uint32_t>* file_triangle) {
+  const uint32_t points = rig.point_count(), tris = rig.triangle_count();
+  std::vector<uint8_t> moved(points, 0), level(points, 0);  // level: 2 active, 1 normal, 0 static
+  for (uint32_t p = 0; p < points; ++p)
+    moved[p] = rig.muscles.offsets[p + 1] > rig.muscles.offsets[p];
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
+    for (uint32_t p : w.points) level[p] = 2;
+  for (uint32_t p : rig.curve_wrinkles.points) level[p] = 2;
+  for (uint32_t t = 0; t < tris; ++t) {
+    const uint32_t* c = &rig.triangles[3 * t];
+    if (moved[c[0]] || moved[c[1]] || moved[c[2]]) level[c[0]] = level[c[1]] = level[c[2]] = 2;
+  }
+  std::vector<uint8_t> touches_active(tris, 0);
+  for (uint32_t t = 0; t < tris; ++t) {
+    const uint32_t* c = &rig.triangles[3 * t];
+    touches_active[t] = level[c[0]] == 2 || level[c[1]] == 2 || level[c[2]] == 2;
+  }
+  for (uint32_t t = 0; t < tris; ++t) {
+    if (!touches_active[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      uint8_t& l = level[rig.triangles[3 * t + k]];
+      if (l == 0) l = 1;
+    }
+  }
+  ActiveCounts counts;
+  std::vector<uint32_t> new_index(points);
+  std::vector<uint32_t> order;
+  order.reserve(points);
+  for (int want = 2; want >= 0; --want)
+    for (uint32_t p = 0; p < points; ++p)
+      if (level[p] == want) new_index[p] = uint32_t(order.size()), order.push_back(p);
+  for (uint32_t p = 0; p < points; ++p) {
+    counts.points += level[p] == 2;
+    counts.normal_points += level[p] >= 1;
+  }
+  out->points.resize(points);
+  for (uint32_t i = 0; i < points; ++i) out->points[i] = welded.points[order[i]];
+  out->point_of_vertex.resize(welded.point_of_vertex.size());
+  for (size_t v = 0; v < welded.point_of_vertex.size(); ++v)
+    out->point_of_vertex[v] = new_index[welded.point_of_vertex[v]];
+  file_triangle->clear();
+  out->triangles.clear();
+  for (int want = 1; want >= 0; --want) {
+    for (uint32_t t = 0; t < tris; ++t) {
+      if (touches_active[t] != want) continue;
+      file_triangle->push_back(t);
+      for (int k = 0; k < 3; ++k) out->triangles.push_back(new_index[welded.triangles[3 * t + k]]);
+    }
+    if (want == 1) counts.triangles = uint32_t(file_triangle->size());
+  }
+  return counts;
+}
+
 }  // namespace
 
 bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOptions& options,
@@ -286,37 +393,28 @@ bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOpti
   diag->Append(weld_diag, mesh.source);
   if (!welded_ok) return false;
 
+  // Pass 1 finds what can move; pass 2 builds on points and triangles reordered so that the
+  // per-frame stages run over leading ranges only (see ActiveOrder).
+  const std::vector<uint32_t> identity = [&] {
+    std::vector<uint32_t> v(welded.triangles.size() / 3);
+    for (uint32_t t = 0; t < v.size(); ++t) v[t] = t;
+    return v;
+  }();
+  Rig first;
+  if (!BuildOnWelded(spec, mesh, welded, identity, &first, diag)) return false;
+  WeldedMesh ordered;
+  std::vector<uint32_t> file_triangle;
   Rig rig;
-  rig.uid = g_next_uid.fetch_add(1);
-  rig.rest_points = welded.points;
-  rig.triangles = welded.triangles;
-  rig.vertex_points = welded.point_of_vertex;
-  rig.vertex_indices = mesh.indices;
-  rig.vertex_uvs = mesh.uvs;
-
-  // Point -> triangle adjacency (CSR, ascending triangle order per point).
-  const uint32_t points = rig.point_count();
-  rig.point_triangle_offsets.assign(points + 1, 0);
-  for (uint32_t idx : rig.triangles) ++rig.point_triangle_offsets[idx + 1];
-  for (uint32_t p = 0; p < points; ++p)
-    rig.point_triangle_offsets[p + 1] += rig.point_triangle_offsets[p];
-  rig.point_triangles.resize(rig.triangles.size());
-  std::vector<uint32_t> fill(rig.point_triangle_offsets.begin(), rig.point_triangle_offsets.end() - 1);
-  for (uint32_t t = 0; t < rig.triangle_count(); ++t)
-    for (int k = 0; k < 3; ++k) rig.point_triangles[fill[rig.triangles[3 * t + k]]++] = t;
-
-  bool ok = ResolveThickness(spec.thickness, mesh, welded, &rig.point_thickness, diag);
-
-  for (const MuscleSpec& m : spec.muscles) rig.muscle_names.push_back(m.name);
-  rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points);
-  for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
-    if (rig.muscles.CountInfluenced(m) == 0 && spec.muscles[m].strength > 0.f)
-      diag->Warning("muscles[" + std::to_string(m) + "] (" + spec.muscles[m].name + ")",
-                    "reaches no vertex of the mesh: check its position and fall-off radii "
-                    "against the mesh's units and placement");
+  Diagnostics repeat;  // the same diagnostics again: already reported
+  const ActiveCounts counts = ActiveOrder(first, welded, &ordered, &file_triangle);
+  if (!BuildOnWelded(spec, mesh, ordered, file_triangle, &rig, &repeat)) {
+    diag->Append(repeat);
+    return false;
   }
-  ok = CompileSkinLayers(spec, mesh, &rig, diag) && ok;
-  if (!ok) return false;
+  rig.active_point_count = counts.points;
+  rig.normal_point_count = counts.normal_points;
+  rig.active_triangle_count = counts.triangles;
+  rig.uid = g_next_uid.fetch_add(1);
   *out = std::move(rig);
   return true;
 }

@@ -25,6 +25,24 @@ void EvaluateContext::Resize(const Rig& rig) {
   compression_.assign(rows, 0.f);
   shrinkage_.assign(rig.curve_wrinkles.entries.size(), 0.f);
   tables_valid_ = CheckTables(rig);
+  if (!tables_valid_) return;
+  // Rest values everywhere: a frame rewrites only the leading ranges that can change
+  // (Rig::active_point_count and friends); the rest keep these.
+  points_ = rig.rest_points;
+  FaceNormalsJob faces;
+  faces.points = points_;
+  faces.triangles = rig.triangles;
+  faces.out_face_normals = face_normals_;
+  faces.end = triangle_count_;
+  faces.Run();
+  PointNormalsJob normals;
+  normals.face_normals = face_normals_;
+  normals.point_triangle_offsets = rig.point_triangle_offsets;
+  normals.point_triangles = rig.point_triangles;
+  normals.out_normals = point_normals_;
+  normals.end = point_count_;
+  normals.Run();
+  if (skin) normals1_ = point_normals_;
 }
 
 // Every stage job over its full range, validated once; Run() then uses RunUnchecked().
@@ -41,6 +59,27 @@ bool EvaluateContext::CheckTables(const Rig& r) {
   if (r.point_triangle_offsets[points] > r.point_triangles.size()) return false;
   for (uint32_t t : r.point_triangles)
     if (t >= tris) return false;
+  // The ordering the per-frame ranges rely on (see Rig::active_point_count).
+  const uint32_t n_active = r.active_point_count, n_normal = r.normal_point_count;
+  const uint32_t t_active = r.active_triangle_count;
+  if (n_active > n_normal || n_normal > points || t_active > tris) return false;
+  for (uint32_t p = n_active; p < points; ++p)  // muscles move active points only
+    if (r.muscles.offsets.size() == size_t(points) + 1 &&
+        r.muscles.offsets[p + 1] != r.muscles.offsets[p])
+      return false;
+  for (uint32_t t = 0; t < tris; ++t) {
+    const uint32_t* c = &r.triangles[3 * t];
+    const bool active = c[0] < n_active || c[1] < n_active || c[2] < n_active;
+    if (active && t >= t_active) return false;  // its normal would be missed
+  }
+  for (uint32_t p = n_normal; p < points; ++p)  // static points see static triangles only
+    for (uint32_t k = r.point_triangle_offsets[p]; k < r.point_triangle_offsets[p + 1]; ++k)
+      if (r.point_triangles[k] < t_active) return false;
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
+    for (uint32_t p : w.points)
+      if (p >= n_active) return false;
+  for (uint32_t p : r.curve_wrinkles.points)
+    if (p >= n_active) return false;
   if (MuscleDeformJob{&r.muscles, activations_, r.rest_points, points_, 0, points}.Validate() ==
       false)
     return false;
@@ -155,8 +194,10 @@ bool EvaluateJob::Run() const {
 
   // Normals of ctx.points_ into `out` (area-weighted, MODEL.md §1 steps 2 and 5); with
   // `ratios`, the area ratios r of MODEL.md §4 in the same two passes.
-  auto normals = [&](span<float3> out, bool ratios) {
-    ParallelFor(*this, r.triangle_count(), [&](uint32_t b, uint32_t e) {
+  // Only triangles touching a point that can move, and only the first `count` points (the
+  // others keep the rest normals set when the context was sized).
+  auto normals = [&](span<float3> out, bool ratios, uint32_t count) {
+    ParallelFor(*this, r.active_triangle_count, [&](uint32_t b, uint32_t e) {
       FaceNormalsJob job;
       job.points = ctx.points_;
       job.triangles = r.triangles;
@@ -169,7 +210,7 @@ bool EvaluateJob::Run() const {
       }
       job.Run();
     });
-    ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
+    ParallelFor(*this, count, [&](uint32_t b, uint32_t e) {
       PointNormalsJob job;
       job.face_normals = ctx.face_normals_;
       job.point_triangle_offsets = r.point_triangle_offsets;
@@ -185,8 +226,8 @@ bool EvaluateJob::Run() const {
     });
   };
 
-  // 1. Muscles (MODEL.md §1 step 1): summed on the rest pose.
-  ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
+  // 1. Muscles (MODEL.md §1 step 1): summed on the rest pose; only points that can move.
+  ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
     MuscleDeformJob job;
     job.table = &r.muscles;
     job.activations = ctx.activations_;
@@ -206,7 +247,7 @@ bool EvaluateJob::Run() const {
     // 2. N1 and the strain of X1 against the rest pose (MODEL.md §4-5); the area ratio r
     // rides along with the normals (same triangles, same gather).
     const bool need_ratio = thickness || curve_wrinkles;
-    normals(ctx.normals1_, need_ratio);
+    normals(ctx.normals1_, need_ratio, r.active_point_count);
     if (muscle_wrinkles) {
       size_t row0 = 0;
       for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
@@ -239,9 +280,9 @@ bool EvaluateJob::Run() const {
       });
     }
 
-    // 3. Volume-preserving thickness, in place: X2 (MODEL.md §4).
+    // 3. Volume-preserving thickness, in place: X2 (MODEL.md §4). Elsewhere r = 1 exactly.
     if (thickness) {
-      ParallelFor(*this, r.point_count(), [&](uint32_t b, uint32_t e) {
+      ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
         ThicknessJob job;
         job.positions = ctx.points_;
         job.normals = ctx.normals1_;
@@ -294,10 +335,10 @@ bool EvaluateJob::Run() const {
       });
     }
     // 5. Normals of X3.
-    if (want_normals) normals(ctx.point_normals_, false);
+    if (want_normals) normals(ctx.point_normals_, false, r.normal_point_count);
   } else {
-    std::fill(ctx.point_ratios_.begin(), ctx.point_ratios_.end(), 1.f);
-    if (want_normals) normals(ctx.point_normals_, false);
+    std::fill(ctx.point_ratios_.begin(), ctx.point_ratios_.begin() + r.active_point_count, 1.f);
+    if (want_normals) normals(ctx.point_normals_, false, r.normal_point_count);
   }
 
   // 6. Scatter to the file's vertex layout.

@@ -65,6 +65,13 @@ struct Rig {
   std::vector<uint32_t> triangles;              // 3 * #T, into points, counter-clockwise
   std::vector<uint32_t> point_triangle_offsets; // #P + 1 (CSR): triangles around each point
   std::vector<uint32_t> point_triangles;        // triangle indices, ascending per point
+  // Points are ordered so that a frame only touches leading ranges (rig_builder ActiveOrder):
+  // [0, active_point_count) can move; [0, normal_point_count) can change normal; the rest
+  // stay at their rest position and normal. Triangles [0, active_triangle_count) touch a
+  // point that can move; the others keep their rest normal.
+  uint32_t active_point_count = 0;
+  uint32_t normal_point_count = 0;
+  uint32_t active_triangle_count = 0;
 
   // The file's layout.
   std::vector<uint32_t> vertex_points;   // #V: output vertex -> point

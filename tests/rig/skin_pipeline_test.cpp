@@ -301,9 +301,10 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
   for (size_t v = 0; v < mesh.vertex_count(); ++v)
     ASSERT_EQ(rig.rest_points[rig.vertex_points[v]], mesh.positions[v]);
   size_t near = 0, far_kept = 0, far = 0;
+  const MeshData rest = RestMesh(rig);  // the output layout: file order
   for (uint32_t t = 0; t < rig.triangle_count(); ++t) {
-    const float3 a = rig.rest_points[rig.triangles[3 * t]], b = rig.rest_points[rig.triangles[3 * t + 1]],
-                 d = rig.rest_points[rig.triangles[3 * t + 2]];
+    const float3 a = rest.positions[rest.indices[3 * t]], b = rest.positions[rest.indices[3 * t + 1]],
+                 d = rest.positions[rest.indices[3 * t + 2]];
     const float3 centroid = (a + b + d) / 3.f;
     const float longest = std::max({Length(b - a), Length(d - b), Length(a - d)});
     // Within the Bando support (8 w = 16 mm) of the segment, away from its ends.
