@@ -1,25 +1,35 @@
-// bench/bench_evaluate.cpp: mimetic-bench.
+// bench/bench_evaluate.cpp: mimetic-bench. Every benchmark runs one thread; compare the
+// `ns_per_vertex` counters of a pair in the same run (docs/performance.md).
 //
-//   BM_Evaluate/<vertices>             EvaluateJob with every layer on: 20 muscles, N1, strain,
-//                                      thickness, 6 muscle-wrinkle regions, 4 curve wrinkles,
-//                                      output normals, scatter
-//   BM_EvaluateMusclesOnly/<vertices>  EvaluateJob with the skin layers off: muscles + normals
-//   BM_Reference/<vertices>            52 sparse blendshapes x 15% of the vertices + the same
-//                                      normal recomputation and scatter
-//
-// Both run on the same procedural surface in the same process, one thread; compare their
-// ns/vertex (the `ns_per_vertex` counter). docs/performance.md records the results.
+// Synthetic sheet (the worst case: every point is driven by some muscle):
+//   BM_Evaluate/<vertices>             EvaluateJob with every layer on: 20 muscles, N1,
+//                                      strain, thickness, 4 wrinkled muscles, 4 curve
+//                                      wrinkles, output normals, scatter
+//   BM_EvaluateMusclesOnly/<vertices>  the same rig with the skin layers off
+//   BM_Reference/<vertices>            52 sparse blendshapes x 15% of the vertices + the
+//                                      same normal recomputation and scatter
+// The sample head (assets/head: the default template fitted to the procedural head generated
+// at about <vertices> vertices; refinement off so the count stays the one named):
+//   BM_EvaluateHead/<vertices>, BM_EvaluateHeadMusclesOnly/<vertices>, BM_ReferenceHead/<vertices>
+//                                      (the blendshapes move balls of 15% of the head's
+//                                      points centred on the face)
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <string>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "bench/reference_blendshapes.h"
+#include "rig/offline/fit.h"
+#include "rig/offline/landmarks.h"
+#include "rig/offline/muscle_template.h"
 #include "rig/offline/procedural.h"
 #include "rig/offline/rig_builder.h"
+#include "rig/offline/sample_head.h"
 #include "rig/runtime/evaluate_job.h"
 
 namespace {
@@ -28,55 +38,88 @@ using namespace mimetic;
 
 struct Fixture {
   Rig rig;
-  std::vector<bench::SparseShape> shapes;
+  bench::ReferenceRig reference;
 };
 
-// One rig per size, built once: a square sheet of ~`vertices` vertices, 20 muscles each
-// reaching ~15% of it (the same share each reference blendshape moves).
-const Fixture& GetFixture(int vertices) {
-  static std::map<int, std::unique_ptr<Fixture>> cache;
-  auto& slot = cache[vertices];
-  if (!slot) {
-    slot = std::make_unique<Fixture>();
-    const uint32_t side = uint32_t(std::lround(std::sqrt(double(vertices))));
-    const MeshData mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
-    RigSpec spec = MakeSurfaceRigSpec(20, 100.f, 100.f, 10.f, 0.15f, 3.f);
-    // Wrinkles as on a face: 4 wrinkled muscles (forehead sheets, corrugators) and 4 curve
-    // wrinkles (nasolabial, crow's feet), reaching about a quarter of the vertices (the
-    // counters wrinkle_rows_per_vertex and curve_entries_per_vertex report it). No
-    // refinement, so the vertex count stays the one benchmarked.
-    spec.muscle_wrinkles.resize(spec.muscles.size());
-    for (uint32_t m = 0; m < 4; ++m) {
-      MuscleWrinkleSpec w;
-      w.lambda_w = 0.6f;
-      w.count = 3;
-      w.depth = 0.5f;
-      w.shape = 0.3f;
-      w.phi_c = 0.2f;
-      w.h_c = 0.f;
-      spec.muscle_wrinkles[m] = w;
-    }
-    for (int k = 0; k < 4; ++k) {
-      NamedCurveWrinkle c;
-      c.name = "curve_" + std::to_string(k);
-      const float v = 0.15f + 0.23f * float(k);
-      c.spec.control[0] = {0.35f, v};
-      c.spec.control[1] = {0.45f, v + 0.03f};
-      c.spec.control[2] = {0.55f, v - 0.03f};
-      c.spec.control[3] = {0.65f, v};
-      c.spec.depth = 1.f;
-      c.spec.width = 0.8f;
-      c.spec.modulation = k % 2 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
-      spec.curve_wrinkles.push_back(c);
-    }
-    spec.refinement.enabled = false;
-    Diagnostics diag;
-    if (!BuildRig(spec, mesh, {}, &slot->rig, &diag)) {
-      std::fprintf(stderr, "%s", diag.Format().c_str());
-      std::abort();
-    }
-    slot->shapes = bench::MakeReferenceShapes(slot->rig, 52, 0.15f);
+void Die(const Diagnostics& diag, const char* what) {
+  std::fprintf(stderr, "mimetic-bench: %s\n%s", what, diag.Format().c_str());
+  std::exit(1);
+}
+
+// A square sheet of ~`vertices` vertices, 20 muscles each reaching ~15% of it (the share each
+// reference blendshape moves), 4 wrinkled muscles and 4 curve wrinkles.
+std::unique_ptr<Fixture> MakeSheet(int vertices) {
+  auto f = std::make_unique<Fixture>();
+  const uint32_t side = uint32_t(std::lround(std::sqrt(double(vertices))));
+  const MeshData mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(20, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  // Wrinkles as on a face: 4 wrinkled muscles (forehead sheets, corrugators) and 4 curve
+  // wrinkles (nasolabial, crow's feet), reaching about a quarter of the vertices (the
+  // counters wrinkle_rows_per_vertex and curve_entries_per_vertex report it).
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  for (uint32_t m = 0; m < 4; ++m) {
+    MuscleWrinkleSpec w;
+    w.lambda_w = 0.6f;
+    w.count = 3;
+    w.depth = 0.5f;
+    w.shape = 0.3f;
+    w.phi_c = 0.2f;
+    w.h_c = 0.f;
+    spec.muscle_wrinkles[m] = w;
   }
+  for (int k = 0; k < 4; ++k) {
+    NamedCurveWrinkle c;
+    c.name = "curve_" + std::to_string(k);
+    const float v = 0.15f + 0.23f * float(k);
+    c.spec.control[0] = {0.35f, v};
+    c.spec.control[1] = {0.45f, v + 0.03f};
+    c.spec.control[2] = {0.55f, v - 0.03f};
+    c.spec.control[3] = {0.65f, v};
+    c.spec.depth = 1.f;
+    c.spec.width = 0.8f;
+    c.spec.modulation = k % 2 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
+    spec.curve_wrinkles.push_back(c);
+  }
+  spec.refinement.enabled = false;
+  Diagnostics diag;
+  if (!BuildRig(spec, mesh, {}, &f->rig, &diag)) Die(diag, "cannot build the sheet rig");
+  f->reference = bench::MakeReferenceRig(f->rig, 52, 0.15f);
+  return f;
+}
+
+// The procedural head at ~`vertices` vertices with the default template fitted to it.
+std::unique_ptr<Fixture> MakeHead(int vertices) {
+  auto f = std::make_unique<Fixture>();
+  SampleHeadOptions options;
+  const double k = std::sqrt(double(vertices) / 33741.0);  // defaults: 240 x 140 -> 33,741
+  options.columns = 2 * int(std::lround(120.0 * k));
+  options.rows = int(std::lround(140.0 * k));
+  const SampleHead head = MakeSampleHead(options);
+  MuscleTemplate tmpl;
+  Diagnostics diag;
+  if (!LoadMuscleTemplate(std::string(MIMETIC_SOURCE_DIR) + "/assets/head/default.template.json",
+                          &tmpl, &diag))
+    Die(diag, "cannot load the default template");
+  Landmarks landmarks;
+  landmarks.points = head.landmarks;
+  RigSpec spec;
+  if (!FitTemplate(tmpl, head.mesh, landmarks, "mm", &spec, &diag)) Die(diag, "cannot fit");
+  spec.refinement.enabled = false;
+  if (!BuildRig(spec, head.mesh, {}, &f->rig, &diag)) Die(diag, "cannot build the head rig");
+  // Blendshape regions centred on the face: points in front of the ears, between chin and brows.
+  std::vector<uint32_t> face;
+  for (uint32_t p = 0; p < f->rig.point_count(); ++p) {
+    const float3 x = f->rig.rest_points[p];
+    if (x.z > 40.f && x.y > -110.f && x.y < 40.f) face.push_back(p);
+  }
+  f->reference = bench::MakeReferenceRig(f->rig, 52, 0.15f, face);
+  return f;
+}
+
+const Fixture& GetFixture(bool head, int vertices) {
+  static std::map<std::pair<bool, int>, std::unique_ptr<Fixture>> cache;
+  auto& slot = cache[{head, vertices}];
+  if (!slot) slot = head ? MakeHead(vertices) : MakeSheet(vertices);
   return *slot;
 }
 
@@ -88,9 +131,8 @@ void SetCounters(benchmark::State& state, const Rig& rig) {
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void RunEvaluate(benchmark::State& state, EvaluateLayers layers) {
-  const Fixture& f = GetFixture(int(state.range(0)));
-  const Rig& rig = f.rig;
+void RunEvaluate(benchmark::State& state, bool head, EvaluateLayers layers) {
+  const Rig& rig = GetFixture(head, int(state.range(0))).rig;
   EvaluateContext context(rig);
   std::vector<float> activations(rig.muscle_count());
   std::vector<float> positions(3 * rig.vertex_count()), normals(3 * rig.vertex_count());
@@ -113,6 +155,7 @@ void RunEvaluate(benchmark::State& state, EvaluateLayers layers) {
   SetCounters(state, rig);
   state.counters["influences_per_vertex"] =
       double(rig.muscles.entries.size()) / double(rig.point_count());
+  state.counters["active_fraction"] = double(rig.active_point_count) / double(rig.point_count());
   if (layers.muscle_wrinkles) {
     size_t rows = 0;
     for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
@@ -123,32 +166,43 @@ void RunEvaluate(benchmark::State& state, EvaluateLayers layers) {
         double(rig.curve_wrinkles.entries.size()) / double(rig.point_count());
 }
 
-void BM_Evaluate(benchmark::State& state) { RunEvaluate(state, EvaluateLayers{}); }
-void BM_EvaluateMusclesOnly(benchmark::State& state) {
-  RunEvaluate(state, EvaluateLayers{false, false, false});
-}
-
-void BM_Reference(benchmark::State& state) {
-  const Fixture& f = GetFixture(int(state.range(0)));
+void RunReference(benchmark::State& state, bool head) {
+  const Fixture& f = GetFixture(head, int(state.range(0)));
   const Rig& rig = f.rig;
   bench::ReferenceContext context(rig);
-  std::vector<float> weights(f.shapes.size());
+  std::vector<float> weights(f.reference.shapes.size());
   std::vector<float> positions(3 * rig.vertex_count()), normals(3 * rig.vertex_count());
   uint32_t frame = 0;
   for (auto _ : state) {
     for (size_t s = 0; s < weights.size(); ++s)
       weights[s] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * s));
-    bench::EvaluateReference(rig, f.shapes, weights, &context, positions, normals);
+    bench::EvaluateReference(rig, f.reference, weights, &context, positions, normals);
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
     ++frame;
   }
   SetCounters(state, rig);
+  state.counters["active_fraction"] = double(f.reference.points.size()) / double(rig.point_count());
 }
 
-BENCHMARK(BM_Evaluate)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_EvaluateMusclesOnly)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Reference)->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond);
+void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, EvaluateLayers{}); }
+void BM_EvaluateMusclesOnly(benchmark::State& s) {
+  RunEvaluate(s, false, EvaluateLayers{false, false, false});
+}
+void BM_Reference(benchmark::State& s) { RunReference(s, false); }
+void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, EvaluateLayers{}); }
+void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
+  RunEvaluate(s, true, EvaluateLayers{false, false, false});
+}
+void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
+
+#define MIMETIC_SIZES ->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond)
+BENCHMARK(BM_Evaluate) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateMusclesOnly) MIMETIC_SIZES;
+BENCHMARK(BM_Reference) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateHead) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateHeadMusclesOnly) MIMETIC_SIZES;
+BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
 
 }  // namespace
 

@@ -1,66 +1,87 @@
 #include "bench/reference_blendshapes.h"
 
 #include <algorithm>
-#include <cstring>
 #include <random>
-
-#include "rig/runtime/normals_job.h"
 
 namespace mimetic::bench {
 
-std::vector<SparseShape> MakeReferenceShapes(const Rig& rig, uint32_t shapes, float fraction) {
+ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
+                              const std::vector<uint32_t>& centres) {
   std::mt19937 rng(12345);
-  std::vector<SparseShape> out(shapes);
+  ReferenceRig out;
+  out.shapes.resize(shapes);
   const uint32_t points = rig.point_count();
   const uint32_t moved = uint32_t(fraction * float(points));
-  std::vector<uint32_t> all(points);
-  for (uint32_t i = 0; i < points; ++i) all[i] = i;
   std::uniform_real_distribution<float> delta(-1.f, 1.f);
-  for (SparseShape& s : out) {
-    // A contiguous band of points, like a real shape's region, starting at a random point.
-    const uint32_t start = std::uniform_int_distribution<uint32_t>(0, points - 1)(rng);
-    for (uint32_t k = 0; k < moved; ++k) s.indices.push_back((start + k) % points);
+  std::vector<std::pair<float, uint32_t>> by_distance(points);
+  std::vector<uint8_t> any(points, 0);
+  for (SparseShape& s : out.shapes) {
+    // A ball around a random centre, like a real shape's region.
+    const uint32_t pick = std::uniform_int_distribution<uint32_t>(
+        0, uint32_t((centres.empty() ? points : centres.size()) - 1))(rng);
+    const float3 c = rig.rest_points[centres.empty() ? pick : centres[pick]];
+    for (uint32_t p = 0; p < points; ++p) by_distance[p] = {LengthSquared(rig.rest_points[p] - c), p};
+    std::nth_element(by_distance.begin(), by_distance.begin() + moved, by_distance.end());
+    for (uint32_t k = 0; k < moved; ++k) s.indices.push_back(by_distance[k].second);
     std::sort(s.indices.begin(), s.indices.end());
-    for (uint32_t k = 0; k < moved; ++k) s.deltas.push_back({delta(rng), delta(rng), delta(rng)});
+    for (uint32_t k = 0; k < moved; ++k) {
+      s.deltas.push_back({delta(rng), delta(rng), delta(rng)});
+      any[s.indices[k]] = 1;
+    }
   }
+  std::vector<uint8_t> in_list(points, 0);
+  for (uint32_t t = 0; t < rig.triangle_count(); ++t) {
+    const uint32_t* c = &rig.triangles[3 * t];
+    if (!(any[c[0]] || any[c[1]] || any[c[2]])) continue;
+    out.triangles.push_back(t);
+    in_list[c[0]] = in_list[c[1]] = in_list[c[2]] = 1;
+  }
+  for (uint32_t p = 0; p < points; ++p)
+    if (in_list[p]) out.points.push_back(p);
   return out;
 }
 
 ReferenceContext::ReferenceContext(const Rig& rig)
-    : points(rig.point_count()), face_normals(rig.triangle_count()), point_normals(rig.point_count()) {}
+    : points(rig.rest_points), face_normals(rig.triangle_count()), point_normals(rig.point_count()) {
+  for (uint32_t t = 0; t < rig.triangle_count(); ++t) {
+    const uint32_t* c = &rig.triangles[3 * t];
+    face_normals[t] = Cross(points[c[1]] - points[c[0]], points[c[2]] - points[c[0]]);
+  }
+  for (uint32_t p = 0; p < rig.point_count(); ++p) {
+    float3 n{};
+    for (uint32_t k = rig.point_triangle_offsets[p]; k < rig.point_triangle_offsets[p + 1]; ++k)
+      n += face_normals[rig.point_triangles[k]];
+    point_normals[p] = NormalizeOr(n, float3{0.f, 0.f, 1.f});
+  }
+}
 
-void EvaluateReference(const Rig& rig, const std::vector<SparseShape>& shapes,
-                       span<const float> weights, ReferenceContext* ctx,
-                       span<float> out_positions, span<float> out_normals) {
-  std::memcpy(ctx->points.data(), rig.rest_points.data(), rig.point_count() * sizeof(float3));
-  for (size_t s = 0; s < shapes.size(); ++s) {
+void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float> weights,
+                       ReferenceContext* ctx, span<float> out_positions, span<float> out_normals) {
+  float3* p = ctx->points.data();
+  for (uint32_t i : ref.points) p[i] = rig.rest_points[i];
+  for (size_t s = 0; s < ref.shapes.size(); ++s) {
     const float w = weights[s];
     if (w == 0.f) continue;
-    const uint32_t* idx = shapes[s].indices.data();
-    const float3* d = shapes[s].deltas.data();
-    float3* p = ctx->points.data();
-    for (size_t k = 0, n = shapes[s].indices.size(); k < n; ++k) p[idx[k]] += w * d[k];
+    const uint32_t* idx = ref.shapes[s].indices.data();
+    const float3* d = ref.shapes[s].deltas.data();
+    for (size_t k = 0, n = ref.shapes[s].indices.size(); k < n; ++k) p[idx[k]] += w * d[k];
   }
-  FaceNormalsJob faces;
-  faces.points = ctx->points;
-  faces.triangles = rig.triangles;
-  faces.out_face_normals = ctx->face_normals;
-  faces.begin = 0;
-  faces.end = rig.triangle_count();
-  faces.Run();
-  PointNormalsJob normals;
-  normals.face_normals = ctx->face_normals;
-  normals.point_triangle_offsets = rig.point_triangle_offsets;
-  normals.point_triangles = rig.point_triangles;
-  normals.out_normals = ctx->point_normals;
-  normals.begin = 0;
-  normals.end = rig.point_count();
-  normals.Run();
+  // The same area-weighted normals as FaceNormalsJob + PointNormalsJob, on the lists.
+  for (uint32_t t : ref.triangles) {
+    const uint32_t* c = &rig.triangles[3 * t];
+    ctx->face_normals[t] = Cross(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
+  }
+  for (uint32_t i : ref.points) {
+    float3 n{};
+    for (uint32_t k = rig.point_triangle_offsets[i]; k < rig.point_triangle_offsets[i + 1]; ++k)
+      n += ctx->face_normals[rig.point_triangles[k]];
+    ctx->point_normals[i] = NormalizeOr(n, float3{0.f, 0.f, 1.f});
+  }
   for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
-    const float3 p = ctx->points[rig.vertex_points[v]], n = ctx->point_normals[rig.vertex_points[v]];
+    const float3 q = p[rig.vertex_points[v]], n = ctx->point_normals[rig.vertex_points[v]];
     float* op = &out_positions[3 * v];
     float* on = &out_normals[3 * v];
-    op[0] = p.x, op[1] = p.y, op[2] = p.z;
+    op[0] = q.x, op[1] = q.y, op[2] = q.z;
     on[0] = n.x, on[1] = n.y, on[2] = n.z;
   }
 }

@@ -1,6 +1,10 @@
 // bench/reference_blendshapes.h: the in-repo reference kernel, what a game does instead of
 // muscles: sparse blendshapes (ARKit-style, 52 shapes) summed onto the rest pose, followed by
 // the same area-weighted normal recomputation and output scatter that EvaluateJob does.
+//
+// To be fair to it, it gets the same exact shortcut the rig uses: normals are recomputed only
+// for triangles touching a point some shape moves, and only gathered at their points; the
+// rest keep the rest normals.
 #pragma once
 
 #include <cstdint>
@@ -17,20 +21,27 @@ struct SparseShape {
   std::vector<float3> deltas;     // one per index, at weight 1
 };
 
-// `shapes` shapes, each moving `fraction` of the rig's points, chosen by a fixed-seed
-// generator (deterministic across runs and machines).
-std::vector<SparseShape> MakeReferenceShapes(const Rig& rig, uint32_t shapes, float fraction);
+struct ReferenceRig {
+  std::vector<SparseShape> shapes;
+  std::vector<uint32_t> triangles;  // triangles touching a moved point
+  std::vector<uint32_t> points;     // points of those triangles, ascending
+};
 
-// Scratch for one instance, sized once.
+// `shapes` shapes, each moving the `fraction` of the rig's points nearest to a centre drawn
+// from `centres` (all points when empty), with fixed-seed random deltas (deterministic).
+ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
+                              const std::vector<uint32_t>& centres = {});
+
+// Scratch for one instance, sized once (rest positions and normals).
 struct ReferenceContext {
   std::vector<float3> points, face_normals, point_normals;
   explicit ReferenceContext(const Rig& rig);
 };
 
-// points = rest + sum_s weights[s] * shape_s (scatter-add, shape by shape), then face normals,
-// point normals, and the scatter to the file's vertex layout (stride 12 bytes).
-void EvaluateReference(const Rig& rig, const std::vector<SparseShape>& shapes,
-                       span<const float> weights, ReferenceContext* ctx,
-                       span<float> out_positions, span<float> out_normals);
+// points = rest + sum_s weights[s] * shape_s (scatter-add, shape by shape; points no shape
+// moves are reset from rest first), then face normals, point normals (on the reference rig's
+// lists) and the scatter to the file's vertex layout (stride 12 bytes).
+void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float> weights,
+                       ReferenceContext* ctx, span<float> out_positions, span<float> out_normals);
 
 }  // namespace mimetic::bench
