@@ -1,4 +1,5 @@
 // tools/cmd_rig.cpp: `mimetic info`, `mimetic validate`, `mimetic eval`.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -88,19 +89,41 @@ int CmdInfo(const Args& args) {
   std::printf("rig:        %s\n", parsed.positional[0].c_str());
   std::printf("mesh:       %s\n", loaded.spec.mesh_path.c_str());
   std::printf("units:      %s\n", loaded.spec.units.c_str());
-  std::printf("vertices:   %u (%u surface points after welding seams)\n", rig.vertex_count(),
+  std::printf("vertices:   %u (%u surface points after welding seams)", rig.vertex_count(),
               rig.point_count());
+  if (rig.vertex_count() != loaded.mesh.vertex_count())
+    std::printf("; the file has %zu, refined where wrinkles act", loaded.mesh.vertex_count());
+  std::printf("\n");
   std::printf("triangles:  %u\n", rig.triangle_count());
   std::printf("bounds:     [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] (size %.4g x %.4g x %.4g %s)\n",
               lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, hi.x - lo.x, hi.y - lo.y, hi.z - lo.z,
               loaded.spec.units.c_str());
   std::printf("thickness:  %s, %.4g .. %.4g %s\n", ThicknessKind(loaded.spec.thickness.kind), hmin,
               hmax, loaded.spec.units.c_str());
+  std::printf("per frame:  %u of %u points can move (%.0f%%), %u more can change normal\n",
+              rig.active_point_count, rig.point_count(),
+              100.0 * rig.active_point_count / std::max(1u, rig.point_count()),
+              rig.normal_point_count - rig.active_point_count);
+  std::printf("layers:     thickness %s, muscle wrinkles %s, curve wrinkles %s\n",
+              rig.layers.thickness ? "on" : "off", rig.layers.muscle_wrinkles ? "on" : "off",
+              rig.layers.curve_wrinkles ? "on" : "off");
   std::printf("muscles:    %u\n", rig.muscle_count());
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     const MuscleSpec& ms = loaded.spec.muscles[m];
-    std::printf("  %-28s %-6s strength %-8.4g moves %u vertices\n", ms.name.c_str(),
+    std::printf("  %-28s %-6s strength %-8.4g moves %u points", ms.name.c_str(),
                 MuscleTypeName(ms.type), ms.strength, rig.muscles.CountInfluenced(m));
+    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
+      if (w.muscle == m)
+        std::printf(", wrinkles on %u (half cycle %.3g %s)", w.row_count(), w.half_cycle,
+                    loaded.spec.units.c_str());
+    std::printf("\n");
+  }
+  if (!rig.curve_wrinkles.names.empty()) {
+    std::printf("curve wrinkles: %zu\n", rig.curve_wrinkles.names.size());
+    std::vector<uint32_t> reach(rig.curve_wrinkles.names.size(), 0);
+    for (const CurveWrinkleEntry& e : rig.curve_wrinkles.entries) ++reach[e.wrinkle];
+    for (size_t c = 0; c < reach.size(); ++c)
+      std::printf("  %-28s reaches %u points\n", rig.curve_wrinkles.names[c].c_str(), reach[c]);
   }
   return 0;
 }

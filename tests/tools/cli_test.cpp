@@ -1,6 +1,7 @@
 // Runs the built `mimetic` tool: help, info, validate, eval, and its errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -49,6 +50,25 @@ TEST(Cli, InfoReportsTheSurfaceRig) {
   EXPECT_TRUE(Contains(r.output, "muscles:    2")) << r.output;
   EXPECT_TRUE(Contains(r.output, "zygomatic")) << r.output;
   EXPECT_TRUE(Contains(r.output, "frontalis")) << r.output;
+
+  // Points that can move in a frame: those a muscle reaches (direct formulas) and those
+  // sharing a triangle with one (their area ratio, hence thickness displacement, changes).
+  RigSpec spec;
+  MeshData mesh;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadRigSpec(SurfaceRig(), &spec, &diag)) << diag.Format();
+  ASSERT_TRUE(ImportMesh(spec.mesh_path, "", &mesh, &diag)) << diag.Format();
+  std::vector<bool> moved(mesh.vertex_count(), false), active(mesh.vertex_count(), false);
+  for (size_t v = 0; v < mesh.vertex_count(); ++v)
+    for (const MuscleSpec& m : spec.muscles)
+      if (MuscleDisplacement(m, mesh.positions[v], m.strength) != float3{}) moved[v] = true;
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t* i = &mesh.indices[3 * t];
+    if (moved[i[0]] || moved[i[1]] || moved[i[2]]) active[i[0]] = active[i[1]] = active[i[2]] = true;
+  }
+  const size_t count = std::count(active.begin(), active.end(), true);
+  EXPECT_TRUE(Contains(r.output, "per frame:  " + std::to_string(count) + " of 1681 points can move"))
+      << "expected " << count << "\n" << r.output;
 }
 
 TEST(Cli, ValidateAcceptsGoodAndRejectsBadRigs) {
