@@ -167,13 +167,30 @@ int CmdFit(const Args& args) {
                 units.c_str(), l.x, l.y, double(p.depth), units.c_str(),
                 p.ray_hit ? "" : " (ray missed: nearest surface point)");
   }
+  size_t wrinkled = 0;
+  for (size_t m = 0; m < spec.muscle_wrinkles.size(); ++m) {
+    if (!spec.muscle_wrinkles[m]) continue;
+    const MuscleWrinkleSpec& w = *spec.muscle_wrinkles[m];
+    if (wrinkled++ == 0) std::printf("muscle wrinkles (MODEL.md section 6):\n");
+    std::printf("  %-32s lambda_w %.3g, %d wrinkles, depth %.3g %s\n", spec.muscles[m].name.c_str(),
+                double(w.lambda_w), w.count, double(w.depth), units.c_str());
+  }
+  if (!spec.curve_wrinkles.empty())
+    std::printf("curve wrinkles (MODEL.md sections 7-8), control points in texture space:\n");
+  for (const NamedCurveWrinkle& c : spec.curve_wrinkles) {
+    std::printf("  %-20s", c.name.c_str());
+    for (const float2& uv : c.spec.control) std::printf(" (%.4f, %.4f)", double(uv.x), double(uv.y));
+    std::printf(", depth %.3g, width %.3g %s\n", double(c.spec.depth), double(c.spec.width),
+                units.c_str());
+  }
   Diagnostics save_diag;
   if (!SaveRigSpec(out_path, spec, &save_diag)) {
     diag.Append(save_diag);
     return Fail(diag, "cannot write the rig");
   }
-  std::printf("wrote %s (mesh %s, %zu muscles)\n", out_path.c_str(), mesh_path.c_str(),
-              spec.muscles.size());
+  std::printf("wrote %s (mesh %s, %zu muscles, %zu with wrinkles, %zu curve wrinkles)\n",
+              out_path.c_str(), mesh_path.c_str(), spec.muscles.size(), wrinkled,
+              spec.curve_wrinkles.size());
   return 0;
 }
 

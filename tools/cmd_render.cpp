@@ -1,4 +1,6 @@
 // tools/cmd_render.cpp: `mimetic render`, a software render of a mesh to PNG.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -12,10 +14,30 @@ namespace mimetic::tools {
 
 static const char* kRenderUsage =
     "usage: mimetic render MESH --out IMAGE.png [--yaw DEG] [--pitch DEG] [--size N]\n"
-    "                      [--wireframe]\n\n"
+    "                      [--zoom Z] [--focus X,Y] [--wireframe]\n\n"
     "Renders MESH (.obj, .gltf, .glb) with skin shading (MODEL.md section 12) on grey,\n"
     "seen from +Z turned by --yaw about +Y (toward +X) and --pitch (from above), fitted to\n"
-    "the bounding box. --size N gives an N x N image (default 800, at most 8192).\n";
+    "the bounding box. --size N gives an N x N image (default 800, at most 8192).\n"
+    "--zoom Z (1 to 8, default 1) shows a close-up: the full view is rendered Z times larger\n"
+    "(at most 8192 pixels) and the N x N window centred on --focus X,Y is kept, X and Y\n"
+    "being fractions of the full view's width and height (0,0 = top left; default 0.5,0.5;\n"
+    "the window is moved inside the view where it would cross an edge).\n";
+
+// Parses "X,Y" with both in [0, 1].
+static bool ParseFocus(const std::string& text, double* x, double* y) {
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos) return false;
+  char* end = nullptr;
+  const std::string a = text.substr(0, comma), b = text.substr(comma + 1);
+  const double vx = std::strtod(a.c_str(), &end);
+  if (a.empty() || *end != '\0') return false;
+  const double vy = std::strtod(b.c_str(), &end);
+  if (b.empty() || *end != '\0') return false;
+  if (!(vx >= 0 && vx <= 1 && vy >= 0 && vy <= 1)) return false;
+  *x = vx;
+  *y = vy;
+  return true;
+}
 
 static bool ParseReal(const std::string& text, double lo, double hi, double* out) {
   char* end = nullptr;
@@ -26,7 +48,8 @@ static bool ParseReal(const std::string& text, double lo, double hi, double* out
 }
 
 int CmdRender(const Args& args) {
-  const ParsedArgs parsed = ParseArgs(args, {"out", "yaw", "pitch", "size"}, {"wireframe"});
+  const ParsedArgs parsed =
+      ParseArgs(args, {"out", "yaw", "pitch", "size", "zoom", "focus"}, {"wireframe"});
   if (parsed.help) return std::fputs(kRenderUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("render", parsed.error, kRenderUsage);
   if (parsed.positional.size() != 1)
@@ -51,6 +74,17 @@ int CmdRender(const Args& args) {
                                     "': expected a whole number of pixels in [1, 8192]",
                       kRenderUsage);
 
+  double zoom = 1, focus_x = 0.5, focus_y = 0.5;
+  if (parsed.Has("zoom") && !ParseReal(parsed.Get("zoom"), 1, 8, &zoom))
+    return UsageError("render", "--zoom '" + parsed.Get("zoom") + "': expected a number in [1, 8]",
+                      kRenderUsage);
+  if (parsed.Has("focus") && !ParseFocus(parsed.Get("focus"), &focus_x, &focus_y))
+    return UsageError("render", "--focus '" + parsed.Get("focus") +
+                                    "': expected X,Y, two fractions in [0, 1] of the view",
+                      kRenderUsage);
+  const int n = static_cast<int>(size);
+  const int full = static_cast<int>(std::lround(std::min(8192.0, size * zoom)));
+
   Diagnostics diag;
   MeshData mesh;
   if (!ImportMesh(parsed.positional[0], "", &mesh, &diag)) {
@@ -58,17 +92,31 @@ int CmdRender(const Args& args) {
     return 1;
   }
   RenderOptions options;
-  options.width = options.height = static_cast<int>(size);
+  options.width = options.height = full;
   options.yaw_deg = static_cast<float>(yaw);
   options.pitch_deg = static_cast<float>(pitch);
   options.wireframe = parsed.flags.count("wireframe") > 0;
-  const Image image = RenderMesh(mesh, options);
+  Image image = RenderMesh(mesh, options);
+  if (full > n) {
+    // The close-up: the n x n window around the focus, kept inside the full view.
+    const int x0 = std::clamp(static_cast<int>(std::lround(focus_x * full)) - n / 2, 0, full - n);
+    const int y0 = std::clamp(static_cast<int>(std::lround(focus_y * full)) - n / 2, 0, full - n);
+    Image crop;
+    crop.width = crop.height = n;
+    crop.rgb.resize(static_cast<size_t>(n) * n * 3);
+    for (int y = 0; y < n; ++y)
+      std::copy_n(&image.rgb[(static_cast<size_t>(y0 + y) * full + x0) * 3], static_cast<size_t>(n) * 3,
+                  &crop.rgb[static_cast<size_t>(y) * n * 3]);
+    image = std::move(crop);
+  }
   if (!SavePng(out, image, &diag)) {
     std::fputs(diag.Format().c_str(), stderr);
     return 1;
   }
-  std::printf("wrote %s: %dx%d, %zu triangles, yaw %g, pitch %g\n", out.c_str(), image.width,
+  std::printf("wrote %s: %dx%d, %zu triangles, yaw %g, pitch %g", out.c_str(), image.width,
               image.height, mesh.triangle_count(), yaw, pitch);
+  if (full > n) std::printf(", zoom %g about (%g, %g)", double(full) / n, focus_x, focus_y);
+  std::printf("\n");
   return 0;
 }
 

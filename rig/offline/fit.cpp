@@ -370,7 +370,7 @@ struct Placer {
   FitReport* report;
 
   bool Place(const TemplatePoint& tp, const std::string& muscle, const std::string& role,
-             const std::string& where, float3* out) {
+             const std::string& where, float3* out, SurfaceQuery::Hit* hit_out = nullptr) {
     float3 base{0, 0, 0};
     for (size_t i = 0; i < tp.landmarks.size(); ++i) base += lm[size_t(tp.landmarks[i])] * tp.weights[i];
     const float3 p = base + frame.DirectionToWorld({tp.offset.x, tp.offset.y, 0.f}) * frame.scale;
@@ -402,6 +402,7 @@ struct Placer {
     placed.surface = hit.point;
     placed.position = hit.point - outward * placed.depth;
     *out = placed.position;
+    if (hit_out) *hit_out = hit;
     if (report) report->points.push_back(placed);
     return true;
   }
@@ -480,6 +481,97 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
       m.sheet.falloff_start = tm.falloff_start * s;
     }
     spec.muscles.push_back(m);
+    if (tm.wrinkles) {
+      // MODEL.md §6: the block as written, lengths from units of s to mesh units.
+      MuscleWrinkleSpec w = *tm.wrinkles;
+      w.depth *= s;
+      w.h_c *= s;
+      WrinkleMuscleGeometry g;
+      if (m.type == MuscleType::kLinear) {
+        g.kind = WrinkleMuscleKind::kLinear;
+        g.attachment = m.linear.attachment;
+        g.insertion = m.linear.insertion;
+        g.zone_angle = m.linear.zone_angle;
+        g.radius = m.linear.falloff_end;
+      } else {
+        g.kind = WrinkleMuscleKind::kSheet;
+        g.attachment_line[0] = m.sheet.attachment[0];
+        g.attachment_line[1] = m.sheet.attachment[1];
+        g.insertion_line[0] = m.sheet.insertion[0];
+        g.insertion_line[1] = m.sheet.insertion[1];
+        g.length = m.sheet.length;
+        g.width = m.sheet.width;
+      }
+      ok &= ValidateMuscleWrinkleSpec(w, g, path + ".wrinkles", diag);
+      spec.muscle_wrinkles.resize(tmpl.muscles.size());
+      spec.muscle_wrinkles[i] = w;
+    }
+  }
+  // Curve wrinkles (MODEL.md §7-8): control points on the skin -> texture coordinates.
+  const bool has_uvs = !head.uvs.empty() && head.uvs.size() == head.vertex_count();
+  if (!tmpl.curve_wrinkles.empty() && !has_uvs) {
+    diag->Error("curve_wrinkles", "the head mesh " + head.source + " has no texture coordinates; "
+                                  "curve wrinkles are drawn in texture space and need them");
+    ok = false;
+  }
+  for (size_t i = 0; i < tmpl.curve_wrinkles.size() && has_uvs; ++i) {
+    const TemplateCurveWrinkle& tc = tmpl.curve_wrinkles[i];
+    const std::string path = "curve_wrinkles[" + std::to_string(i) + "] (" + tc.name + ")";
+    NamedCurveWrinkle c;
+    c.name = tc.name;
+    c.spec.depth = tc.depth * s;
+    c.spec.width = tc.width * s;
+    c.spec.profile = tc.profile;
+    c.spec.modulation = tc.modulation;
+    c.spec.rest_amplitude = tc.rest_amplitude;
+    bool placed = true;
+    for (int k = 0; k < 4; ++k) {
+      const std::string role = "control[" + std::to_string(k) + "]";
+      float3 position;
+      SurfaceQuery::Hit hit;
+      if (!placer.Place(tc.control[k], tc.name, role, path + "." + role, &position, &hit)) {
+        placed = false;
+        continue;
+      }
+      // The uv of the hit: barycentric in the hit triangle (its own corners' uvs, so a point
+      // next to a seam takes one side's chart).
+      const uint32_t* tri = &head.indices[3 * size_t(hit.triangle)];
+      float3 bary;
+      ClosestOnTriangle(hit.point, head.positions[tri[0]], head.positions[tri[1]],
+                        head.positions[tri[2]], &bary);
+      const float2 ua = head.uvs[tri[0]], ub = head.uvs[tri[1]], uc = head.uvs[tri[2]];
+      c.spec.control[k] = {ua.x * bary.x + ub.x * bary.y + uc.x * bary.z,
+                           ua.y * bary.x + ub.y * bary.y + uc.y * bary.z};
+    }
+    if (placed) {
+      float2 lo = c.spec.control[0], hi = lo;
+      for (const float2& uv : c.spec.control) {
+        lo = {std::fmin(lo.x, uv.x), std::fmin(lo.y, uv.y)};
+        hi = {std::fmax(hi.x, uv.x), std::fmax(hi.y, uv.y)};
+      }
+      if (hi.x - lo.x > 0.5f || hi.y - lo.y > 0.5f) {
+        std::string uvs;
+        for (const float2& uv : c.spec.control) {
+          char buf[48];
+          std::snprintf(buf, sizeof buf, "%s(%.3g, %.3g)", uvs.empty() ? "" : ", ", double(uv.x),
+                        double(uv.y));
+          uvs += buf;
+        }
+        diag->Error(path, "the control points land at texture coordinates " + uvs +
+                              ", more than 0.5 apart: the curve would cross a UV seam; expected "
+                              "a curve inside one UV chart (move it or split it)");
+        placed = false;
+      }
+    }
+    if (placed) placed = ValidateCurveWrinkleSpec(c.spec, path, diag);
+    ok &= placed;
+    if (placed && report) {
+      PlacedCurve pc;
+      pc.name = c.name;
+      for (int k = 0; k < 4; ++k) pc.uv[k] = c.spec.control[k];
+      local_report.curves.push_back(pc);
+    }
+    spec.curve_wrinkles.push_back(c);
   }
   // Skin thickness per vertex (MODEL.md §4), template units of s -> mesh units.
   spec.thickness.kind = ThicknessSpec::Kind::kPerVertex;

@@ -80,8 +80,8 @@ class SurfaceQuery {
 
 // What the fit did with one template point (for `mimetic fit` and tests).
 struct PlacedPoint {
-  std::string muscle;  // muscle name
-  std::string role;    // "attachment", "insertion", "attachment[0]", ...
+  std::string muscle;  // muscle name, or curve wrinkle name for a curve's control point
+  std::string role;    // "attachment", "insertion", "attachment[0]", ..., "control[2]"
   float3 landmark_point;  // weighted landmark mean + offset, before projection (mesh units)
   float3 surface;         // where it met the surface
   float3 position;        // final position: surface + depth * s * inward normal
@@ -89,18 +89,31 @@ struct PlacedPoint {
   bool ray_hit = true;    // false: the ray missed and the nearest surface point was used
 };
 
+// A curve wrinkle's control points in texture space (the uvs of the surface hits).
+struct PlacedCurve {
+  std::string name;
+  float2 uv[4];
+};
+
 struct FitReport {
   FaceFrame frame;
   std::string units;  // the units written into the rig
-  std::vector<PlacedPoint> points;
+  std::vector<PlacedPoint> points;  // muscle points, then curve control points
+  std::vector<PlacedCurve> curves;
 };
 
 // Places `tmpl` on `head` (units `units`: "mm", "cm", "dm", "m" or "in"; written into the
 // rig). Fills every field of `out` except `file`, `mesh_path` and `mesh_name`, which the
 // caller sets. Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.
+// Muscle wrinkle blocks go to `muscle_wrinkles` (depth and h_c times s; empty when no muscle
+// has one); each curve wrinkle's control points are placed like muscle points (depth 0) and
+// replaced by the texture coordinates of the surface hit (barycentric in the hit triangle),
+// depth and width times s.
 // Errors: landmarks count != 68, a vertex index out of range, a degenerate frame, unknown
 // units, a point that found no surface (ray missed and nearest surface point farther than
-// 0.5 s), a linear muscle whose attachment and insertion coincide.
+// 0.5 s), a linear muscle whose attachment and insertion coincide, curve wrinkles on a head
+// without texture coordinates, a curve whose control points' uvs lie more than 0.5 apart in u
+// or v (the curve would cross a UV seam), a wrinkle the wrinkle module's checks refuse.
 bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
                  const std::string& units, RigSpec* out, Diagnostics* diag,
                  FitReport* report = nullptr);

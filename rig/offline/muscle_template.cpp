@@ -134,11 +134,15 @@ class Parser {
     return &*it;
   }
 
-  bool ParsePoint(const json& v, const std::string& path, TemplatePoint* out) {
+  // `on_surface`: a curve wrinkle's control point, which lies in the skin: `depth` is optional
+  // and must be 0 when given.
+  bool ParsePoint(const json& v, const std::string& path, TemplatePoint* out,
+                  bool on_surface = false) {
     const size_t before = errors_;
     if (!v.is_object()) {
-      Error(path, "expected a point object {\"landmarks\": [...], \"weights\": [...], "
-                  "\"offset\": [dx, dy], \"depth\": d}, got " + Describe(v));
+      Error(path, std::string("expected a point object {\"landmarks\": [...], \"weights\": [...], "
+                              "\"offset\": [dx, dy]") +
+                      (on_surface ? "}" : ", \"depth\": d}") + ", got " + Describe(v));
       return false;
     }
     CheckKeys(v, path, {"landmarks", "weights", "offset", "depth"}, "a template point");
@@ -194,9 +198,20 @@ class Parser {
     out->offset = {0.f, 0.f};
     if (const json* o = Member(v, path, "offset", ""))
       ReadFloat2(*o, Key(path, "offset"), "[dx, dy], two finite numbers (units of s)", &out->offset);
-    if (const json* d = Member(v, path, "depth", "a number >= 0 (units of s under the surface)"))
+    out->depth = 0.f;
+    if (on_surface) {
+      if (const json* d = Member(v, path, "depth", "")) {
+        float f = 0.f;
+        if (ReadFloat(*d, Key(path, "depth"), "0 or no depth (a curve wrinkle lies in the skin)",
+                      &f) && f != 0.f)
+          Error(Key(path, "depth"), "a curve wrinkle's control point lies in the skin; expected "
+                                    "0 or no depth, got " + Describe(*d));
+      }
+    } else if (const json* d = Member(v, path, "depth",
+                                      "a number >= 0 (units of s under the surface)")) {
       ReadAtLeast(*d, Key(path, "depth"), 0.f, true,
                   "a number >= 0 (units of s under the surface)", &out->depth);
+    }
     if (errors_ != before) return false;
     // Normalise the weights (default: equal).
     if (out->weights.empty()) out->weights.assign(out->landmarks.size(), 1.f);
@@ -303,11 +318,11 @@ class Parser {
     if (typed) {
       if (linear)
         CheckKeys(v, path, {"name", "type", "mirror", "strength", "attachment", "insertion",
-                            "zone_angle_deg", "falloff_start", "falloff_end"},
+                            "zone_angle_deg", "falloff_start", "falloff_end", "wrinkles"},
                   "a linear muscle");
       else
         CheckKeys(v, path, {"name", "type", "mirror", "strength", "attachment", "insertion",
-                            "length", "width", "falloff_start"},
+                            "length", "width", "falloff_start", "wrinkles"},
                   "a sheet muscle");
     }
     bool mirror = false;
@@ -369,6 +384,10 @@ class Parser {
           Error(Key(path, "falloff_start"), "expected a number in (0, length = " + Num(m.length) +
                                                 "), got " + Num(m.falloff_start));
       }
+      if (const json* w = Member(v, path, "wrinkles", "")) {
+        MuscleWrinkleSpec spec;
+        if (ParseWrinkles(*w, Key(path, "wrinkles"), v, m, &spec)) m.wrinkles = spec;
+      }
     }
     if (errors_ != before) return;
     out->push_back(m);
@@ -383,6 +402,183 @@ class Parser {
       // Mirroring reverses the sheet lines' end order; keep each line's ends as given.
       out->push_back(c);
       origin_paths->push_back(path + " (mirrored as " + c.name + ")");
+    }
+  }
+
+  // A muscle's wrinkle block (MODEL.md §6): the rig file's keys (docs/rig-format.md), lengths
+  // in units of s. `m` holds what was read of the muscle; its zone angle / width bound the
+  // attenuation key when they were read.
+  bool ParseWrinkles(const json& v, const std::string& path, const json& muscle_json,
+                     const TemplateMuscle& m, MuscleWrinkleSpec* out) {
+    const bool linear = m.type == MuscleType::kLinear;
+    const char* att = linear ? "\"phi_c_deg\"" : "\"h_c\"";
+    if (!v.is_object()) {
+      Error(path, std::string("expected a wrinkle object {\"lambda_w\": ..., \"count\": ..., "
+                              "\"depth\": ..., \"shape\": ..., ") + att + ": ...}, got " +
+                      Describe(v));
+      return false;
+    }
+    const size_t before = errors_;
+    const std::string wrong_key = linear ? "h_c" : "phi_c_deg";
+    if (v.contains(wrong_key))
+      Error(Key(path, wrong_key),
+            linear ? std::string("\"h_c\" is for the wrinkles of a sheet muscle, and this is a "
+                                 "linear muscle; expected \"phi_c_deg\" (degrees)")
+                   : std::string("\"phi_c_deg\" is for the wrinkles of a linear muscle, and this "
+                                 "is a sheet muscle; expected \"h_c\" (units of s)"));
+    std::vector<std::string> allowed = {"lambda_w", "count", "depth", "shape"};
+    allowed.push_back(linear ? "phi_c_deg" : "h_c");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      bool ok = it.key() == wrong_key;
+      for (const std::string& a : allowed) ok = ok || a == it.key();
+      if (ok) continue;
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      Error(Key(path, it.key()), std::string("unknown key in the wrinkles of a ") +
+                                     (linear ? "linear" : "sheet") + " muscle; expected one of: " + list);
+    }
+    MuscleWrinkleSpec spec;  // defaults for absent optional keys
+    if (const json* lw = Member(v, path, "lambda_w", "")) {
+      const std::string expect = std::string("a number in [0, 1) (start of the wrinkling region, "
+                                             "fraction of ") + (linear ? "falloff_end" : "length") + ")";
+      float f = 0.f;
+      if (ReadFloat(*lw, Key(path, "lambda_w"), expect, &f)) {
+        if (f >= 0.f && f < 1.f) spec.lambda_w = f;
+        else Error(Key(path, "lambda_w"), "expected " + expect + ", got " + Describe(*lw));
+      }
+    }
+    if (const json* n = Member(v, path, "count", "")) {
+      const bool integral = n->is_number_integer() || n->is_number_unsigned();
+      const long long k = integral ? n->get<long long>() : 0;
+      if (!integral || k < 1 || k > 1000000)
+        Error(Key(path, "count"), "expected an integer >= 1 (the number of wrinkles), got " +
+                                      Describe(*n));
+      else
+        spec.count = int(k);
+    }
+    if (const json* d = Member(v, path, "depth", "a number >= 0 (k0, units of s)"))
+      ReadAtLeast(*d, Key(path, "depth"), 0.f, true, "a number >= 0 (k0, units of s)", &spec.depth);
+    if (const json* a = Member(v, path, "shape", ""))
+      ReadFloat(*a, Key(path, "shape"), "a finite number (alpha)", &spec.shape);
+    if (linear) {
+      const bool have_zone = m.zone_angle_deg > 0.f && m.zone_angle_deg < 180.f &&
+                             muscle_json.contains("zone_angle_deg");
+      const std::string expect = have_zone ? "a number in [0, zone_angle_deg = " +
+                                                 Num(m.zone_angle_deg) + ") (degrees)"
+                                           : std::string("a number in [0, zone_angle_deg) (degrees)");
+      if (const json* pc = Member(v, path, "phi_c_deg", "")) {
+        float deg = 0.f;
+        if (ReadFloat(*pc, Key(path, "phi_c_deg"), expect, &deg)) {
+          if (deg >= 0.f && deg < 180.f && (!have_zone || deg < m.zone_angle_deg))
+            spec.phi_c = deg * kPi / 180.f;
+          else
+            Error(Key(path, "phi_c_deg"), "expected " + expect + ", got " + Describe(*pc));
+        }
+      }
+    } else {
+      const bool have_width = m.width > 0.f;
+      const std::string expect = have_width ? "a number in [0, width/2 = " + Num(0.5f * m.width) +
+                                                  ") (units of s)"
+                                            : std::string("a number in [0, width/2) (units of s)");
+      if (const json* hc = Member(v, path, "h_c", "")) {
+        float f = 0.f;
+        if (ReadFloat(*hc, Key(path, "h_c"), expect, &f)) {
+          if (f >= 0.f && (!have_width || f < 0.5f * m.width)) spec.h_c = f;
+          else Error(Key(path, "h_c"), "expected " + expect + ", got " + Describe(*hc));
+        }
+      }
+    }
+    if (errors_ != before) return false;
+    *out = spec;
+    return true;
+  }
+
+  bool ReadChoice(const json& v, const std::string& path, const std::vector<std::string>& names,
+                  size_t* out) {
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "\"" : ", \"") + n + "\"";
+    if (v.is_string()) {
+      for (size_t i = 0; i < names.size(); ++i)
+        if (v.get<std::string>() == names[i]) return *out = i, true;
+    }
+    Error(path, "expected one of " + list + ", got " + Describe(v));
+    return false;
+  }
+
+  // A curve wrinkle (MODEL.md §7-8) whose control points are template points on the skin.
+  void ParseCurveWrinkle(const json& v, const std::string& path,
+                         std::vector<TemplateCurveWrinkle>* out,
+                         std::vector<std::string>* origin_paths) {
+    if (!v.is_object()) {
+      Error(path, "expected a curve wrinkle object {\"name\", \"control\", \"depth\", \"width\", "
+                  "...}, got " + Describe(v));
+      return;
+    }
+    const size_t before = errors_;
+    CheckKeys(v, path, {"name", "mirror", "control", "depth", "width", "profile", "modulation",
+                        "rest_amplitude"},
+              "a curve wrinkle");
+    TemplateCurveWrinkle c;
+    if (const json* n = Member(v, path, "name", "a non-empty string such as \"nasolabial_L\"")) {
+      if (!n->is_string() || n->get<std::string>().empty())
+        Error(Key(path, "name"), "expected a non-empty string, got " + Describe(*n));
+      else
+        c.name = n->get<std::string>();
+    }
+    bool mirror = false;
+    if (const json* mm = Member(v, path, "mirror", "")) {
+      if (!mm->is_boolean()) {
+        Error(Key(path, "mirror"), "expected true or false, got " + Describe(*mm));
+      } else {
+        mirror = mm->get<bool>();
+        if (mirror && !c.name.empty() && !EndsWith(c.name, "_L") && !EndsWith(c.name, "_R"))
+          Error(Key(path, "mirror"), "a mirrored curve wrinkle's name must end in _L or _R (the "
+                                     "copy gets the other suffix); got name \"" + c.name + "\"");
+      }
+    }
+    const std::string control_expect =
+        "an array of 4 point objects (the cubic Bezier control points, on the skin)";
+    if (const json* ctl = Member(v, path, "control", control_expect)) {
+      const std::string cp = Key(path, "control");
+      if (!ctl->is_array() || ctl->size() != 4) {
+        Error(cp, "expected " + control_expect + ", got " + Describe(*ctl));
+      } else {
+        for (size_t k = 0; k < 4; ++k) ParsePoint((*ctl)[k], Index(cp, k), &c.control[k], true);
+      }
+    }
+    if (const json* d = Member(v, path, "depth", "a number > 0 (units of s)"))
+      ReadAtLeast(*d, Key(path, "depth"), 0.f, false, "a number > 0 (units of s)", &c.depth);
+    if (const json* w = Member(v, path, "width", "a number > 0 (units of s)"))
+      ReadAtLeast(*w, Key(path, "width"), 0.f, false, "a number > 0 (units of s)", &c.width);
+    size_t choice = 0;
+    if (const json* p = Member(v, path, "profile", ""))
+      if (ReadChoice(*p, Key(path, "profile"), {"bando", "yang_zhang", "yang_zhang_exact"}, &choice))
+        c.profile = choice == 0   ? CurveWrinkleProfile::kBando
+                    : choice == 1 ? CurveWrinkleProfile::kYangZhang
+                                  : CurveWrinkleProfile::kYangZhangExact;
+    if (const json* m = Member(v, path, "modulation", ""))
+      if (ReadChoice(*m, Key(path, "modulation"), {"directional", "area"}, &choice))
+        c.modulation = choice == 0 ? CurveWrinkleModulation::kDirectional
+                                   : CurveWrinkleModulation::kArea;
+    if (const json* r = Member(v, path, "rest_amplitude", "")) {
+      float f = 0.f;
+      if (ReadFloat(*r, Key(path, "rest_amplitude"), "a number in [0, 1]", &f)) {
+        if (f >= 0.f && f <= 1.f) c.rest_amplitude = f;
+        else Error(Key(path, "rest_amplitude"), "expected a number in [0, 1], got " + Describe(*r));
+      }
+    }
+    if (errors_ != before) return;
+    out->push_back(c);
+    origin_paths->push_back(path);
+    if (mirror) {
+      TemplateCurveWrinkle m = c;
+      m.name = c.name.substr(0, c.name.size() - 1) + (EndsWith(c.name, "_L") ? "R" : "L");
+      for (TemplatePoint& p : m.control) {
+        for (int& l : p.landmarks) l = IbugMirrorLandmark(l);
+        p.offset.x = -p.offset.x;
+      }
+      out->push_back(m);
+      origin_paths->push_back(path + " (mirrored as " + m.name + ")");
     }
   }
 
@@ -405,7 +601,8 @@ class Parser {
       if (!fmt->is_string() || fmt->get<std::string>() != kFormatName)
         Error("format", std::string("expected \"") + kFormatName + "\", got " + Describe(*fmt));
     }
-    CheckKeys(root, "", {"format", "version", "description", "thickness", "muscles"},
+    CheckKeys(root, "", {"format", "version", "description", "thickness", "muscles",
+                         "curve_wrinkles"},
               "a muscle template");
     if (const json* d = Member(root, "", "description", ""))
       if (!d->is_string()) Error("description", "expected a string, got " + Describe(*d));
@@ -424,6 +621,22 @@ class Parser {
       if (!names.insert(out->muscles[i].name).second)
         Error(origin_paths[i] + ".name", "duplicate muscle name \"" + out->muscles[i].name +
                                              "\"; expected unique names (mirrored copies count)");
+    }
+    std::vector<std::string> curve_paths;
+    if (const json* cs = Member(root, "", "curve_wrinkles", "")) {
+      if (!cs->is_array()) {
+        Error("curve_wrinkles", "expected an array of curve wrinkles, got " + Describe(*cs));
+      } else {
+        for (size_t i = 0; i < cs->size(); ++i)
+          ParseCurveWrinkle((*cs)[i], Index("curve_wrinkles", i), &out->curve_wrinkles, &curve_paths);
+      }
+    }
+    std::set<std::string> curve_names;
+    for (size_t i = 0; i < out->curve_wrinkles.size(); ++i) {
+      if (!curve_names.insert(out->curve_wrinkles[i].name).second)
+        Error(curve_paths[i] + ".name", "duplicate curve wrinkle name \"" +
+                                            out->curve_wrinkles[i].name +
+                                            "\"; expected unique names (mirrored copies count)");
     }
     return errors_ == 0;
   }

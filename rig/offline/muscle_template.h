@@ -9,6 +9,7 @@
 // fits heads of any size, unit and proportion; FitTemplate (fit.h) turns it into a RigSpec.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "core/diagnostics.h"
 #include "core/math.h"
 #include "muscles/offline/muscle_spec.h"
+#include "wrinkles/offline/wrinkle_spec.h"
 
 namespace mimetic {
 
@@ -48,6 +50,22 @@ struct TemplateMuscle {
   float falloff_end = 0.f;     // linear: Rf > Rs, units of s
   float length = 0.f;          // sheet: Ls, units of s, > 0
   float width = 0.f;           // sheet: Ws, units of s, > 0
+  // The optional wrinkle block (MODEL.md §6), as in the rig file but with `depth` (k0) and
+  // `h_c` in units of s; `phi_c` in radians (the file says degrees). Mirrored copies share it.
+  std::optional<MuscleWrinkleSpec> wrinkles;
+};
+
+// A curve wrinkle (MODEL.md §7-8) placed relative to the landmarks: its 4 Bezier control
+// points are template points (depth 0) that the fit casts onto the head and turns into the
+// texture coordinates of the surface hit; depth and width in units of s.
+struct TemplateCurveWrinkle {
+  std::string name;           // unique among curve wrinkles (after mirroring)
+  TemplatePoint control[4];   // depth is always 0 (the curve lies in the skin)
+  float depth = 0.f;          // d (Bando) or h0 (Yang-Zhang), units of s, > 0
+  float width = 0.f;          // w (Bando) or a0 (Yang-Zhang), units of s, > 0
+  CurveWrinkleProfile profile = CurveWrinkleProfile::kBando;
+  CurveWrinkleModulation modulation = CurveWrinkleModulation::kDirectional;
+  float rest_amplitude = 0.f;  // [0, 1]
 };
 
 // A region of the skin-thickness map (Bando et al. 2003 §6: the face is divided into regions
@@ -74,6 +92,7 @@ struct MuscleTemplate {
   std::string file;  // where it was loaded from ("" when parsed from text)
   TemplateThickness thickness;
   std::vector<TemplateMuscle> muscles;  // `mirror` entries already expanded, file order
+  std::vector<TemplateCurveWrinkle> curve_wrinkles;  // likewise
 };
 
 // Thickness at face-frame position `p` (units of s, as FaceFrame::ToLocal gives), units of s.

@@ -348,6 +348,125 @@ TEST(FitTemplate, ReportsBadLandmarksAndUnits) {
   }
 }
 
+// The texture coordinate of surface point p by brute force (second method): the triangle whose
+// plane projection of p lies inside it and is nearest, barycentric weights from sub-areas.
+float2 BruteUv(const MeshData& m, float3 p) {
+  float best = 1e30f;
+  float2 uv;
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    const uint32_t* i = &m.indices[3 * t];
+    const float3 a = m.positions[i[0]], b = m.positions[i[1]], c = m.positions[i[2]];
+    const float3 n = Cross(b - a, c - a);
+    const float nn = Dot(n, n);
+    if (!(nn > 0.f)) continue;
+    const float3 q = p - n * (Dot(p - a, n) / nn);
+    const float wa = Dot(Cross(b - q, c - q), n) / nn, wb = Dot(Cross(c - q, a - q), n) / nn;
+    const float wc = 1.f - wa - wb;
+    if (wa < -1e-4f || wb < -1e-4f || wc < -1e-4f) continue;
+    const float d = Length(p - q);
+    if (d >= best) continue;
+    best = d;
+    uv = {wa * m.uvs[i[0]].x + wb * m.uvs[i[1]].x + wc * m.uvs[i[2]].x,
+          wa * m.uvs[i[0]].y + wb * m.uvs[i[1]].y + wc * m.uvs[i[2]].y};
+  }
+  return uv;
+}
+
+TEST(FitTemplate, WrinklesAreScaledAndCurvesGetTheUvsOfTheirSurfacePoints) {
+  const Fitted f = Fit(Head().mesh, PointLandmarks(Head().landmarks));
+  ASSERT_TRUE(f.ok) << f.diag.Format();
+  const MuscleTemplate t = LoadDefaultTemplate();
+  const float s = f.report.frame.scale;
+  ASSERT_EQ(f.spec.muscle_wrinkles.size(), t.muscles.size());
+  size_t wrinkled = 0;
+  for (size_t m = 0; m < t.muscles.size(); ++m) {
+    ASSERT_EQ(f.spec.muscle_wrinkles[m].has_value(), t.muscles[m].wrinkles.has_value()) << m;
+    if (!t.muscles[m].wrinkles) continue;
+    ++wrinkled;
+    const MuscleWrinkleSpec &a = *t.muscles[m].wrinkles, &b = *f.spec.muscle_wrinkles[m];
+    EXPECT_FLOAT_EQ(b.lambda_w, a.lambda_w);
+    EXPECT_EQ(b.count, a.count);
+    EXPECT_NEAR(b.depth, a.depth * s, 1e-5f * s);
+    EXPECT_NEAR(b.h_c, a.h_c * s, 1e-5f * s);
+    EXPECT_FLOAT_EQ(b.phi_c, a.phi_c);
+    EXPECT_FLOAT_EQ(b.shape, a.shape);
+  }
+  EXPECT_GT(wrinkled, 0u);
+  ASSERT_EQ(f.spec.curve_wrinkles.size(), t.curve_wrinkles.size());
+  ASSERT_EQ(f.report.curves.size(), t.curve_wrinkles.size());
+  for (size_t c = 0; c < t.curve_wrinkles.size(); ++c) {
+    const NamedCurveWrinkle& w = f.spec.curve_wrinkles[c];
+    EXPECT_EQ(w.name, t.curve_wrinkles[c].name);
+    EXPECT_NEAR(w.spec.depth, t.curve_wrinkles[c].depth * s, 1e-5f * s);
+    EXPECT_NEAR(w.spec.width, t.curve_wrinkles[c].width * s, 1e-5f * s);
+    EXPECT_EQ(w.spec.modulation, t.curve_wrinkles[c].modulation);
+    EXPECT_FLOAT_EQ(w.spec.rest_amplitude, t.curve_wrinkles[c].rest_amplitude);
+    for (int k = 0; k < 4; ++k) {
+      const PlacedPoint* placed = nullptr;
+      for (const PlacedPoint& p : f.report.points)
+        if (p.muscle == w.name && p.role == "control[" + std::to_string(k) + "]") placed = &p;
+      ASSERT_NE(placed, nullptr) << w.name << " " << k;
+      EXPECT_FLOAT_EQ(placed->depth, 0.f);
+      EXPECT_LT(Length(placed->position - placed->surface), 1e-5f * s);
+      const float2 uv = BruteUv(Head().mesh, placed->surface);
+      EXPECT_NEAR(w.spec.control[k].x, uv.x, 1e-4f) << w.name << " " << k;
+      EXPECT_NEAR(w.spec.control[k].y, uv.y, 1e-4f) << w.name << " " << k;
+      EXPECT_FLOAT_EQ(f.report.curves[c].uv[k].x, w.spec.control[k].x);
+    }
+  }
+  // Mirrored curves: the sample head's uvs are mirror images (u -> 1 - u, same v).
+  for (size_t c = 0; c + 1 < f.spec.curve_wrinkles.size(); c += 2)
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_NEAR(f.spec.curve_wrinkles[c].spec.control[k].x,
+                  1.f - f.spec.curve_wrinkles[c + 1].spec.control[k].x, 2e-3f);
+      EXPECT_NEAR(f.spec.curve_wrinkles[c].spec.control[k].y,
+                  f.spec.curve_wrinkles[c + 1].spec.control[k].y, 2e-3f);
+    }
+}
+
+TEST(FitTemplate, CurveWrinkleErrorsNameTheCurve) {
+  MuscleTemplate t;
+  t.muscles.push_back(LoadDefaultTemplate().muscles[0]);
+  TemplateCurveWrinkle c;
+  c.name = "across_the_midline";
+  c.depth = c.width = 0.02f;
+  const int lm[4] = {31, 32, 34, 35};  // from the right nostril to the left one
+  for (int k = 0; k < 4; ++k) {
+    c.control[k].landmarks = {lm[k]};
+    c.control[k].weights = {1.f};
+  }
+  t.curve_wrinkles.push_back(c);
+  const Landmarks landmarks = PointLandmarks(Head().landmarks);
+  RigSpec spec;
+  {  // The sample head's seam is at the back: fine.
+    Diagnostics diag;
+    EXPECT_TRUE(FitTemplate(t, Head().mesh, landmarks, "mm", &spec, &diag)) << diag.Format();
+  }
+  {  // The same curve with the seam moved to the front (u + 0.5 mod 1): refused.
+    MeshData seam_front = Head().mesh;
+    for (float2& uv : seam_front.uvs) uv.x = uv.x < 0.5f ? uv.x + 0.5f : uv.x - 0.5f;
+    Diagnostics diag;
+    EXPECT_FALSE(FitTemplate(t, seam_front, landmarks, "mm", &spec, &diag));
+    EXPECT_TRUE(diag.Contains("curve_wrinkles[0] (across_the_midline)")) << diag.Format();
+    EXPECT_TRUE(diag.Contains("UV seam")) << diag.Format();
+  }
+  {  // No texture coordinates.
+    MeshData no_uvs = Head().mesh;
+    no_uvs.uvs.clear();
+    Diagnostics diag;
+    EXPECT_FALSE(FitTemplate(t, no_uvs, landmarks, "mm", &spec, &diag));
+    EXPECT_TRUE(diag.Contains("no texture coordinates")) << diag.Format();
+  }
+  {  // A control point far off the head.
+    MuscleTemplate far = t;
+    far.curve_wrinkles[0].control[2].offset = {6.f, 0.f};
+    Diagnostics diag;
+    EXPECT_FALSE(FitTemplate(far, Head().mesh, landmarks, "mm", &spec, &diag));
+    EXPECT_TRUE(diag.Contains("curve_wrinkles[0] (across_the_midline).control[2]")) << diag.Format();
+    EXPECT_TRUE(diag.Contains("found no surface")) << diag.Format();
+  }
+}
+
 TEST(FitTemplate, SampleHeadRigBuildsAndEveryMuscleMovesSkin) {
   const Fitted f = Fit(Head().mesh, PointLandmarks(Head().landmarks));
   ASSERT_TRUE(f.ok);
@@ -744,7 +863,10 @@ TEST(FitCli, WritesARigThatLoadsAndReportsBadInput) {
   // the median difference is below 10% of the maximum.
   const Fitted f = Fit(Head().mesh, lm);
   std::vector<float> diff;
-  for (uint32_t v = 0; v < loaded.rig.vertex_count(); ++v)
+  // The rig refines the mesh where wrinkles act; its first vertices are the file's, in order
+  // (RefineResult), and only those have a per-vertex value to compare with.
+  ASSERT_GE(loaded.rig.vertex_count(), Head().mesh.vertex_count());
+  for (uint32_t v = 0; v < Head().mesh.vertex_count(); ++v)
     diff.push_back(std::fabs(loaded.rig.point_thickness[loaded.rig.vertex_points[v]] -
                              f.spec.thickness.per_vertex[v]));
   std::nth_element(diff.begin(), diff.begin() + diff.size() / 2, diff.end());

@@ -21,12 +21,20 @@ const std::string kValid = R"({
     {"name": "zyg_L", "type": "linear", "mirror": true, "strength": 0.08,
      "attachment": {"landmarks": [45], "offset": [0.08, -0.22], "depth": 0.08},
      "insertion": {"landmarks": [54, 48], "weights": [3, 1], "depth": 0.02},
-     "zone_angle_deg": 25, "falloff_start": 0.5, "falloff_end": 0.8},
+     "zone_angle_deg": 25, "falloff_start": 0.5, "falloff_end": 0.8,
+     "wrinkles": {"depth": 0.012, "phi_c_deg": 10}},
     {"name": "front", "type": "sheet", "strength": 0.1,
      "attachment": [{"landmarks": [22], "offset": [0, 0.6], "depth": 0.03},
                     {"landmarks": [24], "offset": [0, 0.6], "depth": 0.03}],
      "insertion": [{"landmarks": [22], "depth": 0.01}, {"landmarks": [24], "depth": 0.01}],
-     "length": 0.8, "width": 0.36, "falloff_start": 0.6}
+     "length": 0.8, "width": 0.36, "falloff_start": 0.6,
+     "wrinkles": {"lambda_w": 0.2, "count": 4, "depth": 0.01, "shape": 0.5, "h_c": 0.05}}
+  ],
+  "curve_wrinkles": [
+    {"name": "fold_L", "mirror": true,
+     "control": [{"landmarks": [35], "offset": [0.05, 0.08]}, {"landmarks": [35], "offset": [0.1, -0.06]},
+                 {"landmarks": [54], "offset": [0.06, 0.1]}, {"landmarks": [54], "offset": [0.07, -0.04], "depth": 0}],
+     "depth": 0.04, "width": 0.05, "modulation": "area", "rest_amplitude": 0.2}
   ]
 })";
 
@@ -58,6 +66,46 @@ TEST(MuscleTemplate, ValidTextParsesWithMirroringAndNormalisedWeights) {
   EXPECT_EQ(t.muscles[2].type, MuscleType::kSheet);
   ASSERT_EQ(t.thickness.regions.size(), 2u);  // mirrored region
   EXPECT_FLOAT_EQ(t.thickness.regions[1].center.x, -0.3f);
+}
+
+TEST(MuscleTemplate, WrinkleBlocksAndCurveWrinklesParseMirrorAndDefault) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(kValid, &t, &diag)) << diag.Format();
+  ASSERT_EQ(t.muscles.size(), 3u);
+  // Linear block: absent keys take the rig file's defaults; phi_c in radians.
+  for (int i : {0, 1}) {  // the mirrored copy carries the block too
+    ASSERT_TRUE(t.muscles[size_t(i)].wrinkles.has_value()) << i;
+    const MuscleWrinkleSpec& w = *t.muscles[size_t(i)].wrinkles;
+    EXPECT_FLOAT_EQ(w.lambda_w, 0.5f);
+    EXPECT_EQ(w.count, 3);
+    EXPECT_FLOAT_EQ(w.depth, 0.012f);
+    EXPECT_FLOAT_EQ(w.shape, 0.f);
+    EXPECT_NEAR(w.phi_c, 10.f * 3.14159265f / 180.f, 1e-6f);
+  }
+  const MuscleWrinkleSpec& sw = *t.muscles[2].wrinkles;
+  EXPECT_FLOAT_EQ(sw.lambda_w, 0.2f);
+  EXPECT_EQ(sw.count, 4);
+  EXPECT_FLOAT_EQ(sw.depth, 0.01f);
+  EXPECT_FLOAT_EQ(sw.shape, 0.5f);
+  EXPECT_FLOAT_EQ(sw.h_c, 0.05f);
+  // Curve: mirrored (35 <-> 31, 54 <-> 48, dx negated), defaults, depth 0 on the skin.
+  ASSERT_EQ(t.curve_wrinkles.size(), 2u);
+  const TemplateCurveWrinkle& l = t.curve_wrinkles[0];
+  const TemplateCurveWrinkle& r = t.curve_wrinkles[1];
+  EXPECT_EQ(l.name, "fold_L");
+  EXPECT_EQ(r.name, "fold_R");
+  EXPECT_EQ(l.control[0].landmarks, (std::vector<int>{35}));
+  EXPECT_EQ(r.control[0].landmarks, (std::vector<int>{31}));
+  EXPECT_EQ(r.control[3].landmarks, (std::vector<int>{48}));
+  EXPECT_FLOAT_EQ(r.control[1].offset.x, -0.1f);
+  EXPECT_FLOAT_EQ(r.control[1].offset.y, -0.06f);
+  for (const TemplatePoint& p : l.control) EXPECT_FLOAT_EQ(p.depth, 0.f);
+  EXPECT_FLOAT_EQ(l.depth, 0.04f);
+  EXPECT_FLOAT_EQ(l.width, 0.05f);
+  EXPECT_EQ(l.profile, CurveWrinkleProfile::kBando);  // default
+  EXPECT_EQ(l.modulation, CurveWrinkleModulation::kArea);
+  EXPECT_FLOAT_EQ(r.rest_amplitude, 0.2f);
 }
 
 TEST(MuscleTemplate, IbugMirrorIsAnInvolutionWithTheRightPairs) {
@@ -134,6 +182,64 @@ TEST(MuscleTemplate, BadInputTable) {
        {"thickness.regions[0].radius", "> 0"}},
       {"thickness value type", Replace(kValid, "\"value\": 0.09", "\"value\": \"thick\""),
        {"thickness.regions[0].value", "got \"thick\""}},
+      // Muscle wrinkle blocks (docs/template-format.md, "Wrinkles").
+      {"wrinkles not an object", Replace(kValid, "\"wrinkles\": {\"depth\": 0.012, \"phi_c_deg\": 10}",
+                                         "\"wrinkles\": 3"),
+       {"muscles[0].wrinkles", "expected a wrinkle object"}},
+      {"wrinkles without depth", Replace(kValid, "{\"depth\": 0.012, \"phi_c_deg\": 10}", "{\"phi_c_deg\": 10}"),
+       {"muscles[0].wrinkles.depth", "missing"}},
+      {"wrinkles negative depth", Replace(kValid, "\"depth\": 0.012,", "\"depth\": -0.012,"),
+       {"muscles[0].wrinkles.depth", ">= 0"}},
+      {"wrinkles lambda_w 1", Replace(kValid, "\"lambda_w\": 0.2", "\"lambda_w\": 1"),
+       {"muscles[1].wrinkles.lambda_w", "[0, 1)"}},
+      {"wrinkles count 0", Replace(kValid, "\"count\": 4", "\"count\": 0"),
+       {"muscles[1].wrinkles.count", "integer >= 1"}},
+      {"wrinkles count fractional", Replace(kValid, "\"count\": 4", "\"count\": 2.5"),
+       {"muscles[1].wrinkles.count", "integer >= 1"}},
+      {"wrinkles shape type", Replace(kValid, "\"shape\": 0.5", "\"shape\": \"sharp\""),
+       {"muscles[1].wrinkles.shape", "finite number"}},
+      {"phi_c beyond the zone angle", Replace(kValid, "\"phi_c_deg\": 10", "\"phi_c_deg\": 30"),
+       {"muscles[0].wrinkles.phi_c_deg", "zone_angle_deg = 25"}},
+      {"h_c on a linear muscle", Replace(kValid, "\"phi_c_deg\": 10", "\"h_c\": 0.01"),
+       {"muscles[0].wrinkles.h_c", "sheet muscle"}},
+      {"phi_c on a sheet muscle", Replace(kValid, "\"h_c\": 0.05", "\"phi_c_deg\": 5"),
+       {"muscles[1].wrinkles.phi_c_deg", "linear muscle"}},
+      {"h_c beyond half the width", Replace(kValid, "\"h_c\": 0.05", "\"h_c\": 0.2"),
+       {"muscles[1].wrinkles.h_c", "width/2 = 0.18"}},
+      {"unknown wrinkle key", Replace(kValid, "\"count\": 4,", "\"count\": 4, \"period\": 2,"),
+       {"muscles[1].wrinkles.period", "unknown key"}},
+      // Curve wrinkles.
+      {"curve_wrinkles not an array", Replace(kValid, "\"curve_wrinkles\": [", "\"curve_wrinkles\": 1, \"x\": ["),
+       {"curve_wrinkles", "expected an array of curve wrinkles"}},
+      {"curve control count",
+       Replace(kValid, ", {\"landmarks\": [54], \"offset\": [0.07, -0.04], \"depth\": 0}]", "]"),
+       {"curve_wrinkles[0].control", "array of 4 point objects"}},
+      {"curve control depth", Replace(kValid, "\"offset\": [0.07, -0.04], \"depth\": 0}",
+                                      "\"offset\": [0.07, -0.04], \"depth\": 0.01}"),
+       {"curve_wrinkles[0].control[3].depth", "lies in the skin"}},
+      {"curve control landmark", Replace(kValid, "{\"landmarks\": [35], \"offset\": [0.1, -0.06]}",
+                                         "{\"landmarks\": [99], \"offset\": [0.1, -0.06]}"),
+       {"curve_wrinkles[0].control[1].landmarks[0]", "0..67"}},
+      {"curve missing width", Replace(kValid, "\"width\": 0.05, ", ""),
+       {"curve_wrinkles[0].width", "missing"}},
+      {"curve zero depth", Replace(kValid, "\"depth\": 0.04,", "\"depth\": 0,"),
+       {"curve_wrinkles[0].depth", "> 0"}},
+      {"curve profile", Replace(kValid, "\"modulation\": \"area\"", "\"modulation\": \"area\", \"profile\": \"gauss\""),
+       {"curve_wrinkles[0].profile", "\"bando\", \"yang_zhang\", \"yang_zhang_exact\""}},
+      {"curve modulation", Replace(kValid, "\"modulation\": \"area\"", "\"modulation\": \"strain\""),
+       {"curve_wrinkles[0].modulation", "\"directional\", \"area\""}},
+      {"curve rest amplitude", Replace(kValid, "\"rest_amplitude\": 0.2", "\"rest_amplitude\": 1.5"),
+       {"curve_wrinkles[0].rest_amplitude", "[0, 1]"}},
+      {"curve mirror without suffix", Replace(kValid, "\"name\": \"fold_L\"", "\"name\": \"fold\""),
+       {"curve_wrinkles[0].mirror", "_L or _R"}},
+      {"curve unknown key", Replace(kValid, "\"name\": \"fold_L\",", "\"name\": \"fold_L\", \"colour\": 1,"),
+       {"curve_wrinkles[0].colour", "unknown key in a curve wrinkle"}},
+      {"curve duplicate via mirror",
+       Replace(kValid, "\"curve_wrinkles\": [",
+               "\"curve_wrinkles\": [{\"name\": \"fold_R\", \"control\": [{\"landmarks\": [1]}, "
+               "{\"landmarks\": [2]}, {\"landmarks\": [3]}, {\"landmarks\": [4]}], \"depth\": 0.01, "
+               "\"width\": 0.01},"),
+       {"duplicate curve wrinkle name \"fold_R\""}},
   };
   ASSERT_GE(cases.size(), 12u);
   for (const BadCase& c : cases) {

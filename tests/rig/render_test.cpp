@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/file_util.h"
+#include "rig/offline/mesh.h"
 #include "rig/offline/render.h"
 #include "test_support.h"
 
@@ -180,6 +181,61 @@ TEST(Render, SavePngRoundTripsThePixels) {
   Diagnostics d3;
   EXPECT_FALSE(SavePng("/nonexistent-dir/x.png", img, &d3));
   EXPECT_TRUE(d3.HasErrors());
+}
+
+// Reads a PNG written by the tool as RGB.
+Image LoadPng(const std::string& path) {
+  Image img;
+  std::string bytes;
+  Diagnostics diag;
+  if (!ReadFile(path, &bytes, &diag)) return img;
+  int n = 0;
+  unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()),
+                                            int(bytes.size()), &img.width, &img.height, &n, 3);
+  if (!px) return Image{};
+  img.rgb.assign(px, px + size_t(img.width) * img.height * 3);
+  stbi_image_free(px);
+  return img;
+}
+
+TEST(RenderCli, ZoomKeepsTheFocusWindowOfALargerRender) {
+  // Two quads at different depths so the image is not uniform.
+  MeshData m;
+  AddQuad(&m, 1.f, 0.f);
+  AddQuad(&m, 0.3f, 0.2f);
+  for (float3& p : m.positions) p.x += 0.1f * p.y;  // shear: no symmetry to hide an offset
+  const std::string dir = test::TempDir();
+  Diagnostics diag;
+  ASSERT_TRUE(ExportMesh(dir + "/quads.obj", m, &diag)) << diag.Format();
+  test::ToolResult r = test::RunTool({"render", dir + "/quads.obj", "--size", "120", "--out", dir + "/full.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::RunTool({"render", dir + "/quads.obj", "--size", "40", "--zoom", "3", "--focus", "0.25,0.6",
+                     "--out", dir + "/zoom.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Image full = LoadPng(dir + "/full.png"), zoom = LoadPng(dir + "/zoom.png");
+  ASSERT_EQ(full.width, 120);
+  ASSERT_EQ(zoom.width, 40);
+  ASSERT_EQ(zoom.height, 40);
+  // The 40 x 40 window centred on (0.25 * 120, 0.6 * 120) = (30, 72): x from 10, y from 52.
+  for (int y = 0; y < 40; ++y)
+    ASSERT_EQ(std::memcmp(Pixel(zoom, 0, y), Pixel(full, 10, 52 + y), 40 * 3), 0) << "row " << y;
+  // A focus at the corner keeps the window inside the view.
+  r = test::RunTool({"render", dir + "/quads.obj", "--size", "40", "--zoom", "3", "--focus", "1,1",
+                     "--out", dir + "/corner.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Image corner = LoadPng(dir + "/corner.png");
+  ASSERT_EQ(corner.width, 40);
+  for (int y = 0; y < 40; ++y)
+    ASSERT_EQ(std::memcmp(Pixel(corner, 0, y), Pixel(full, 80, 80 + y), 40 * 3), 0) << "row " << y;
+  // Bad values are usage errors (exit 2) that say what was expected.
+  r = test::RunTool({"render", dir + "/quads.obj", "--zoom", "0.5", "--out", dir + "/x.png"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("[1, 8]"), std::string::npos) << r.output;
+  r = test::RunTool({"render", dir + "/quads.obj", "--focus", "2,0", "--out", dir + "/x.png"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("fractions in [0, 1]"), std::string::npos) << r.output;
+  r = test::RunTool({"render", dir + "/quads.obj", "--focus", "0.5", "--out", dir + "/x.png"});
+  EXPECT_EQ(r.exit_code, 2);
 }
 
 }  // namespace
