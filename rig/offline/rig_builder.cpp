@@ -188,25 +188,12 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
 
 // MODEL.md §11: the target edge length at a surface place, the smallest over the wrinkles
 // whose support holds it (fraction x width: u for a muscle wrinkle, whose furrows are u wide,
-// w or a0 for a curve wrinkle), +infinity elsewhere. Supports are widened by the longest input
-// edge so that sampling at centroids and edge midpoints cannot miss a narrow one.
+// w or a0 for a curve wrinkle), +infinity elsewhere. A curve's support is measured in texture
+// space with the texture-to-mesh scale of the triangles around it, and widened by their
+// longest edge so that sampling at centroids and edge midpoints cannot miss a narrow one
+// (local, so that a coarse back of the head does not widen a crow's foot).
 EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
-  double area3 = 0, area2 = 0, longest = 0;
-  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const uint32_t* i = &mesh.indices[3 * t];
-    const float3 a = mesh.positions[i[0]], b = mesh.positions[i[1]], c = mesh.positions[i[2]];
-    area3 += 0.5 * Length(Cross(b - a, c - a));
-    longest = std::max({longest, double(Length(b - a)), double(Length(c - b)), double(Length(a - c))});
-    if (mesh.uvs.size() == mesh.vertex_count()) {
-      const float2 p = mesh.uvs[i[0]], q = mesh.uvs[i[1]], r = mesh.uvs[i[2]];
-      area2 += 0.5 * std::fabs(double(q.x - p.x) * (r.y - p.y) - double(q.y - p.y) * (r.x - p.x));
-    }
-  }
-  // Texture -> mesh units (a global estimate; only used to decide where to refine).
-  const float uv_scale = area2 > 0 ? float(std::sqrt(area3 / area2)) : 0.f;
-  const float margin = float(longest);
   const float fraction = spec.refinement.edge_fraction;
-
   struct MuscleRegion {
     MuscleWrinkleSpec spec;
     WrinkleMuscleGeometry geometry;
@@ -214,7 +201,8 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   };
   struct Curve {
     CurveWrinkleSpec spec;
-    float reach, target;  // mesh units
+    float2 lo, hi;  // the control polygon's texture bounding box (holds the curve)
+    float uv_reach, uv_scale, target;  // reach in texture units; scale: mesh units per uv unit
   };
   std::vector<MuscleRegion> regions;
   std::vector<Curve> curves;
@@ -226,18 +214,62 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
       regions.push_back(r);
     }
   }
-  if (spec.layers.curve_wrinkles && uv_scale > 0.f) {
-    for (const NamedCurveWrinkle& c : spec.curve_wrinkles)
-      curves.push_back({c.spec, CurveWrinkleSupport(c.spec) + margin, fraction * c.spec.width});
+  const bool has_uvs = mesh.uvs.size() == mesh.vertex_count();
+  if (spec.layers.curve_wrinkles && has_uvs) {
+    for (const NamedCurveWrinkle& c : spec.curve_wrinkles) {
+      // Triangles with a corner in the curve's texture bounding box (a Bezier lies in its
+      // control polygon's hull), grown until they hold the support: their scale and edges.
+      float2 lo = c.spec.control[0], hi = c.spec.control[0];
+      for (const float2& q : c.spec.control) {
+        lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
+        hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
+      }
+      // **choice**: refine the profile's core, not its whole tail: for Bando, 4 w (beyond it
+      // |S| < 3 e^-4 d = 0.055 d and S varies slowly, which the unrefined mesh follows);
+      // the displacement itself still reaches CurveWrinkleSupport (8 w).
+      const float support = c.spec.profile == CurveWrinkleProfile::kBando
+                                ? 4.f * c.spec.width
+                                : CurveWrinkleSupport(c.spec);
+      double area3 = 0, area2 = 0, longest = 0;
+      float grow = 0.f;
+      for (int round = 0; round < 2; ++round) {
+        area3 = area2 = longest = 0;
+        for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+          const uint32_t* i = &mesh.indices[3 * t];
+          bool inside = false;
+          for (int k = 0; k < 3; ++k) {
+            const float2 q = mesh.uvs[i[k]];
+            inside |= q.x >= lo.x - grow && q.x <= hi.x + grow && q.y >= lo.y - grow && q.y <= hi.y + grow;
+          }
+          if (!inside) continue;
+          const float3 a = mesh.positions[i[0]], b = mesh.positions[i[1]], d = mesh.positions[i[2]];
+          area3 += 0.5 * Length(Cross(b - a, d - a));
+          const float2 p = mesh.uvs[i[0]], q = mesh.uvs[i[1]], r = mesh.uvs[i[2]];
+          area2 += 0.5 * std::fabs(double(q.x - p.x) * (r.y - p.y) - double(q.y - p.y) * (r.x - p.x));
+          longest = std::max({longest, double(Length(b - a)), double(Length(d - b)), double(Length(a - d))});
+        }
+        if (!(area2 > 0)) break;
+        grow = float((support + longest) / std::sqrt(area3 / area2));  // texture units
+      }
+      if (!(area2 > 0)) continue;
+      const float uv_scale = float(std::sqrt(area3 / area2));
+      curves.push_back({c.spec, lo, hi, float((support + longest) / uv_scale), uv_scale,
+                        fraction * c.spec.width});
+    }
   }
-  return [regions, curves, uv_scale](float3 position, float2 uv) {
+  return [regions, curves](float3 position, float2 uv) {
     float target = std::numeric_limits<float>::infinity();
     for (const MuscleRegion& r : regions)
       if (r.target > 0.f && SampleMuscleWrinkleRegion(r.spec, r.geometry, position).inside)
         target = std::min(target, r.target);
-    for (const Curve& c : curves)
-      if (c.target > 0.f && ClosestPointOnBezier(c.spec.control, uv).distance * uv_scale <= c.reach)
-        target = std::min(target, c.target);
+    for (const Curve& c : curves) {
+      if (!(c.target > 0.f) || c.target >= target) continue;
+      // Distance to the box bounds the distance to the curve from below: a cheap reject.
+      const float dx = std::max({c.lo.x - uv.x, 0.f, uv.x - c.hi.x});
+      const float dy = std::max({c.lo.y - uv.y, 0.f, uv.y - c.hi.y});
+      if (dx * dx + dy * dy > c.uv_reach * c.uv_reach) continue;
+      if (ClosestPointOnBezier(c.spec.control, uv).distance <= c.uv_reach) target = c.target;
+    }
     return target;
   };
 }

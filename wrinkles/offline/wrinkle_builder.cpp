@@ -314,11 +314,17 @@ bool BuildCurveWrinkleTable(span<const CurveWrinkleSpec> specs, span<const float
       const double reach = box.support / scale;  // texture units
       double best = std::numeric_limits<double>::infinity();
       float2 tangent{1.f, 0.f};
+      float2 seen[8];  // a point's corners share one uv except at seams: query each once
+      int seen_count = 0;
       for (uint32_t k = first; k < last; ++k) {
         const uint32_t t = point_tris.items[k];
         for (int c = 0; c < 3; ++c) {
           if (triangles[3 * t + c] != p) continue;
           const float2 uv = corner_uvs[3 * t + c];
+          bool repeat = false;
+          for (int i = 0; i < seen_count; ++i) repeat |= seen[i].x == uv.x && seen[i].y == uv.y;
+          if (repeat) continue;
+          if (seen_count < 8) seen[seen_count++] = uv;
           if (uv.x < box.x0 - reach || uv.x > box.x1 + reach || uv.y < box.y0 - reach ||
               uv.y > box.y1 + reach) {
             continue;
