@@ -45,4 +45,13 @@ std::string Diagnostics::Format() const {
   return out;
 }
 
+CappedErrors::~CappedErrors() {
+  if (count_ > limit_)
+    diag_->Error(summary_where_, "... and " + std::to_string(count_ - limit_) + " more " + kind_);
+}
+
+void CappedErrors::Add(std::string where, std::string what) {
+  if (count_++ < limit_) diag_->Error(std::move(where), std::move(what));
+}
+
 }  // namespace mimetic

@@ -41,4 +41,27 @@ class Diagnostics {
   std::vector<Diagnostic> items_;
 };
 
+// Records at most `limit` errors of one kind, then (when destroyed) one "... and N more <kind>"
+// line, so that a broken 100k-vertex mesh does not print 100k messages.
+class CappedErrors {
+ public:
+  static constexpr size_t kDefaultLimit = 20;
+  CappedErrors(Diagnostics* diag, std::string summary_where, std::string kind,
+               size_t limit = kDefaultLimit)
+      : diag_(diag), summary_where_(std::move(summary_where)), kind_(std::move(kind)),
+        limit_(limit) {}
+  ~CappedErrors();
+  CappedErrors(const CappedErrors&) = delete;
+  CappedErrors& operator=(const CappedErrors&) = delete;
+  void Add(std::string where, std::string what);
+  size_t count() const { return count_; }
+
+ private:
+  Diagnostics* diag_;
+  std::string summary_where_;
+  std::string kind_;
+  size_t limit_;
+  size_t count_ = 0;
+};
+
 }  // namespace mimetic

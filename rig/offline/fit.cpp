@@ -486,22 +486,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
       MuscleWrinkleSpec w = *tm.wrinkles;
       w.depth *= s;
       w.h_c *= s;
-      WrinkleMuscleGeometry g;
-      if (m.type == MuscleType::kLinear) {
-        g.kind = WrinkleMuscleKind::kLinear;
-        g.attachment = m.linear.attachment;
-        g.insertion = m.linear.insertion;
-        g.zone_angle = m.linear.zone_angle;
-        g.radius = m.linear.falloff_end;
-      } else {
-        g.kind = WrinkleMuscleKind::kSheet;
-        g.attachment_line[0] = m.sheet.attachment[0];
-        g.attachment_line[1] = m.sheet.attachment[1];
-        g.insertion_line[0] = m.sheet.insertion[0];
-        g.insertion_line[1] = m.sheet.insertion[1];
-        g.length = m.sheet.length;
-        g.width = m.sheet.width;
-      }
+      const WrinkleMuscleGeometry g = WrinkleGeometryOf(m);
       ok &= ValidateMuscleWrinkleSpec(w, g, path + ".wrinkles", diag);
       spec.muscle_wrinkles.resize(tmpl.muscles.size());
       spec.muscle_wrinkles[i] = w;

@@ -37,30 +37,6 @@
 namespace mimetic {
 namespace {
 
-constexpr size_t kMaxMessagesPerKind = 20;
-
-// Records at most kMaxMessagesPerKind errors of one kind, then one "... and N more" line.
-class CappedErrors {
- public:
-  CappedErrors(Diagnostics* diag, std::string summary_where, std::string kind)
-      : diag_(diag), summary_where_(std::move(summary_where)), kind_(std::move(kind)) {}
-  ~CappedErrors() {
-    if (count_ > kMaxMessagesPerKind) {
-      diag_->Error(summary_where_, "... and " + std::to_string(count_ - kMaxMessagesPerKind) +
-                                       " more " + kind_);
-    }
-  }
-  void Add(std::string where, std::string what) {
-    if (count_++ < kMaxMessagesPerKind) diag_->Error(std::move(where), std::move(what));
-  }
-  size_t count() const { return count_; }
-
- private:
-  Diagnostics* diag_;
-  std::string summary_where_;
-  std::string kind_;
-  size_t count_ = 0;
-};
 
 std::string LowerExtension(const std::string& path) {
   const size_t slash = path.find_last_of('/');

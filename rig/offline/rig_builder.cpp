@@ -85,25 +85,6 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
   return false;
 }
 
-WrinkleMuscleGeometry GeometryOf(const MuscleSpec& m) {
-  WrinkleMuscleGeometry g;
-  if (m.type == MuscleType::kLinear) {
-    g.kind = WrinkleMuscleKind::kLinear;
-    g.attachment = m.linear.attachment;
-    g.insertion = m.linear.insertion;
-    g.zone_angle = m.linear.zone_angle;
-    g.radius = m.linear.falloff_end;  // 001's R is Waters' Rf
-  } else {
-    g.kind = WrinkleMuscleKind::kSheet;
-    g.attachment_line[0] = m.sheet.attachment[0];
-    g.attachment_line[1] = m.sheet.attachment[1];
-    g.insertion_line[0] = m.sheet.insertion[0];
-    g.insertion_line[1] = m.sheet.insertion[1];
-    g.length = m.sheet.length;
-    g.width = m.sheet.width;
-  }
-  return g;
-}
 
 // MODEL.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
 bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
@@ -119,7 +100,7 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
       if (!spec.muscle_wrinkles[m]) continue;
       MuscleWrinkleTable table;
       const std::string where = "muscles[" + std::to_string(m) + "].wrinkles";
-      if (!BuildMuscleWrinkleTable(*spec.muscle_wrinkles[m], GeometryOf(spec.muscles[m]),
+      if (!BuildMuscleWrinkleTable(*spec.muscle_wrinkles[m], WrinkleGeometryOf(spec.muscles[m]),
                                    rig->rest_points, neighbors, where, &table, diag)) {
         ok = false;
         continue;
@@ -209,7 +190,7 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   if (spec.layers.muscle_wrinkles) {
     for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
       if (!spec.muscle_wrinkles[m]) continue;
-      MuscleRegion r{*spec.muscle_wrinkles[m], GeometryOf(spec.muscles[m]), 0.f};
+      MuscleRegion r{*spec.muscle_wrinkles[m], WrinkleGeometryOf(spec.muscles[m]), 0.f};
       r.target = fraction * SampleMuscleWrinkleRegion(r.spec, r.geometry, {}).half_cycle;
       regions.push_back(r);
     }

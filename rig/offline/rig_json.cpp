@@ -857,22 +857,7 @@ bool RigChecker::CheckMuscleWrinkles(const json& v, const std::string& path,
   if (!muscle_ok) return true;  // the muscle's own errors make the rig fail anyway
 
   // The wrinkle module's own check (same ranges; reported only if it is stricter than the above).
-  WrinkleMuscleGeometry geometry;
-  if (linear) {
-    geometry.kind = WrinkleMuscleKind::kLinear;
-    geometry.attachment = muscle.linear.attachment;
-    geometry.insertion = muscle.linear.insertion;
-    geometry.zone_angle = muscle.linear.zone_angle;
-    geometry.radius = muscle.linear.falloff_end;
-  } else {
-    geometry.kind = WrinkleMuscleKind::kSheet;
-    for (int k = 0; k < 2; ++k) {
-      geometry.attachment_line[k] = muscle.sheet.attachment[k];
-      geometry.insertion_line[k] = muscle.sheet.insertion[k];
-    }
-    geometry.length = muscle.sheet.length;
-    geometry.width = muscle.sheet.width;
-  }
+  const WrinkleMuscleGeometry geometry = WrinkleGeometryOf(muscle);
   return ValidateMuscleWrinkleSpec(spec, geometry, path, diag_);
 }
 

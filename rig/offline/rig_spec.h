@@ -58,6 +58,11 @@ struct RigSpec {
   RefinementSpec refinement;
 };
 
+// The muscle geometry a wrinkle region needs (MODEL.md §6), from a muscle spec: linear R is
+// Waters' Rf, phi the zone angle; sheet lines, Ls and Ws as they are. (Here because muscles/
+// and wrinkles/ are siblings that do not include each other.)
+WrinkleMuscleGeometry WrinkleGeometryOf(const MuscleSpec& muscle);
+
 // Parses and validates a rig file. Every problem is recorded with its JSON path
 // (`muscles[3].insertion: expected array of 3 numbers, got string`); returns false when any
 // error was recorded. `base_dir` resolves relative paths ("" = current directory).

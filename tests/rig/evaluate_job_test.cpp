@@ -16,17 +16,7 @@
 #include "rig/runtime/evaluate_job.h"
 
 // Global allocation counter for the zero-allocation test.
-// Counting replacements of the global allocation functions (malloc/free pair correctly; GCC's
-// -Wmismatched-new-delete cannot see that they replace new/delete).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "alloc_counter.h"
 
 namespace mimetic {
 namespace {
