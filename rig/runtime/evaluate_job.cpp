@@ -4,6 +4,7 @@
 
 #include "expressions/runtime/activations.h"
 #include "rig/runtime/normals_job.h"
+#include "wrinkles/runtime/thickness_job.h"
 
 namespace mimetic {
 
@@ -244,10 +245,23 @@ bool EvaluateJob::Run() const {
   const bool want_normals = !out_normals.empty();
 
   if (thickness || muscle_wrinkles || curve_wrinkles) {
-    // 2. N1 and the strain of X1 against the rest pose (MODEL.md §4-5); the area ratio r
-    // rides along with the normals (same triangles, same gather).
+    // 2. The strain of X1 against the rest pose (MODEL.md §4-5): face normals and triangle
+    // area ratios of X1, compression eps per wrinkled muscle and shrinkage s across each
+    // curve wrinkle (these read X1, so they run before anything moves).
     const bool need_ratio = thickness || curve_wrinkles;
-    normals(ctx.normals1_, need_ratio, r.active_point_count);
+    ParallelFor(*this, r.active_triangle_count, [&](uint32_t b, uint32_t e) {
+      FaceNormalsJob job;
+      job.points = ctx.points_;
+      job.triangles = r.triangles;
+      job.out_face_normals = ctx.face_normals_;
+      job.begin = b;
+      job.end = e;
+      if (need_ratio) {
+        job.rest_areas = r.rest_triangle_areas;
+        job.out_area_ratios = ctx.triangle_ratios_;
+      }
+      job.Run();
+    });
     if (muscle_wrinkles) {
       size_t row0 = 0;
       for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
@@ -280,21 +294,32 @@ bool EvaluateJob::Run() const {
       });
     }
 
-    // 3. Volume-preserving thickness, in place: X2 (MODEL.md §4). Elsewhere r = 1 exactly.
-    if (thickness) {
-      ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
-        ThicknessJob job;
-        job.positions = ctx.points_;
-        job.normals = ctx.normals1_;
-        job.area_ratios = ctx.point_ratios_;
-        job.thickness = r.point_thickness;
-        job.min_area_ratio = r.min_area_ratio;
-        job.begin = b;
-        job.end = e;
-        job.out_positions = ctx.points_;
-        job.RunUnchecked();
-      });
-    }
+    // 3. N1 and r per point (PointNormalsJob's gather) and, in the same pass, the
+    // volume-preserving thickness in place: X2 = X1 + (1/r - 1) h N1 (MODEL.md §4). Fused
+    // because each point needs only its own N1 and r; PointNormalsJob + ThicknessJob compute
+    // the same bits for engines that run the stages themselves.
+    ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
+      const uint32_t* off = r.point_triangle_offsets.data();
+      const uint32_t* tri = r.point_triangles.data();
+      const float3* fn = ctx.face_normals_.data();
+      const float* ratio = ctx.triangle_ratios_.data();
+      const float* h = r.point_thickness.data();
+      for (uint32_t p = b; p < e; ++p) {
+        float3 n{};
+        float sum = 0.f;
+        for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+          n += fn[tri[k]];
+          if (need_ratio) sum += ratio[tri[k]];
+        }
+        const float3 n1 = NormalizeOr(n, float3{0.f, 0.f, 1.f});
+        ctx.normals1_[p] = n1;
+        if (!need_ratio) continue;
+        const uint32_t count = off[p + 1] - off[p];
+        const float rp = count ? sum / float(count) : 1.f;  // MODEL.md §4: mean over I_j
+        ctx.point_ratios_[p] = rp;
+        if (thickness) ctx.points_[p] += n1 * ThicknessOffset(rp, h[p], r.min_area_ratio);
+      }
+    });
 
     // 4. Large-scale wrinkles along N1: X3 (MODEL.md §6-8). Tables may share points, so they
     // run one after another in rig order; rows within a table split freely.

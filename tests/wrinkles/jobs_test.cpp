@@ -609,3 +609,38 @@ TEST(MuscleWrinkle, PrecomputedProfileMatchesTheGeneralPath) {
 
 }  // namespace
 }  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+// Entries with S(l) precomputed (what the builder stores for Bando) give the same bits as
+// entries evaluated through CurveWrinkleValue.
+TEST(CurveWrinkle, PrecomputedBandoProfileMatchesTheGeneralPath) {
+  const size_t n = 30;
+  const std::vector<CurveWrinkleParams> wr = {
+      {CurveWrinkleProfile::kBando, CurveWrinkleModulation::kDirectional, 0.3f, 0.2f, 0.4f, 0.f},
+      {CurveWrinkleProfile::kBando, CurveWrinkleModulation::kArea, 0.5f, 0.1f, 0.2f, 0.f}};
+  std::vector<float3> nrm(n, float3{0, 0, 1}), a(n), b(n);
+  std::vector<uint32_t> rows(n), off(n + 1);
+  std::vector<CurveWrinkleEntry> plain(n), pre(n);
+  std::vector<float> s(n), r(n);
+  for (size_t i = 0; i < n; ++i) {
+    rows[i] = uint32_t(i);
+    off[i + 1] = uint32_t(i + 1);
+    s[i] = -0.3f + 0.04f * float(i);
+    r[i] = 0.5f + 0.04f * float(i);
+    plain[i] = {uint32_t(i % 2), 0.02f * float(i)};
+    pre[i] = plain[i];
+    pre[i].profile = CurveProfile(pre[i].distance, wr[i % 2].depth, wr[i % 2].width);
+    pre[i].has_profile = 1;
+  }
+  CurveWrinkleJob ja{nrm, wr, rows, off, plain, s, r, 0, n, a, {}};
+  CurveWrinkleJob jb{nrm, wr, rows, off, pre, s, r, 0, n, b, {}};
+  ASSERT_TRUE(ja.Run());
+  ASSERT_TRUE(jb.Run());
+  for (size_t i = 0; i < n; ++i) EXPECT_EQ(a[i].z, b[i].z) << i;
+  EXPECT_NE(a[3].z, 0.f);
+}
+
+}  // namespace
+}  // namespace mimetic

@@ -338,7 +338,12 @@ bool BuildCurveWrinkleTable(span<const CurveWrinkleSpec> specs, span<const float
       }
       const double l = best * scale;
       if (!(l <= box.support)) continue;
-      out->entries.push_back({static_cast<uint32_t>(w), static_cast<float>(l)});
+      CurveWrinkleEntry entry{static_cast<uint32_t>(w), static_cast<float>(l)};
+      if (specs[w].profile == CurveWrinkleProfile::kBando) {
+        entry.profile = CurveProfile(entry.distance, specs[w].depth, specs[w].width);
+        entry.has_profile = 1;
+      }
+      out->entries.push_back(entry);
       // Shrinkage is measured across the furrow: dp is perpendicular to its tangent (000 §7).
       const float2 dp{-tangent.y, tangent.x};
       out->probes.push_back(BuildShrinkageProbe(static_cast<uint32_t>(p), dp, rest_points,

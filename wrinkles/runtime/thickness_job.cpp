@@ -21,10 +21,8 @@ bool ThicknessJob::Run() const {
 void ThicknessJob::RunUnchecked() const {
   const bool per_point = !thickness.empty();
   for (size_t p = begin; p < end; ++p) {
-    float r = area_ratios[p];
-    if (!(r >= min_area_ratio)) r = min_area_ratio;  // MODEL.md §4: r >= r_min (NaN too)
     const float h = per_point ? thickness[p] : constant_thickness;
-    out_positions[p] = positions[p] + normals[p] * ((1.f / r - 1.f) * h);  // 002 eq. 3
+    out_positions[p] = positions[p] + normals[p] * ThicknessOffset(area_ratios[p], h, min_area_ratio);
   }
 }
 

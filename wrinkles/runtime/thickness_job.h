@@ -13,6 +13,13 @@ namespace mimetic {
 // collapse is pushed out by at most (1/0.05 - 1) h = 19 h instead of to infinity.
 inline constexpr float kDefaultMinAreaRatio = 0.05f;
 
+// The offset along the normal, (1/max(r, r_min) - 1) h (MODEL.md §4, 002 eq. 3); NaN r counts
+// as r_min. Shared by ThicknessJob and EvaluateJob's fused normal pass.
+inline float ThicknessOffset(float r, float h, float min_area_ratio) {
+  if (!(r >= min_area_ratio)) r = min_area_ratio;
+  return (1.f / r - 1.f) * h;
+}
+
 // x' = x + (1/max(r, r_min) - 1) h N per point: the subcutaneous layer of thickness h under a
 // surface element whose area became r times its rest area keeps its volume h dS (002 eq. 3), so
 // the new thickness is h/r. r > 1 (stretched) moves the point inward, by at most h. Rows are

@@ -115,7 +115,13 @@ void CurveWrinkleJob::RunUnchecked() const {
       const bool directional = params.modulation == CurveWrinkleModulation::kDirectional;
       const float s = directional ? entry_shrinkage[k] : 0.f;
       const float r = directional ? 1.f : area_ratios[p];
-      sum += CurveWrinkleValue(params, entries[k].distance, s, r);
+      if (entries[k].has_profile && params.profile == CurveWrinkleProfile::kBando) {
+        // CurveWrinkleValue's Bando branch with S(l) precomputed: the same bits.
+        sum += entries[k].profile * (directional ? DirectionalModulation(s, params.rest_amplitude)
+                                                 : AreaModulation(r, params.rest_amplitude));
+      } else {
+        sum += CurveWrinkleValue(params, entries[k].distance, s, r);
+      }
     }
     positions[p] += normals[p] * sum;  // MODEL.md §7: x' = x + S(l) M N
     if (!out_amplitudes.empty()) out_amplitudes[i] = sum;

@@ -88,6 +88,11 @@ struct CurveWrinkleParams {
 struct CurveWrinkleEntry {
   uint32_t wrinkle = 0;  // index into the wrinkle parameters
   float distance = 0.f;  // l, distance of the point to the wrinkle's curve, mesh units, >= 0
+  // Bando only: S(l; depth, width) (000 eq. 2), fixed with l on the rest pose; the builder
+  // fills it (CurveProfile) so a frame multiplies by the modulation instead of calling exp().
+  // Read only when `has_profile` is set.
+  float profile = 0.f;
+  uint32_t has_profile = 0;
 };
 
 // Curve wrinkles (MODEL.md §7-8): row i is point points[i] with its entries
