@@ -24,8 +24,13 @@ size_t EditDistance(const std::string& a, const std::string& b) {
 }
 
 std::string Suggest(const std::vector<std::string>& names, const std::string& wrong) {
+  // Names that contain what was typed come first (`frontalis` -> `frontalis_inner_L`), then
+  // the rest by edit distance.
   std::vector<std::pair<size_t, std::string>> ranked;
-  for (const std::string& n : names) ranked.push_back({EditDistance(n, wrong), n});
+  for (const std::string& n : names) {
+    const bool contains = !wrong.empty() && n.find(wrong) != std::string::npos;
+    ranked.push_back({contains ? n.size() - wrong.size() : 1000 + EditDistance(n, wrong), n});
+  }
   std::sort(ranked.begin(), ranked.end());
   std::string out;
   for (size_t i = 0; i < ranked.size() && i < 3; ++i) out += (i ? ", " : "") + ranked[i].second;

@@ -178,6 +178,10 @@ TEST(Cli, EvalRejectsUnknownMusclesAndBadValues) {
     EXPECT_EQ(r.exit_code, 1) << c.set;
     EXPECT_TRUE(Contains(r.output, c.expect)) << c.set << "\n" << r.output;
   }
+  // A partial name suggests the names that contain it.
+  const auto partial = RunTool({"eval", SurfaceRig(), "--set", "zygo=0.5", "--out", out});
+  EXPECT_EQ(partial.exit_code, 1);
+  EXPECT_TRUE(Contains(partial.output, "closest: zygomatic")) << partial.output;
   const auto twice = RunTool({"eval", SurfaceRig(), "--set", "frontalis=0.1", "--set",
                               "frontalis=0.2", "--out", out});
   EXPECT_EQ(twice.exit_code, 1);
