@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <random>
 
+#include "rig/runtime/normals_job.h"
+
 namespace mimetic::bench {
 
 ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
@@ -38,6 +40,7 @@ ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
   }
   for (uint32_t p = 0; p < points; ++p)
     if (in_list[p]) out.points.push_back(p);
+  out.normal_changes = std::move(in_list);
   return out;
 }
 
@@ -71,14 +74,13 @@ void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float
     const uint32_t* c = &rig.triangles[3 * t];
     ctx->face_normals[t] = Cross(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
   }
-  for (uint32_t i : ref.points) {
-    float3 n{};
-    for (uint32_t k = rig.point_triangle_offsets[i]; k < rig.point_triangle_offsets[i + 1]; ++k)
-      n += ctx->face_normals[rig.point_triangles[k]];
-    ctx->point_normals[i] = NormalizeOr(n, float3{0.f, 0.f, 1.f});
-  }
+  const uint32_t* off = rig.point_triangle_offsets.data();
+  const uint32_t* tri = rig.point_triangles.data();
+  const float3* fn = ctx->face_normals.data();
   for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
-    const float3 q = p[rig.vertex_points[v]], n = ctx->point_normals[rig.vertex_points[v]];
+    const uint32_t i = rig.vertex_points[v];
+    const float3 q = p[i];
+    const float3 n = ref.normal_changes[i] ? GatherPointNormal(off, tri, fn, i) : ctx->point_normals[i];
     float* op = &out_positions[3 * v];
     float* on = &out_normals[3 * v];
     op[0] = q.x, op[1] = q.y, op[2] = q.z;

@@ -25,6 +25,7 @@ struct ReferenceRig {
   std::vector<SparseShape> shapes;
   std::vector<uint32_t> triangles;  // triangles touching a moved point
   std::vector<uint32_t> points;     // points of those triangles, ascending
+  std::vector<uint8_t> normal_changes;  // per point: 1 for the points above
 };
 
 // `shapes` shapes, each moving the `fraction` of the rig's points nearest to a centre drawn
@@ -32,15 +33,16 @@ struct ReferenceRig {
 ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
                               const std::vector<uint32_t>& centres = {});
 
-// Scratch for one instance, sized once (rest positions and normals).
+// Scratch for one instance, sized once (rest positions, face normals and point normals).
 struct ReferenceContext {
   std::vector<float3> points, face_normals, point_normals;
   explicit ReferenceContext(const Rig& rig);
 };
 
-// points = rest + sum_s weights[s] * shape_s (scatter-add, shape by shape; points no shape
-// moves are reset from rest first), then face normals, point normals (on the reference rig's
-// lists) and the scatter to the file's vertex layout (stride 12 bytes).
+// points = rest + sum_s weights[s] * shape_s (scatter-add, shape by shape; the listed points
+// are reset from rest first), then face normals on the listed triangles, then the output pass
+// EvaluateJob does: positions scattered to the file's vertex layout, normals gathered per
+// vertex where they can change (GatherPointNormal), rest normals elsewhere (stride 12 bytes).
 void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float> weights,
                        ReferenceContext* ctx, span<float> out_positions, span<float> out_normals);
 

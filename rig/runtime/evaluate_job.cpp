@@ -195,9 +195,9 @@ bool EvaluateJob::Run() const {
 
   // Normals of ctx.points_ into `out` (area-weighted, MODEL.md §1 steps 2 and 5); with
   // `ratios`, the area ratios r of MODEL.md §4 in the same two passes.
-  // Only triangles touching a point that can move, and only the first `count` points (the
-  // others keep the rest normals set when the context was sized).
-  auto normals = [&](span<float3> out, bool ratios, uint32_t count) {
+  // Face normals of the current points, only for triangles touching a point that can move
+  // (the others keep the rest face normals set when the context was sized).
+  auto face_normals = [&]() {
     ParallelFor(*this, r.active_triangle_count, [&](uint32_t b, uint32_t e) {
       FaceNormalsJob job;
       job.points = ctx.points_;
@@ -205,24 +205,6 @@ bool EvaluateJob::Run() const {
       job.out_face_normals = ctx.face_normals_;
       job.begin = b;
       job.end = e;
-      if (ratios) {
-        job.rest_areas = r.rest_triangle_areas;
-        job.out_area_ratios = ctx.triangle_ratios_;
-      }
-      job.Run();
-    });
-    ParallelFor(*this, count, [&](uint32_t b, uint32_t e) {
-      PointNormalsJob job;
-      job.face_normals = ctx.face_normals_;
-      job.point_triangle_offsets = r.point_triangle_offsets;
-      job.point_triangles = r.point_triangles;
-      job.out_normals = out;
-      job.begin = b;
-      job.end = e;
-      if (ratios) {
-        job.triangle_ratios = ctx.triangle_ratios_;
-        job.out_ratios = ctx.point_ratios_;
-      }
       job.Run();
     });
   };
@@ -359,18 +341,32 @@ bool EvaluateJob::Run() const {
         job.RunUnchecked();
       });
     }
-    // 5. Normals of X3.
-    if (want_normals) normals(ctx.point_normals_, false, r.normal_point_count);
+    // 5. Face normals of X3 (the per-point gather happens in the output pass).
+    if (want_normals) face_normals();
   } else {
     std::fill(ctx.point_ratios_.begin(), ctx.point_ratios_.begin() + r.active_point_count, 1.f);
-    if (want_normals) normals(ctx.point_normals_, false, r.normal_point_count);
+    if (want_normals) face_normals();
   }
 
-  // 6. Scatter to the file's vertex layout.
+  // 6. Output: positions scattered to the file's vertex layout; normals gathered per vertex
+  // from the face normals where they can change (a seam vertex repeats its point's gather:
+  // the same bits), the rest normals elsewhere. One pass instead of gather + scatter.
   ParallelFor(*this, r.vertex_count(), [&](uint32_t b, uint32_t e) {
     Scatter(ctx.points_, r.vertex_points, out_positions, out_positions_stride, b, e);
-    if (want_normals)
-      Scatter(ctx.point_normals_, r.vertex_points, out_normals, out_normals_stride, b, e);
+    if (!want_normals) return;
+    const size_t stride = out_normals_stride / 4;
+    const uint32_t* off = r.point_triangle_offsets.data();
+    const uint32_t* tri = r.point_triangles.data();
+    const float3* fn = ctx.face_normals_.data();
+    for (uint32_t v = b; v < e; ++v) {
+      const uint32_t p = r.vertex_points[v];
+      const float3 n = p < r.normal_point_count ? GatherPointNormal(off, tri, fn, p)
+                                                : ctx.point_normals_[p];
+      float* o = out_normals.data() + v * stride;
+      o[0] = n.x;
+      o[1] = n.y;
+      o[2] = n.z;
+    }
   });
   return true;
 }

@@ -10,8 +10,9 @@
 //   3. ThicknessJob                        X2 = X1 + (1/r - 1) h N1           MODEL.md §4
 //   4. MuscleWrinkleJob per wrinkled muscle, then CurveWrinkleJob
 //                                          X3 = X2 + sum W N1                 MODEL.md §6-8
-//   5. normals of X3 (FaceNormalsJob, PointNormalsJob)
-//   6. scatter (vertices): points -> the file's vertex layout, with strides
+//   5. face normals of X3 (FaceNormalsJob)
+//   6. output (vertices): positions scattered to the file's vertex layout, normals of X3
+//      gathered per vertex straight into the output (GatherPointNormal), with strides
 // Steps 2-5 run only for the layers both compiled into the rig and enabled in `layers`; with
 // none, N1 is the output normal.
 // EvaluateJob owns no buffer; Run() allocates nothing; the same build and the same inputs
@@ -43,7 +44,6 @@ class EvaluateContext {
   // Read access to the last frame's intermediate results (for overlays and tests).
   span<const float> activations() const { return activations_; }
   span<const float3> points() const { return points_; }
-  span<const float3> point_normals() const { return point_normals_; }
   // Per-point area ratio r of the last frame (MODEL.md §4); 1 where no skin layer ran.
   span<const float> area_ratios() const { return point_ratios_; }
 
@@ -56,7 +56,7 @@ class EvaluateContext {
   std::vector<float> activations_;     // #muscles, sanitised
   std::vector<float3> points_;         // #P deformed
   std::vector<float3> face_normals_;   // #T
-  std::vector<float3> point_normals_;  // #P, output normals
+  std::vector<float3> point_normals_;  // #P, rest normals (points that never change normal)
   std::vector<float3> normals1_;       // #P, N1 (normals of X1) when a skin layer runs
   std::vector<float> triangle_ratios_; // #T
   std::vector<float> point_ratios_;    // #P

@@ -51,11 +51,7 @@ bool PointNormalsJob::Run() const {
   const uint32_t* tri = point_triangles.data();
   const float3* fn = face_normals.data();
   if (out_ratios.empty()) {
-    for (uint32_t p = begin; p < end; ++p) {
-      float3 n{};
-      for (uint32_t k = off[p]; k < off[p + 1]; ++k) n += fn[tri[k]];
-      out_normals[p] = NormalizeOr(n, float3{0.f, 0.f, 1.f});
-    }
+    for (uint32_t p = begin; p < end; ++p) out_normals[p] = GatherPointNormal(off, tri, fn, p);
     return true;
   }
   const float* ratio = triangle_ratios.data();

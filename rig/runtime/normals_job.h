@@ -48,6 +48,15 @@ struct PointNormalsJob {
   span<float> out_ratios;
 };
 
+// The area-weighted unit normal of point p from the face normals of its triangles, summed in
+// CSR order (PointNormalsJob's per-point step; EvaluateJob gathers output normals with it).
+inline float3 GatherPointNormal(const uint32_t* offsets, const uint32_t* triangles,
+                                const float3* face_normals, uint32_t p) {
+  float3 n{};
+  for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k) n += face_normals[triangles[k]];
+  return NormalizeOr(n, float3{0.f, 0.f, 1.f});
+}
+
 // A triangle's area with the expression FaceNormalsJob uses (|e1 x e2| / 2), so that rest
 // areas computed with it give r = 1 exactly at the rest pose.
 float TriangleRestArea(float3 a, float3 b, float3 c);
