@@ -15,6 +15,7 @@
 //                                      points centred on the face)
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -196,7 +197,13 @@ void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
 }
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 
-#define MIMETIC_SIZES ->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond)
+// The fastest repetition next to the median: on a shared machine the minimum is the least
+// disturbed estimate of what the code costs.
+double Fastest(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
+
+#define MIMETIC_SIZES                                                          \
+  ->Arg(10000)->Arg(50000)->Arg(100000)->Unit(benchmark::kMicrosecond)        \
+      ->ComputeStatistics("min", Fastest)
 BENCHMARK(BM_Evaluate) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateMusclesOnly) MIMETIC_SIZES;
 BENCHMARK(BM_Reference) MIMETIC_SIZES;

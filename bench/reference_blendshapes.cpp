@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <random>
 
-#include "rig/runtime/normals_job.h"
+#include "rig/runtime/face_kernels.h"
 
 namespace mimetic::bench {
 
@@ -45,17 +45,14 @@ ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
 }
 
 ReferenceContext::ReferenceContext(const Rig& rig)
-    : points(rig.rest_points), face_normals(rig.triangle_count()), point_normals(rig.point_count()) {
-  for (uint32_t t = 0; t < rig.triangle_count(); ++t) {
-    const uint32_t* c = &rig.triangles[3 * t];
-    face_normals[t] = Cross(points[c[1]] - points[c[0]], points[c[2]] - points[c[0]]);
-  }
-  for (uint32_t p = 0; p < rig.point_count(); ++p) {
-    float3 n{};
-    for (uint32_t k = rig.point_triangle_offsets[p]; k < rig.point_triangle_offsets[p + 1]; ++k)
-      n += face_normals[rig.point_triangles[k]];
-    point_normals[p] = NormalizeOr(n, float3{0.f, 0.f, 1.f});
-  }
+    : points(rig.point_count() + 1), point_normals(rig.point_count()),
+      face_normals(rig.triangle_count()) {
+  std::copy(rig.rest_points.begin(), rig.rest_points.end(), points.begin());
+  FaceNormals4(points.data(), rig.triangles.data(), 0, rig.triangle_count(), nullptr,
+               face_normals.data());
+  for (uint32_t p = 0; p < rig.point_count(); ++p)
+    point_normals[p] = UnitNormal(GatherFaces4(rig.point_triangle_offsets.data(),
+                                               rig.point_triangles.data(), face_normals.data(), p));
 }
 
 void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float> weights,
@@ -69,18 +66,17 @@ void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float
     const float3* d = ref.shapes[s].deltas.data();
     for (size_t k = 0, n = ref.shapes[s].indices.size(); k < n; ++k) p[idx[k]] += w * d[k];
   }
-  // The same area-weighted normals as FaceNormalsJob + PointNormalsJob, on the lists.
-  for (uint32_t t : ref.triangles) {
-    const uint32_t* c = &rig.triangles[3 * t];
-    ctx->face_normals[t] = Cross(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
-  }
+  // The same area-weighted normals as EvaluateJob (face_kernels.h), on the lists.
+  FaceNormals4Listed(p, rig.triangles.data(), ref.triangles.data(), ref.triangles.size(),
+                     ctx->face_normals.data());
   const uint32_t* off = rig.point_triangle_offsets.data();
   const uint32_t* tri = rig.point_triangles.data();
-  const float3* fn = ctx->face_normals.data();
+  const float4* fn = ctx->face_normals.data();
   for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
     const uint32_t i = rig.vertex_points[v];
     const float3 q = p[i];
-    const float3 n = ref.normal_changes[i] ? GatherPointNormal(off, tri, fn, i) : ctx->point_normals[i];
+    const float3 n =
+        ref.normal_changes[i] ? UnitNormal(GatherFaces4(off, tri, fn, i)) : ctx->point_normals[i];
     float* op = &out_positions[3 * v];
     float* on = &out_normals[3 * v];
     op[0] = q.x, op[1] = q.y, op[2] = q.z;

@@ -33,16 +33,19 @@ struct ReferenceRig {
 ReferenceRig MakeReferenceRig(const Rig& rig, uint32_t shapes, float fraction,
                               const std::vector<uint32_t>& centres = {});
 
-// Scratch for one instance, sized once (rest positions, face normals and point normals).
+// Scratch for one instance, sized once (rest positions, face normals and point normals), in
+// the same layout and through the same kernels as EvaluateContext (rig/runtime/face_kernels.h:
+// padded points, 16-byte face slots, SIMD face normals), so the comparison stays like for like.
 struct ReferenceContext {
-  std::vector<float3> points, face_normals, point_normals;
+  std::vector<float3> points, point_normals;  // points: #P + padding
+  std::vector<float4> face_normals;
   explicit ReferenceContext(const Rig& rig);
 };
 
 // points = rest + sum_s weights[s] * shape_s (scatter-add, shape by shape; the listed points
 // are reset from rest first), then face normals on the listed triangles, then the output pass
 // EvaluateJob does: positions scattered to the file's vertex layout, normals gathered per
-// vertex where they can change (GatherPointNormal), rest normals elsewhere (stride 12 bytes).
+// vertex where they can change (GatherFaces4), rest normals elsewhere (stride 12 bytes).
 void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float> weights,
                        ReferenceContext* ctx, span<float> out_positions, span<float> out_normals);
 

@@ -19,6 +19,13 @@ struct float3 {
 };
 static_assert(sizeof(float3) == 12, "float3 must be tightly packed");
 
+// Four floats on a 16-byte boundary: per-frame scratch that SIMD loads whole (face normals
+// with a spare lane, see rig/runtime/face_kernels.h). Not a file or API stream type.
+struct alignas(16) float4 {
+  float x = 0.f, y = 0.f, z = 0.f, w = 0.f;
+};
+static_assert(sizeof(float4) == 16, "float4 must be 16 bytes");
+
 inline float3 operator+(float3 a, float3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline float3 operator-(float3 a, float3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline float3 operator-(float3 a) { return {-a.x, -a.y, -a.z}; }

@@ -2,9 +2,14 @@
 
 #include <algorithm>
 
+#include <unordered_map>
+
 #include "expressions/runtime/activations.h"
-#include "rig/runtime/normals_job.h"
+#include "rig/runtime/face_kernels.h"
+#include "wrinkles/runtime/profiles.h"
+#include "wrinkles/runtime/strain_jobs.h"
 #include "wrinkles/runtime/thickness_job.h"
+#include "wrinkles/runtime/wrinkle_jobs.h"
 
 namespace mimetic {
 
@@ -14,36 +19,99 @@ void EvaluateContext::Resize(const Rig& rig) {
   triangle_count_ = rig.triangle_count();
   muscle_count_ = rig.muscle_count();
   activations_.assign(muscle_count_, 0.f);
-  points_.assign(point_count_, float3{});
-  face_normals_.assign(triangle_count_, float3{});
+  // One float3 of padding covers kPointPadFloats.
+  static_assert(kPointPadFloats <= 3, "pad points_ by more than one float3");
+  points_.assign(point_count_ + 1, float3{});
+  faces_.assign(triangle_count_, float4{});
   point_normals_.assign(point_count_, float3{});
-  const bool skin = rig.layers.thickness || rig.layers.muscle_wrinkles || rig.layers.curve_wrinkles;
-  normals1_.assign(skin ? point_count_ : 0, float3{});
-  triangle_ratios_.assign(skin ? triangle_count_ : 0, 1.f);
   point_ratios_.assign(point_count_, 1.f);
-  size_t rows = 0;
-  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
-  compression_.assign(rows, 0.f);
-  shrinkage_.assign(rig.curve_wrinkles.entries.size(), 0.f);
+  point_sums_.assign(point_count_, float4{});
   tables_valid_ = CheckTables(rig);
   if (!tables_valid_) return;
+  BuildStrainTables(rig);
   // Rest values everywhere: a frame rewrites only the leading ranges that can change
   // (Rig::active_point_count and friends); the rest keep these.
-  points_ = rig.rest_points;
-  FaceNormalsJob faces;
-  faces.points = points_;
-  faces.triangles = rig.triangles;
-  faces.out_face_normals = face_normals_;
-  faces.end = triangle_count_;
-  faces.Run();
-  PointNormalsJob normals;
-  normals.face_normals = face_normals_;
-  normals.point_triangle_offsets = rig.point_triangle_offsets;
-  normals.point_triangles = rig.point_triangles;
-  normals.out_normals = point_normals_;
-  normals.end = point_count_;
-  normals.Run();
-  if (skin) normals1_ = point_normals_;
+  std::copy(rig.rest_points.begin(), rig.rest_points.end(), points_.begin());
+  FaceNormals4(points_.data(), rig.triangles.data(), 0, triangle_count_, nullptr, faces_.data());
+  for (uint32_t p = 0; p < point_count_; ++p)
+    point_normals_[p] = UnitNormal(GatherFaces4(rig.point_triangle_offsets.data(),
+                                                rig.point_triangles.data(), faces_.data(), p));
+}
+
+// The fused strain and displacement tables (see the members): edges read by the compression
+// rows and the shrinkage probes, each once; per-row coefficients; per-point row lists.
+void EvaluateContext::BuildStrainTables(const Rig& r) {
+  std::unordered_map<uint64_t, uint32_t> edge_ids;
+  edge_pairs_.clear();
+  auto edge = [&](uint32_t a, uint32_t b) {
+    if (a > b) std::swap(a, b);
+    const uint64_t key = (uint64_t(a) << 32) | b;
+    auto [it, added] = edge_ids.emplace(key, uint32_t(edge_pairs_.size() / 2));
+    if (added) {
+      edge_pairs_.push_back(a);
+      edge_pairs_.push_back(b);
+    }
+    return it->second;
+  };
+  row_offsets_.assign(1, 0u);
+  entry_edges_.clear();
+  entry_rest_.clear();
+  entry_coeffs_.clear();
+  row_profiles_.clear();
+  const uint32_t active = r.active_point_count;
+  std::vector<std::vector<uint32_t>> rows_of(active), curves_of(active);
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
+    for (uint32_t i = 0; i < w.row_count(); ++i) {
+      const uint32_t row = uint32_t(row_profiles_.size());
+      rows_of[w.points[i]].push_back(row);
+      row_profiles_.push_back(w.profile.empty()
+                                  ? MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth,
+                                                         w.shape, w.attenuation[i])
+                                  : w.profile[i]);
+      float weight_sum = 0.f;
+      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k)
+        weight_sum += w.edge_weights[k];
+      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k) {
+        const float rest = w.edge_rest_lengths[k];
+        entry_edges_.push_back(edge(w.points[i], w.edge_neighbors[k]));
+        entry_rest_.push_back(rest);
+        // 001 eq. 9-10: eps = sum_j w_j (L_j - l_j) / L_j / sum_j w_j, as sum_j c_j (L_j - l_j)
+        // (no division per frame; L_j - l_j is exactly 0 at rest, so is eps).
+        entry_coeffs_.push_back(rest > 0.f && weight_sum > 0.f
+                                    ? w.edge_weights[k] / (rest * weight_sum)
+                                    : 0.f);
+      }
+      row_offsets_.push_back(uint32_t(entry_edges_.size()));
+    }
+  }
+  compression_.assign(row_profiles_.size(), 0.f);
+  const RigCurveWrinkles& c = r.curve_wrinkles;
+  probe_edges_.assign(4 * c.probes.size(), 0u);
+  for (size_t k = 0; k < c.probes.size(); ++k) {
+    const ShrinkageProbe& probe = c.probes[k];
+    for (uint32_t s = 0; s < probe.side_count; ++s) {
+      probe_edges_[4 * k + 2 * s] = edge(probe.point, probe.sides[s].v2);
+      probe_edges_[4 * k + 2 * s + 1] = edge(probe.point, probe.sides[s].v3);
+    }
+  }
+  shrinkage_.assign(c.entries.size(), 0.f);
+  for (uint32_t i = 0; i < c.row_count(); ++i) curves_of[c.points[i]].push_back(i);
+  edge_lengths_.assign(edge_pairs_.size() / 2, 0.f);
+  auto flatten = [](const std::vector<std::vector<uint32_t>>& lists,
+                    std::vector<uint32_t>* offsets, std::vector<uint32_t>* items) {
+    offsets->assign(1, 0u);
+    items->clear();
+    for (const std::vector<uint32_t>& l : lists) {
+      items->insert(items->end(), l.begin(), l.end());
+      offsets->push_back(uint32_t(items->size()));
+    }
+  };
+  flatten(rows_of, &point_row_offsets_, &point_rows_);
+  flatten(curves_of, &point_curve_offsets_, &point_curve_rows_);
+  wrinkle_points_.clear();
+  for (uint32_t p = 0; p < active; ++p)
+    if (!rows_of[p].empty() || !curves_of[p].empty()) wrinkle_points_.push_back(p);
+  wrinkle_offsets_.assign(point_count_, 0.f);
 }
 
 // Every stage job over its full range, validated once; Run() then uses RunUnchecked().
@@ -89,45 +157,54 @@ bool EvaluateContext::CheckTables(const Rig& r) {
   const bool skin = r.layers.thickness || r.layers.muscle_wrinkles || r.layers.curve_wrinkles;
   if (!skin) return true;
   if (r.rest_triangle_areas.size() < tris || r.point_thickness.size() < points) return false;
-  size_t row0 = 0;
+  // The stage jobs' own checks over full ranges (scratch outputs; positions and normals need
+  // only the point count).
+  const span<const float3> any_points = r.rest_points;
+  std::vector<float3> scratch_points(points);
   for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
-    EdgeCompressionJob eps;
-    eps.positions = points_;
-    eps.points = w.points;
-    eps.offsets = w.edge_offsets;
-    eps.neighbors = w.edge_neighbors;
-    eps.rest_lengths = w.edge_rest_lengths;
-    eps.weights = w.edge_weights;
-    eps.end = w.row_count();
-    eps.out_compression = span<float>(compression_).subspan(row0, w.row_count());
+    std::vector<float> eps(w.row_count());
+    EdgeCompressionJob e;
+    e.positions = any_points;
+    e.points = w.points;
+    e.offsets = w.edge_offsets;
+    e.neighbors = w.edge_neighbors;
+    e.rest_lengths = w.edge_rest_lengths;
+    e.weights = w.edge_weights;
+    e.end = w.row_count();
+    e.out_compression = eps;
     MuscleWrinkleJob wr;
-    wr.normals = normals1_;
+    wr.normals = any_points;
     wr.points = w.points;
     wr.profile = w.profile;
-    wr.compression = eps.out_compression;
+    wr.phase = w.phase;
+    wr.attenuation = w.attenuation;
+    wr.half_cycle = w.half_cycle;
+    wr.furrow_depth = w.furrow_depth;
+    wr.shape = w.shape;
+    wr.compression = eps;
     wr.end = w.row_count();
-    wr.positions = points_;
-    if (!eps.Validate() || !wr.Validate()) return false;
-    row0 += w.row_count();
+    wr.positions = scratch_points;
+    if (!e.Validate() || !wr.Validate()) return false;
   }
   const RigCurveWrinkles& c = r.curve_wrinkles;
-  if (!c.entries.empty()) {
-    DirectionalShrinkageJob s;
-    s.positions = points_;
-    s.probes = c.probes;
-    s.end = c.probes.size();
-    s.out_shrinkage = shrinkage_;
+  if (!c.entries.empty() || c.row_count() > 0) {
+    std::vector<float> s(c.probes.size()), ratios(points, 1.f);
+    DirectionalShrinkageJob sj;
+    sj.positions = any_points;
+    sj.probes = c.probes;
+    sj.end = c.probes.size();
+    sj.out_shrinkage = s;
     CurveWrinkleJob cw;
-    cw.normals = normals1_;
+    cw.normals = any_points;
     cw.wrinkles = c.wrinkles;
     cw.points = c.points;
     cw.offsets = c.offsets;
     cw.entries = c.entries;
-    cw.entry_shrinkage = shrinkage_;
-    cw.area_ratios = point_ratios_;
+    cw.entry_shrinkage = s;
+    cw.area_ratios = ratios;
     cw.end = c.row_count();
-    cw.positions = points_;
-    if (!s.Validate() || !cw.Validate() || c.probes.size() != c.entries.size()) return false;
+    cw.positions = scratch_points;
+    if (!sj.Validate() || !cw.Validate() || c.probes.size() != c.entries.size()) return false;
   }
   return true;
 }
@@ -185,6 +262,71 @@ void Scatter(span<const float3> src, span<const uint32_t> vertex_points, span<fl
   }
 }
 
+// r of a point from its gathered slots (MODEL.md §4: the mean over its triangles; 1 for a
+// point without any).
+inline float PointRatio(const float4& sum, uint32_t count) {
+  return count ? sum.w / float(count) : 1.f;
+}
+
+// One point of DisplaceAlongNormals (the scalar lane).
+inline void DisplacePoint(const float4& s, uint32_t count, const float* h, float min_ratio,
+                          const float* extra, uint32_t p, float3* points, float* ratios) {
+  const float r = PointRatio(s, count);
+  ratios[p] = r;
+  float d = 0.f;
+  if (h) d += ThicknessOffset(r, h[p], min_ratio);
+  if (extra) d += extra[p];
+  const float len2 = (s.x * s.x + s.y * s.y) + s.z * s.z;
+  if (len2 > 1e-30f) {  // NormalizeOr's test; its fallback normal is +Z
+    const float k = d * (1.f / std::sqrt(len2));
+    points[p] += float3{s.x * k, s.y * k, s.z * k};
+  } else {
+    points[p] += float3{0.f, 0.f, d};
+  }
+}
+
+// For p in [b, e): r = sums[p].w / count (stored in ratios), d = (1/max(r, r_min) - 1) h[p]
+// (h non-null) + extra[p] (non-null), points[p] += d * sums[p].xyz / |sums[p].xyz|. Four
+// points per step with SSE (the same operations lane by lane as DisplacePoint).
+void DisplaceAlongNormals(const float4* sums, const uint32_t* off, const float* h,
+                          float min_ratio, const float* extra, uint32_t b, uint32_t e,
+                          float3* points, float* ratios) {
+  uint32_t p = b;
+#if MIMETIC_FACE_KERNELS_SSE
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f), rmin = _mm_set1_ps(min_ratio);
+  const __m128 tiny = _mm_set1_ps(1e-30f);
+  for (; p + 4 <= e; p += 4) {
+    __m128 x = _mm_load_ps(&sums[p].x), y = _mm_load_ps(&sums[p + 1].x);
+    __m128 z = _mm_load_ps(&sums[p + 2].x), w = _mm_load_ps(&sums[p + 3].x);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(off + p));
+    const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(off + p + 1));
+    const __m128 count = _mm_cvtepi32_ps(_mm_sub_epi32(hi, lo));
+    const __m128 has = _mm_cmpgt_ps(count, zero);
+    const __m128 r = _mm_or_ps(_mm_and_ps(has, _mm_div_ps(w, count)), _mm_andnot_ps(has, one));
+    _mm_storeu_ps(ratios + p, r);
+    __m128 d = zero;
+    if (h) {  // ThicknessOffset: r below r_min (or NaN) counts as r_min
+      const __m128 keep = _mm_cmpge_ps(r, rmin);
+      const __m128 rc = _mm_or_ps(_mm_and_ps(keep, r), _mm_andnot_ps(keep, rmin));
+      const __m128 t = _mm_mul_ps(_mm_sub_ps(_mm_div_ps(one, rc), one), _mm_loadu_ps(h + p));
+      d = _mm_add_ps(d, t);
+    }
+    if (extra) d = _mm_add_ps(d, _mm_loadu_ps(extra + p));
+    const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)), _mm_mul_ps(z, z));
+    const __m128 ok = _mm_cmpgt_ps(len2, tiny);
+    const __m128 k = _mm_mul_ps(d, _mm_div_ps(one, _mm_sqrt_ps(len2)));
+    alignas(16) float dx[4], dy[4], dz[4];
+    _mm_store_ps(dx, _mm_and_ps(ok, _mm_mul_ps(x, k)));
+    _mm_store_ps(dy, _mm_and_ps(ok, _mm_mul_ps(y, k)));
+    _mm_store_ps(dz, _mm_or_ps(_mm_and_ps(ok, _mm_mul_ps(z, k)), _mm_andnot_ps(ok, d)));
+    for (uint32_t j = 0; j < 4; ++j) points[p + j] += float3{dx[j], dy[j], dz[j]};
+  }
+#endif
+  for (; p < e; ++p)
+    DisplacePoint(sums[p], off[p + 1] - off[p], h, min_ratio, extra, p, points, ratios);
+}
+
 }  // namespace
 
 bool EvaluateJob::Run() const {
@@ -192,22 +334,10 @@ bool EvaluateJob::Run() const {
   EvaluateContext& ctx = *context;
   const Rig& r = *rig;
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
-
-  // Normals of ctx.points_ into `out` (area-weighted, MODEL.md §1 steps 2 and 5); with
-  // `ratios`, the area ratios r of MODEL.md §4 in the same two passes.
-  // Face normals of the current points, only for triangles touching a point that can move
-  // (the others keep the rest face normals set when the context was sized).
-  auto face_normals = [&]() {
-    ParallelFor(*this, r.active_triangle_count, [&](uint32_t b, uint32_t e) {
-      FaceNormalsJob job;
-      job.points = ctx.points_;
-      job.triangles = r.triangles;
-      job.out_face_normals = ctx.face_normals_;
-      job.begin = b;
-      job.end = e;
-      job.Run();
-    });
-  };
+  const float3* points = ctx.points_.data();  // padded (face_kernels.h)
+  float4* faces = ctx.faces_.data();
+  const uint32_t* off = r.point_triangle_offsets.data();
+  const uint32_t* tri = r.point_triangles.data();
 
   // 1. Muscles (MODEL.md §1 step 1): summed on the rest pose; only points that can move.
   ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
@@ -222,145 +352,116 @@ bool EvaluateJob::Run() const {
   });
 
   const bool thickness = layers.thickness && r.layers.thickness;
-  const bool muscle_wrinkles = layers.muscle_wrinkles && r.layers.muscle_wrinkles;
-  const bool curve_wrinkles = layers.curve_wrinkles && r.layers.curve_wrinkles;
+  const bool muscle_wrinkles =
+      layers.muscle_wrinkles && r.layers.muscle_wrinkles && !ctx.row_profiles_.empty();
+  const bool curve_wrinkles =
+      layers.curve_wrinkles && r.layers.curve_wrinkles && r.curve_wrinkles.row_count() > 0;
   const bool want_normals = !out_normals.empty();
+  // Face normals of the current points, only for triangles touching a point that can move
+  // (the others keep the rest face normals set when the context was sized); with `ratios`,
+  // each triangle's area ratio in w (MODEL.md §4).
+  auto face_normals = [&](bool ratios) {
+    const float* rest = ratios ? r.rest_triangle_areas.data() : nullptr;
+    ParallelFor(*this, r.active_triangle_count, [&](uint32_t b, uint32_t e) {
+      FaceNormals4(points, r.triangles.data(), b, e, rest, faces);
+    });
+  };
 
   if (thickness || muscle_wrinkles || curve_wrinkles) {
     // 2. The strain of X1 against the rest pose (MODEL.md §4-5): face normals and triangle
-    // area ratios of X1, compression eps per wrinkled muscle and shrinkage s across each
-    // curve wrinkle (these read X1, so they run before anything moves).
-    const bool need_ratio = thickness || curve_wrinkles;
-    ParallelFor(*this, r.active_triangle_count, [&](uint32_t b, uint32_t e) {
-      FaceNormalsJob job;
-      job.points = ctx.points_;
-      job.triangles = r.triangles;
-      job.out_face_normals = ctx.face_normals_;
-      job.begin = b;
-      job.end = e;
-      if (need_ratio) {
-        job.rest_areas = r.rest_triangle_areas;
-        job.out_area_ratios = ctx.triangle_ratios_;
-      }
-      job.Run();
-    });
+    // area ratios of X1; the lengths of the edges the strain measures read, then compression
+    // eps per wrinkled-muscle row (001 eq. 9-10) and shrinkage s per curve-wrinkle entry
+    // (000 eq. 4). All read X1, so they run before anything moves.
+    face_normals(true);
+    if (muscle_wrinkles || curve_wrinkles) {
+      ParallelFor(*this, uint32_t(ctx.edge_lengths_.size()), [&](uint32_t b, uint32_t e) {
+        EdgeLengths(points, ctx.edge_pairs_.data(), b, e, ctx.edge_lengths_.data());
+      });
+    }
+    const float* length = ctx.edge_lengths_.data();
     if (muscle_wrinkles) {
-      size_t row0 = 0;
-      for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
-        const span<float> eps = span<float>(ctx.compression_).subspan(row0, w.row_count());
-        ParallelFor(*this, w.row_count(), [&](uint32_t b, uint32_t e) {
-          EdgeCompressionJob job;
-          job.positions = ctx.points_;
-          job.points = w.points;
-          job.offsets = w.edge_offsets;
-          job.neighbors = w.edge_neighbors;
-          job.rest_lengths = w.edge_rest_lengths;
-          job.weights = w.edge_weights;
-          job.begin = b;
-          job.end = e;
-          job.out_compression = eps;
-          job.RunUnchecked();
-        });
-        row0 += w.row_count();
-      }
+      ParallelFor(*this, uint32_t(ctx.compression_.size()), [&](uint32_t b, uint32_t e) {
+        for (uint32_t i = b; i < e; ++i) {
+          float eps = 0.f;
+          for (uint32_t k = ctx.row_offsets_[i]; k < ctx.row_offsets_[i + 1]; ++k)
+            eps += ctx.entry_coeffs_[k] * (ctx.entry_rest_[k] - length[ctx.entry_edges_[k]]);
+          ctx.compression_[i] = eps;
+        }
+      });
     }
     if (curve_wrinkles) {
       ParallelFor(*this, uint32_t(r.curve_wrinkles.probes.size()), [&](uint32_t b, uint32_t e) {
-        DirectionalShrinkageJob job;
-        job.positions = ctx.points_;
-        job.probes = r.curve_wrinkles.probes;
-        job.begin = b;
-        job.end = e;
-        job.out_shrinkage = ctx.shrinkage_;
-        job.RunUnchecked();
-      });
-    }
-
-    // 3. N1 and r per point (PointNormalsJob's gather) and, in the same pass, the
-    // volume-preserving thickness in place: X2 = X1 + (1/r - 1) h N1 (MODEL.md §4). Fused
-    // because each point needs only its own N1 and r; PointNormalsJob + ThicknessJob compute
-    // the same bits for engines that run the stages themselves.
-    ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
-      const uint32_t* off = r.point_triangle_offsets.data();
-      const uint32_t* tri = r.point_triangles.data();
-      const float3* fn = ctx.face_normals_.data();
-      const float* ratio = ctx.triangle_ratios_.data();
-      const float* h = r.point_thickness.data();
-      for (uint32_t p = b; p < e; ++p) {
-        float3 n{};
-        float sum = 0.f;
-        for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
-          n += fn[tri[k]];
-          if (need_ratio) sum += ratio[tri[k]];
+        for (uint32_t k = b; k < e; ++k) {
+          const uint32_t* edges = &ctx.probe_edges_[4 * k];
+          ctx.shrinkage_[k] = ProbeShrinkage(r.curve_wrinkles.probes[k], [&](uint32_t s, int which) {
+            return length[edges[2 * s + which]];
+          });
         }
-        const float3 n1 = NormalizeOr(n, float3{0.f, 0.f, 1.f});
-        ctx.normals1_[p] = n1;
-        if (!need_ratio) continue;
-        const uint32_t count = off[p + 1] - off[p];
-        const float rp = count ? sum / float(count) : 1.f;  // MODEL.md §4: mean over I_j
-        ctx.point_ratios_[p] = rp;
-        if (thickness) ctx.points_[p] += n1 * ThicknessOffset(rp, h[p], r.min_area_ratio);
-      }
-    });
-
-    // 4. Large-scale wrinkles along N1: X3 (MODEL.md §6-8). Tables may share points, so they
-    // run one after another in rig order; rows within a table split freely.
-    if (muscle_wrinkles) {
-      size_t row0 = 0;
-      for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
-        const span<const float> eps =
-            span<const float>(ctx.compression_).subspan(row0, w.row_count());
-        ParallelFor(*this, w.row_count(), [&](uint32_t b, uint32_t e) {
-          MuscleWrinkleJob job;
-          job.normals = ctx.normals1_;
-          job.points = w.points;
-          job.profile = w.profile;
-          job.compression = eps;
-          job.begin = b;
-          job.end = e;
-          job.positions = ctx.points_;
-          job.RunUnchecked();
-        });
-        row0 += w.row_count();
-      }
-    }
-    if (curve_wrinkles) {
-      const RigCurveWrinkles& c = r.curve_wrinkles;
-      ParallelFor(*this, c.row_count(), [&](uint32_t b, uint32_t e) {
-        CurveWrinkleJob job;
-        job.normals = ctx.normals1_;
-        job.wrinkles = c.wrinkles;
-        job.points = c.points;
-        job.offsets = c.offsets;
-        job.entries = c.entries;
-        job.entry_shrinkage = ctx.shrinkage_;
-        job.area_ratios = ctx.point_ratios_;
-        job.begin = b;
-        job.end = e;
-        job.positions = ctx.points_;
-        job.RunUnchecked();
       });
     }
-    // 5. Face normals of X3 (the per-point gather happens in the output pass).
-    if (want_normals) face_normals();
+
+    // 3. Per point: N1 and r from its triangles (MODEL.md §1 step 2, §4), then one
+    // displacement along N1 (MODEL.md §4, §6-8): the volume-preserving thickness (1/r - 1) h,
+    // its muscle-wrinkle rows H At A(eps) in rig order, its curve wrinkles S(l) M. Three
+    // sweeps: the gathers alone (independent load chains that overlap), the wrinkle sums of
+    // the points that have any, then four points at a time share the square root and the
+    // divisions. Each point reads only its own values and the face slots of X1, so it moves
+    // in place.
+    float4* sums = ctx.point_sums_.data();
+    ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
+      for (uint32_t p = b; p < e; ++p) sums[p] = GatherFaces4(off, tri, faces, p);
+    });
+    const bool wrinkles = muscle_wrinkles || curve_wrinkles;
+    if (wrinkles) {
+      ParallelFor(*this, uint32_t(ctx.wrinkle_points_.size()), [&](uint32_t b, uint32_t e) {
+        const CurveWrinkleParams* params = r.curve_wrinkles.wrinkles.data();
+        const CurveWrinkleEntry* entries = r.curve_wrinkles.entries.data();
+        const uint32_t* curve_offsets = r.curve_wrinkles.offsets.data();
+        for (uint32_t i = b; i < e; ++i) {
+          const uint32_t p = ctx.wrinkle_points_[i];
+          float d = 0.f;
+          if (muscle_wrinkles) {
+            for (uint32_t k = ctx.point_row_offsets_[p]; k < ctx.point_row_offsets_[p + 1]; ++k) {
+              const uint32_t row = ctx.point_rows_[k];
+              // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6).
+              d += ctx.row_profiles_[row] * Anisotropy(ctx.compression_[row]);
+            }
+          }
+          if (curve_wrinkles) {
+            const float rp = PointRatio(sums[p], off[p + 1] - off[p]);
+            for (uint32_t k = ctx.point_curve_offsets_[p]; k < ctx.point_curve_offsets_[p + 1];
+                 ++k) {
+              const uint32_t row = ctx.point_curve_rows_[k];
+              d += CurveWrinkleRowSum(params, entries, curve_offsets[row], curve_offsets[row + 1],
+                                      ctx.shrinkage_.data(), rp);
+            }
+          }
+          ctx.wrinkle_offsets_[p] = d;
+        }
+      });
+    }
+    ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
+      DisplaceAlongNormals(sums, off, thickness ? r.point_thickness.data() : nullptr,
+                           r.min_area_ratio, wrinkles ? ctx.wrinkle_offsets_.data() : nullptr,
+                           b, e, ctx.points_.data(), ctx.point_ratios_.data());
+    });
+    // 4. Face normals of X3 (the per-point gather happens in the output pass).
+    if (want_normals) face_normals(false);
   } else {
     std::fill(ctx.point_ratios_.begin(), ctx.point_ratios_.begin() + r.active_point_count, 1.f);
-    if (want_normals) face_normals();
+    if (want_normals) face_normals(false);
   }
 
-  // 6. Output: positions scattered to the file's vertex layout; normals gathered per vertex
+  // 5. Output: positions scattered to the file's vertex layout; normals gathered per vertex
   // from the face normals where they can change (a seam vertex repeats its point's gather:
   // the same bits), the rest normals elsewhere. One pass instead of gather + scatter.
   ParallelFor(*this, r.vertex_count(), [&](uint32_t b, uint32_t e) {
     Scatter(ctx.points_, r.vertex_points, out_positions, out_positions_stride, b, e);
     if (!want_normals) return;
     const size_t stride = out_normals_stride / 4;
-    const uint32_t* off = r.point_triangle_offsets.data();
-    const uint32_t* tri = r.point_triangles.data();
-    const float3* fn = ctx.face_normals_.data();
     for (uint32_t v = b; v < e; ++v) {
       const uint32_t p = r.vertex_points[v];
-      const float3 n = p < r.normal_point_count ? GatherPointNormal(off, tri, fn, p)
+      const float3 n = p < r.normal_point_count ? UnitNormal(GatherFaces4(off, tri, faces, p))
                                                 : ctx.point_normals_[p];
       float* o = out_normals.data() + v * stride;
       o[0] = n.x;

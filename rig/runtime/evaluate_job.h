@@ -1,20 +1,23 @@
 // rig/runtime/evaluate_job.h: the one per-frame entry point.
 //
-// rest mesh + activations -> positions and normals (MODEL.md §1). Stages, each a job over
-// spans that an engine may also run itself:
-//   1. MuscleDeformJob (points)            X1 = X + sum_m a_m U_m             MODEL.md §1-3
-//   2. normals N1 of X1 and, in the same passes, the area ratio r (FaceNormalsJob,
-//      PointNormalsJob with their ratio outputs); strain
-//      of X1 vs X: compression eps per wrinkled muscle (EdgeCompressionJob),
-//      shrinkage s across each curve wrinkle (DirectionalShrinkageJob)     MODEL.md §4-5
-//   3. ThicknessJob                        X2 = X1 + (1/r - 1) h N1           MODEL.md §4
-//   4. MuscleWrinkleJob per wrinkled muscle, then CurveWrinkleJob
-//                                          X3 = X2 + sum W N1                 MODEL.md §6-8
-//   5. face normals of X3 (FaceNormalsJob)
-//   6. output (vertices): positions scattered to the file's vertex layout, normals of X3
-//      gathered per vertex straight into the output (GatherPointNormal), with strides
-// Steps 2-5 run only for the layers both compiled into the rig and enabled in `layers`; with
+// rest mesh + activations -> positions and normals (MODEL.md §1). Stages:
+//   1. muscles (MuscleDeformJob over points)  X1 = X + sum_m a_m U_m          MODEL.md §1-3
+//   2. face normals of X1 with each triangle's area ratio in the same pass; strain of X1 vs
+//      X: lengths of the edges the strain measures read (each edge once), then compression
+//      eps per wrinkled-muscle row and shrinkage s per curve-wrinkle entry  MODEL.md §4-5
+//   3. per point: N1 and r gathered from its triangles, then X3 = X1 + d N1 with
+//      d = (1/r - 1) h  +  sum of its muscle-wrinkle rows W  +  its curve-wrinkle sum
+//                                                                        MODEL.md §4, §6-8
+//   4. face normals of X3
+//   5. output (vertices): positions scattered to the file's vertex layout, normals of X3
+//      gathered per vertex straight into the output, with strides
+// Steps 2-4 run only for the layers both compiled into the rig and enabled in `layers`; with
 // none, N1 is the output normal.
+// The public stage jobs (FaceNormalsJob, PointNormalsJob, EdgeCompressionJob,
+// DirectionalShrinkageJob, ThicknessJob, MuscleWrinkleJob, CurveWrinkleJob) compute the same
+// quantities for engines that run the stages themselves; EvaluateJob fuses them (kernels in
+// rig/runtime/face_kernels.h) and gives the same normals, ratios and strain bits, and
+// positions equal up to the rounding of summing d before adding it.
 // EvaluateJob owns no buffer; Run() allocates nothing; the same build and the same inputs
 // give the same bits, however the work is split by `parallel_for`.
 #pragma once
@@ -43,25 +46,40 @@ class EvaluateContext {
 
   // Read access to the last frame's intermediate results (for overlays and tests).
   span<const float> activations() const { return activations_; }
-  span<const float3> points() const { return points_; }
+  span<const float3> points() const { return span<const float3>(points_).first(point_count_); }
   // Per-point area ratio r of the last frame (MODEL.md §4); 1 where no skin layer ran.
   span<const float> area_ratios() const { return point_ratios_; }
 
  private:
   friend struct EvaluateJob;
   bool CheckTables(const Rig& rig);
+  void BuildStrainTables(const Rig& rig);
   uint64_t rig_uid_ = 0;
   bool tables_valid_ = false;
   uint32_t point_count_ = 0, triangle_count_ = 0, muscle_count_ = 0;
   std::vector<float> activations_;     // #muscles, sanitised
-  std::vector<float3> points_;         // #P deformed
-  std::vector<float3> face_normals_;   // #T
+  std::vector<float3> points_;         // #P deformed, then kPointPadFloats (face_kernels.h)
+  std::vector<float4> faces_;          // #T face normals (xyz) and area ratios (w)
   std::vector<float3> point_normals_;  // #P, rest normals (points that never change normal)
-  std::vector<float3> normals1_;       // #P, N1 (normals of X1) when a skin layer runs
-  std::vector<float> triangle_ratios_; // #T
   std::vector<float> point_ratios_;    // #P
-  std::vector<float> compression_;     // sum of rows of the rig's muscle wrinkle tables
-  std::vector<float> shrinkage_;       // one per curve-wrinkle entry
+  std::vector<float4> point_sums_;     // #P: gathered face slots (Run step 3)
+  // Strain, derived from the rig's wrinkle tables when the context is sized:
+  std::vector<uint32_t> edge_pairs_;     // 2 per edge that a strain measure reads
+  std::vector<float> edge_lengths_;      // per such edge, this frame
+  std::vector<uint32_t> row_offsets_;    // muscle-wrinkle rows of every table, in rig order,
+                                         // + 1 -> entries
+  std::vector<uint32_t> entry_edges_;    // per entry: its edge
+  std::vector<float> entry_rest_;        // L_ij
+  std::vector<float> entry_coeffs_;      // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
+  std::vector<float> row_profiles_;      // H(w_i) At_i per row
+  std::vector<float> compression_;       // eps per row
+  std::vector<uint32_t> probe_edges_;    // 4 per curve-wrinkle probe: sides' v1v2, v1v3
+  std::vector<float> shrinkage_;         // s per curve-wrinkle entry
+  // Per point that can move: its muscle-wrinkle rows and its curve-wrinkle rows (CSR).
+  std::vector<uint32_t> point_row_offsets_, point_rows_;
+  std::vector<uint32_t> point_curve_offsets_, point_curve_rows_;
+  std::vector<uint32_t> wrinkle_points_;  // points with any row above, ascending
+  std::vector<float> wrinkle_offsets_;    // #P: their summed wrinkle displacement this frame
 };
 
 // Per-evaluation switches (the viewer toggles them); ANDed with what the rig compiled.

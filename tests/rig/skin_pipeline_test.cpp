@@ -9,12 +9,17 @@
 #include <cstring>
 #include <new>
 #include <random>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "rig/offline/procedural.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
+#include "rig/runtime/normals_job.h"
+#include "wrinkles/runtime/strain_jobs.h"
+#include "wrinkles/runtime/thickness_job.h"
+#include "wrinkles/runtime/wrinkle_jobs.h"
 
 #include "alloc_counter.h"
 
@@ -320,6 +325,119 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
   ASSERT_TRUE(BuildRig(spec, mesh, {}, &plain, &diag)) << diag.Format();
   EXPECT_EQ(plain.vertex_count(), mesh.vertex_count());
   EXPECT_EQ(plain.vertex_indices, mesh.indices);
+}
+
+// EvaluateJob fuses the stages (face_kernels.h, edge lengths once per edge, one displacement
+// per point). A second method: the public stage jobs chained one after another over every
+// point, as an engine running the stages itself would. Ratios must agree to the bit (the same
+// expressions), positions and normals to rounding.
+void ExpectFusedMatchesChainedStageJobs(const Rig& rig, span<const float> act) {
+  const uint32_t P = rig.point_count(), T = rig.triangle_count();
+  std::vector<float3> x(P), faces(T), n1(P), n3(P);
+  std::vector<float> tri_ratio(T), ratio(P);
+  ASSERT_TRUE((MuscleDeformJob{&rig.muscles, act, rig.rest_points, x, 0, P}.Run()));
+  FaceNormalsJob fj{x, rig.triangles, faces, 0, T, rig.rest_triangle_areas, tri_ratio};
+  ASSERT_TRUE(fj.Run());
+  PointNormalsJob pj{faces, rig.point_triangle_offsets, rig.point_triangles, n1, 0, P,
+                     tri_ratio, ratio};
+  ASSERT_TRUE(pj.Run());
+  std::vector<std::vector<float>> eps;
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) {
+    eps.emplace_back(w.row_count());
+    ASSERT_TRUE((EdgeCompressionJob{x, w.points, w.edge_offsets, w.edge_neighbors,
+                                    w.edge_rest_lengths, w.edge_weights, 0, w.row_count(),
+                                    eps.back()}.Run()));
+  }
+  const RigCurveWrinkles& c = rig.curve_wrinkles;
+  std::vector<float> shrink(c.probes.size());
+  ASSERT_TRUE((DirectionalShrinkageJob{x, c.probes, 0, c.probes.size(), shrink}.Run()));
+  ThicknessJob th;
+  th.positions = x;
+  th.normals = n1;
+  th.area_ratios = ratio;
+  th.thickness = rig.point_thickness;
+  th.min_area_ratio = rig.min_area_ratio;
+  th.end = P;
+  th.out_positions = x;
+  ASSERT_TRUE(th.Run());
+  for (size_t t = 0; t < rig.muscle_wrinkles.size(); ++t) {
+    const RigMuscleWrinkles& w = rig.muscle_wrinkles[t];
+    MuscleWrinkleJob mj{n1, w.points, w.phase, w.attenuation, eps[t], w.half_cycle,
+                        w.furrow_depth, w.shape, 0, w.row_count(), x, {}, {}};
+    ASSERT_TRUE(mj.Run());
+  }
+  CurveWrinkleJob cj{n1, c.wrinkles, c.points, c.offsets, c.entries, shrink, ratio,
+                     0, c.row_count(), x, {}};
+  ASSERT_TRUE(cj.Run());
+  ASSERT_TRUE((FaceNormalsJob{x, rig.triangles, faces, 0, T, {}, {}}.Run()));
+  ASSERT_TRUE((PointNormalsJob{faces, rig.point_triangle_offsets, rig.point_triangles, n3, 0, P,
+                               {}, {}}.Run()));
+
+  EvaluateContext ctx(rig);
+  std::vector<float> pos(3 * rig.vertex_count()), nrm(3 * rig.vertex_count());
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &ctx;
+  job.activations = act;
+  job.out_positions = pos;
+  job.out_normals = nrm;
+  ASSERT_TRUE(job.Run());
+  double moved = 0.0;
+  for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
+    const uint32_t p = rig.vertex_points[v];
+    ASSERT_EQ(ctx.area_ratios()[p], ratio[p]) << "point " << p;
+    for (int d = 0; d < 3; ++d) {
+      ASSERT_NEAR(pos[3 * v + d], (&x[p].x)[d], 2e-5f * (1.f + std::fabs((&x[p].x)[d])))
+          << "vertex " << v;
+      ASSERT_NEAR(nrm[3 * v + d], (&n3[p].x)[d], 1e-5f) << "vertex " << v;
+    }
+    moved = std::max(moved, double(Length(x[p] - rig.rest_points[p])));
+  }
+  EXPECT_GT(moved, 0.1);  // the comparison saw real displacement
+}
+
+TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsChained) {
+  const Rig rig = WrinkledSurface();
+  std::vector<float> act(rig.muscle_count());
+  for (size_t m = 0; m < act.size(); ++m) act[m] = 0.35f + 0.1f * float(m);
+  ExpectFusedMatchesChainedStageJobs(rig, act);
+  // Every muscle full on: triangles near the attachments collapse (r clamps to r_min).
+  std::vector<float> full(rig.muscle_count(), 1.f);
+  ExpectFusedMatchesChainedStageJobs(rig, full);
+}
+
+TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsWithBothModulations) {
+  // Curve wrinkles of both modulations (directional s and area r) and a Yang-Zhang profile.
+  MeshData mesh = MakeSurfaceMesh(51, 51, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(8, 100.f, 100.f, 10.f, 0.2f, 4.f);
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  MuscleWrinkleSpec w;
+  w.lambda_w = 0.6f;
+  w.depth = 0.5f;
+  spec.muscle_wrinkles[0] = w;
+  spec.muscle_wrinkles[3] = w;
+  for (int k = 0; k < 3; ++k) {
+    NamedCurveWrinkle c;
+    c.name = "c" + std::to_string(k);
+    const float v = 0.25f + 0.25f * float(k);
+    c.spec.control[0] = {0.2f, v};
+    c.spec.control[1] = {0.4f, v + 0.05f};
+    c.spec.control[2] = {0.6f, v - 0.05f};
+    c.spec.control[3] = {0.8f, v};
+    c.spec.depth = 1.f;
+    c.spec.width = 3.f;
+    c.spec.rest_amplitude = 0.2f;
+    c.spec.modulation = k == 1 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
+    if (k == 2) c.spec.profile = CurveWrinkleProfile::kYangZhang;
+    spec.curve_wrinkles.push_back(c);
+  }
+  spec.refinement.enabled = false;
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  std::vector<float> act(rig.muscle_count());
+  for (size_t m = 0; m < act.size(); ++m) act[m] = 0.2f + 0.09f * float(m);
+  ExpectFusedMatchesChainedStageJobs(rig, act);
 }
 
 }  // namespace

@@ -123,17 +123,10 @@ void DirectionalShrinkageJob::RunUnchecked() const {
   for (size_t k = begin; k < end; ++k) {
     const ShrinkageProbe& probe = probes[k];
     const float3 x1 = positions[probe.point];
-    float sum = 0.f;
-    for (uint32_t s = 0; s < probe.side_count; ++s) {
+    out_shrinkage[k] = ProbeShrinkage(probe, [&](uint32_t s, int which) {
       const ShrinkageSide& side = probe.sides[s];
-      const float l2 = Length(positions[side.v2] - x1);
-      const float l3 = Length(positions[side.v3] - x1);
-      const float t2 = side.rest_length2 > 0.f ? l2 / side.rest_length2 : 1.f;
-      const float t3 = side.rest_length3 > 0.f ? l3 / side.rest_length3 : 1.f;
-      sum += SideShrinkage(t2, t3, side.beta);  // 000 eq. 4
-    }
-    // 000 §7: average the two triangles hit along +dp and -dp.
-    out_shrinkage[k] = probe.side_count > 0 ? sum / static_cast<float>(probe.side_count) : 0.f;
+      return Length(positions[which == 0 ? side.v2 : side.v3] - x1);
+    });
   }
 }
 

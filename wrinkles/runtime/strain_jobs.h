@@ -133,4 +133,21 @@ inline float SideShrinkage(float t2, float t3, float beta) {
   return 1.f - ratio;
 }
 
+// s of one probe from its sides' current lengths: length(side, 0) = |x2 - x1|, length(side, 1)
+// = |x3 - x1| (DirectionalShrinkageJob's per-probe step; EvaluateJob feeds it edge lengths
+// computed once per edge).
+template <class LengthFn>
+inline float ProbeShrinkage(const ShrinkageProbe& probe, const LengthFn& length) {
+  float sum = 0.f;
+  for (uint32_t s = 0; s < probe.side_count; ++s) {
+    const ShrinkageSide& side = probe.sides[s];
+    const float l2 = length(s, 0), l3 = length(s, 1);
+    const float t2 = side.rest_length2 > 0.f ? l2 / side.rest_length2 : 1.f;
+    const float t3 = side.rest_length3 > 0.f ? l3 / side.rest_length3 : 1.f;
+    sum += SideShrinkage(t2, t3, side.beta);  // 000 eq. 4
+  }
+  // 000 §7: average the two triangles hit along +dp and -dp.
+  return probe.side_count > 0 ? sum / static_cast<float>(probe.side_count) : 0.f;
+}
+
 }  // namespace mimetic

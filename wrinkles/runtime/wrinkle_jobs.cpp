@@ -106,23 +106,32 @@ bool CurveWrinkleJob::Run() const {
   return true;
 }
 
+float CurveWrinkleRowSum(const CurveWrinkleParams* wrinkles, const CurveWrinkleEntry* entries,
+                         uint32_t first, uint32_t last, const float* shrinkage, float r_point) {
+  float sum = 0.f;
+  for (uint32_t k = first; k < last; ++k) {
+    const CurveWrinkleParams& params = wrinkles[entries[k].wrinkle];
+    const bool directional = params.modulation == CurveWrinkleModulation::kDirectional;
+    const float s = directional ? shrinkage[k] : 0.f;
+    const float r = directional ? 1.f : r_point;
+    if (entries[k].has_profile && params.profile == CurveWrinkleProfile::kBando) {
+      // CurveWrinkleValue's Bando branch with S(l) precomputed: the same bits.
+      sum += entries[k].profile * (directional ? DirectionalModulation(s, params.rest_amplitude)
+                                               : AreaModulation(r, params.rest_amplitude));
+    } else {
+      sum += CurveWrinkleValue(params, entries[k].distance, s, r);
+    }
+  }
+  return sum;
+}
+
 void CurveWrinkleJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     const uint32_t p = points[i];
-    float sum = 0.f;
-    for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const CurveWrinkleParams& params = wrinkles[entries[k].wrinkle];
-      const bool directional = params.modulation == CurveWrinkleModulation::kDirectional;
-      const float s = directional ? entry_shrinkage[k] : 0.f;
-      const float r = directional ? 1.f : area_ratios[p];
-      if (entries[k].has_profile && params.profile == CurveWrinkleProfile::kBando) {
-        // CurveWrinkleValue's Bando branch with S(l) precomputed: the same bits.
-        sum += entries[k].profile * (directional ? DirectionalModulation(s, params.rest_amplitude)
-                                                 : AreaModulation(r, params.rest_amplitude));
-      } else {
-        sum += CurveWrinkleValue(params, entries[k].distance, s, r);
-      }
-    }
+    // area_ratios may be short when every wrinkle is directional (then r is not used).
+    const float r = p < area_ratios.size() ? area_ratios[p] : 1.f;
+    const float sum = CurveWrinkleRowSum(wrinkles.data(), entries.data(), offsets[i],
+                                         offsets[i + 1], entry_shrinkage.data(), r);
     positions[p] += normals[p] * sum;  // MODEL.md §7: x' = x + S(l) M N
     if (!out_amplitudes.empty()) out_amplitudes[i] = sum;
   }

@@ -124,4 +124,9 @@ struct CurveWrinkleJob {
 // The displacement of one entry (exposed for tests): l = distance, s = shrinkage, r = area ratio.
 float CurveWrinkleValue(const CurveWrinkleParams& p, float l, float s, float r);
 
+// Sum of W_e over entries [first, last) of a row whose point has area ratio r
+// (CurveWrinkleJob's per-row step): `shrinkage` is indexed by entry.
+float CurveWrinkleRowSum(const CurveWrinkleParams* wrinkles, const CurveWrinkleEntry* entries,
+                         uint32_t first, uint32_t last, const float* shrinkage, float r);
+
 }  // namespace mimetic

@@ -1,0 +1,137 @@
+// rig/runtime/face_kernels.cpp: see face_kernels.h. Every SIMD expression below is the scalar
+// one lane by lane (same operations, same order; no fused multiply-add), so both paths give the
+// same bits.
+#include "rig/runtime/face_kernels.h"
+
+#include <cmath>
+
+namespace mimetic {
+
+void FaceNormals4Scalar(const float3* points, const uint32_t* triangles, uint32_t begin,
+                        uint32_t end, const float* rest_areas, float4* out) {
+  for (uint32_t t = begin; t < end; ++t) {
+    const uint32_t* c = triangles + 3 * t;
+    const float3 a = points[c[0]];
+    const float3 n = Cross(points[c[1]] - a, points[c[2]] - a);
+    float w = 0.f;
+    if (rest_areas) {
+      const float area = 0.5f * Length(n);  // as TriangleRestArea
+      w = rest_areas[t] > 0.f ? area / rest_areas[t] : 1.f;
+    }
+    out[t] = float4{n.x, n.y, n.z, w};
+  }
+}
+
+void EdgeLengthsScalar(const float3* points, const uint32_t* pairs, uint32_t begin, uint32_t end,
+                       float* out) {
+  for (uint32_t e = begin; e < end; ++e)
+    out[e] = Length(points[pairs[2 * e]] - points[pairs[2 * e + 1]]);
+}
+
+#if MIMETIC_FACE_KERNELS_SSE
+
+namespace {
+
+// One point as x, y, z, (next float): the buffer is padded, so the load stays inside it.
+inline __m128 LoadPoint(const float3* points, uint32_t i) { return _mm_loadu_ps(&points[i].x); }
+
+inline __m128 XyzMask() { return _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1)); }
+
+// (b - a) x (c - a) in lanes x, y, z (Cross's products and differences), 0 in lane w.
+inline __m128 FaceNormal(const float3* points, const uint32_t* c) {
+  const __m128 a = LoadPoint(points, c[0]);
+  const __m128 e1 = _mm_sub_ps(LoadPoint(points, c[1]), a);
+  const __m128 e2 = _mm_sub_ps(LoadPoint(points, c[2]), a);
+  const __m128 e1_yzx = _mm_shuffle_ps(e1, e1, _MM_SHUFFLE(3, 0, 2, 1));
+  const __m128 e2_yzx = _mm_shuffle_ps(e2, e2, _MM_SHUFFLE(3, 0, 2, 1));
+  // lanes: x1 y2 - y1 x2, y1 z2 - z1 y2, z1 x2 - x1 z2 -> rotate to (y, z, x) order.
+  const __m128 t = _mm_sub_ps(_mm_mul_ps(e1, e2_yzx), _mm_mul_ps(e1_yzx, e2));
+  return _mm_and_ps(_mm_shuffle_ps(t, t, _MM_SHUFFLE(3, 0, 2, 1)), XyzMask());
+}
+
+// (x*x + y*y) + z*z of four vectors (Dot's order), one per lane.
+inline __m128 LengthsSquared(__m128 v0, __m128 v1, __m128 v2, __m128 v3) {
+  v0 = _mm_mul_ps(v0, v0);
+  v1 = _mm_mul_ps(v1, v1);
+  v2 = _mm_mul_ps(v2, v2);
+  v3 = _mm_mul_ps(v3, v3);
+  _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
+  return _mm_add_ps(_mm_add_ps(v0, v1), v2);
+}
+
+}  // namespace
+
+void FaceNormals4(const float3* points, const uint32_t* triangles, uint32_t begin, uint32_t end,
+                  const float* rest_areas, float4* out) {
+  if (!rest_areas) {
+    for (uint32_t t = begin; t < end; ++t)
+      _mm_store_ps(&out[t].x, FaceNormal(points, triangles + 3 * t));
+    return;
+  }
+  uint32_t t = begin;
+  const __m128 half = _mm_set1_ps(0.5f), one = _mm_set1_ps(1.f), zero = _mm_setzero_ps();
+  for (; t + 4 <= end; t += 4) {
+    const __m128 n0 = FaceNormal(points, triangles + 3 * t);
+    const __m128 n1 = FaceNormal(points, triangles + 3 * t + 3);
+    const __m128 n2 = FaceNormal(points, triangles + 3 * t + 6);
+    const __m128 n3 = FaceNormal(points, triangles + 3 * t + 9);
+    _mm_store_ps(&out[t].x, n0);
+    _mm_store_ps(&out[t + 1].x, n1);
+    _mm_store_ps(&out[t + 2].x, n2);
+    _mm_store_ps(&out[t + 3].x, n3);
+    const __m128 area = _mm_mul_ps(half, _mm_sqrt_ps(LengthsSquared(n0, n1, n2, n3)));
+    const __m128 rest = _mm_loadu_ps(rest_areas + t);
+    const __m128 positive = _mm_cmpgt_ps(rest, zero);  // false for NaN, as `rest > 0.f`
+    const __m128 ratio =
+        _mm_or_ps(_mm_and_ps(positive, _mm_div_ps(area, rest)), _mm_andnot_ps(positive, one));
+    alignas(16) float r[4];
+    _mm_store_ps(r, ratio);
+    out[t].w = r[0];
+    out[t + 1].w = r[1];
+    out[t + 2].w = r[2];
+    out[t + 3].w = r[3];
+  }
+  FaceNormals4Scalar(points, triangles, t, end, rest_areas, out);
+}
+
+void FaceNormals4Listed(const float3* points, const uint32_t* triangles, const uint32_t* list,
+                        size_t count, float4* out) {
+  for (size_t k = 0; k < count; ++k)
+    _mm_store_ps(&out[list[k]].x, FaceNormal(points, triangles + 3 * list[k]));
+}
+
+void EdgeLengths(const float3* points, const uint32_t* pairs, uint32_t begin, uint32_t end,
+                 float* out) {
+  uint32_t e = begin;
+  for (; e + 4 <= end; e += 4) {
+    const uint32_t* q = pairs + 2 * e;
+    const __m128 d0 = _mm_sub_ps(LoadPoint(points, q[0]), LoadPoint(points, q[1]));
+    const __m128 d1 = _mm_sub_ps(LoadPoint(points, q[2]), LoadPoint(points, q[3]));
+    const __m128 d2 = _mm_sub_ps(LoadPoint(points, q[4]), LoadPoint(points, q[5]));
+    const __m128 d3 = _mm_sub_ps(LoadPoint(points, q[6]), LoadPoint(points, q[7]));
+    _mm_storeu_ps(out + e, _mm_sqrt_ps(LengthsSquared(d0, d1, d2, d3)));
+  }
+  EdgeLengthsScalar(points, pairs, e, end, out);
+}
+
+#else  // no SSE: the scalar kernels
+
+void FaceNormals4(const float3* points, const uint32_t* triangles, uint32_t begin, uint32_t end,
+                  const float* rest_areas, float4* out) {
+  FaceNormals4Scalar(points, triangles, begin, end, rest_areas, out);
+}
+
+void FaceNormals4Listed(const float3* points, const uint32_t* triangles, const uint32_t* list,
+                        size_t count, float4* out) {
+  for (size_t k = 0; k < count; ++k)
+    FaceNormals4Scalar(points, triangles, list[k], list[k] + 1, nullptr, out);
+}
+
+void EdgeLengths(const float3* points, const uint32_t* pairs, uint32_t begin, uint32_t end,
+                 float* out) {
+  EdgeLengthsScalar(points, pairs, begin, end, out);
+}
+
+#endif
+
+}  // namespace mimetic
