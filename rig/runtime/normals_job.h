@@ -49,7 +49,8 @@ struct PointNormalsJob {
 };
 
 // The area-weighted unit normal of point p from the face normals of its triangles, summed in
-// CSR order (PointNormalsJob's per-point step; EvaluateJob gathers output normals with it).
+// CSR order (PointNormalsJob's per-point step; EvaluateJob gathers the same bits from its
+// 16-byte face slots with GatherFaces4 + UnitNormal, rig/runtime/face_kernels.h).
 inline float3 GatherPointNormal(const uint32_t* offsets, const uint32_t* triangles,
                                 const float3* face_normals, uint32_t p) {
   float3 n{};
