@@ -158,6 +158,29 @@ TEST(DirectionalShrinkage, TriangleScaledByKnownFactors) {  // 000 eq. 4
   EXPECT_NEAR(SideShrinkage(0.f, 0.f, 0.5f), 1.f, 0.f);  // both edges collapsed
 }
 
+TEST(DirectionalShrinkage, OneDivisionFormMatchesTheRatioForm) {  // 000 eq. 4, two ways
+  // SideShrinkageFromLengths (what the jobs run) against SideShrinkage on t = l / L.
+  const float lengths[] = {0.f, 1e-6f, 0.3f, 1.f, 2.5f, 40.f};
+  const float rests[] = {0.f, -1.f, 0.5f, 1.f, 3.f};
+  const float betas[] = {0.f, 0.2f, 0.5f, 0.95f, 1.f};
+  for (float l2 : lengths)
+    for (float l3 : lengths)
+      for (float r2 : rests)
+        for (float r3 : rests)
+          for (float beta : betas) {
+            const float t2 = r2 > 0.f ? l2 / r2 : 1.f, t3 = r3 > 0.f ? l3 / r3 : 1.f;
+            const double expected = SideShrinkage(t2, t3, beta);
+            EXPECT_NEAR(SideShrinkageFromLengths(l2, l3, r2, r3, beta), expected,
+                        1e-6 * std::max(1.0, std::fabs(expected)))
+                << l2 << " " << l3 << " " << r2 << " " << r3 << " " << beta;
+          }
+  // At rest (l = L) s is exactly 0 for any beta, as SideShrinkage(1, 1, beta) is.
+  for (float beta : {0.f, 0.1f, 0.3f, 0.7f, 1.f}) {
+    EXPECT_EQ(SideShrinkage(1.f, 1.f, beta), 0.f) << beta;
+    EXPECT_EQ(SideShrinkageFromLengths(0.7f, 3.1f, 0.7f, 3.1f, beta), 0.f) << beta;
+  }
+}
+
 TEST(EdgeCompression, HandBuiltStar) {  // 001 eq. 9-10 with |cos|
   // Centre 0; neighbours 1 (1,0,0), 2 (0,1,0), 3 (-1,0,0), 4 (1,1,0); direction +x.
   const std::vector<float3> rest = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {1, 1, 0}};

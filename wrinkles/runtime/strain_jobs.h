@@ -133,6 +133,18 @@ inline float SideShrinkage(float t2, float t3, float beta) {
   return 1.f - ratio;
 }
 
+// SideShrinkage from lengths: with t2 = l2 / L2 and t3 = l3 / L3 (a rest length that is not
+// positive gives t = 1, as l = L = 1), L'/L = l2 l3 / ((1 - beta) l3 L2 + beta l2 L3): the same
+// value with one division instead of three (rounding aside). Exactly 0 when both edges have
+// their rest lengths (as SideShrinkage(1, 1, beta): 1 - beta rounds so that adding beta gives 1).
+inline float SideShrinkageFromLengths(float l2, float l3, float rest2, float rest3, float beta) {
+  if (!(rest2 > 0.f)) l2 = rest2 = 1.f;
+  if (!(rest3 > 0.f)) l3 = rest3 = 1.f;
+  if (l2 == rest2 && l3 == rest3) return 0.f;
+  const float den = (1.f - beta) * (l3 * rest2) + beta * (l2 * rest3);
+  return 1.f - (den > 0.f ? l2 * l3 / den : 0.f);
+}
+
 // s of one probe from its sides' current lengths: length(side, 0) = |x2 - x1|, length(side, 1)
 // = |x3 - x1| (DirectionalShrinkageJob's per-probe step; EvaluateJob feeds it edge lengths
 // computed once per edge).
@@ -141,13 +153,12 @@ inline float ProbeShrinkage(const ShrinkageProbe& probe, const LengthFn& length)
   float sum = 0.f;
   for (uint32_t s = 0; s < probe.side_count; ++s) {
     const ShrinkageSide& side = probe.sides[s];
-    const float l2 = length(s, 0), l3 = length(s, 1);
-    const float t2 = side.rest_length2 > 0.f ? l2 / side.rest_length2 : 1.f;
-    const float t3 = side.rest_length3 > 0.f ? l3 / side.rest_length3 : 1.f;
-    sum += SideShrinkage(t2, t3, side.beta);  // 000 eq. 4
+    sum += SideShrinkageFromLengths(length(s, 0), length(s, 1), side.rest_length2,
+                                    side.rest_length3, side.beta);  // 000 eq. 4
   }
-  // 000 §7: average the two triangles hit along +dp and -dp.
-  return probe.side_count > 0 ? sum / static_cast<float>(probe.side_count) : 0.f;
+  // 000 §7: average the two triangles hit along +dp and -dp (side_count is at most 2, and
+  // halving is exact: no division).
+  return probe.side_count == 2 ? 0.5f * sum : sum;
 }
 
 }  // namespace mimetic
