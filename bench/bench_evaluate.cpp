@@ -16,6 +16,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -186,6 +187,52 @@ void RunReference(benchmark::State& state, bool head) {
   state.counters["active_fraction"] = double(f.reference.points.size()) / double(rig.point_count());
 }
 
+// EvaluateJob (every layer) and the reference kernel frame by frame, each timed on its own:
+// the `ratio` counter is their summed times divided, so drift of a shared machine (which moves
+// separate benchmarks by up to 30%) hits both sides of every pair alike.
+void RunPaired(benchmark::State& state, bool head) {
+  const Fixture& f = GetFixture(head, int(state.range(0)));
+  const Rig& rig = f.rig;
+  EvaluateContext context(rig);
+  bench::ReferenceContext ref_context(rig);
+  std::vector<float> activations(rig.muscle_count()), weights(f.reference.shapes.size());
+  std::vector<float> positions(3 * rig.vertex_count()), normals(3 * rig.vertex_count());
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &context;
+  job.activations = activations;
+  job.out_positions = positions;
+  job.out_normals = normals;
+  using Clock = std::chrono::steady_clock;
+  Clock::duration evaluate{}, reference{};
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    for (size_t m = 0; m < activations.size(); ++m)
+      activations[m] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * m));
+    for (size_t s = 0; s < weights.size(); ++s)
+      weights[s] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * s));
+    const Clock::time_point t0 = Clock::now();
+    if (!job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::DoNotOptimize(normals.data());
+    const Clock::time_point t1 = Clock::now();
+    bench::EvaluateReference(rig, f.reference, weights, &ref_context, positions, normals);
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::DoNotOptimize(normals.data());
+    const Clock::time_point t2 = Clock::now();
+    evaluate += t1 - t0;
+    reference += t2 - t1;
+    ++frame;
+  }
+  const double n = double(frame) * double(rig.vertex_count());
+  state.counters["vertices"] = rig.vertex_count();
+  state.counters["evaluate_ns_per_vertex"] =
+      std::chrono::duration<double, std::nano>(evaluate).count() / n;
+  state.counters["reference_ns_per_vertex"] =
+      std::chrono::duration<double, std::nano>(reference).count() / n;
+  state.counters["ratio"] = double(evaluate.count()) / double(reference.count());
+}
+
 void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, EvaluateLayers{}); }
 void BM_EvaluateMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, false, EvaluateLayers{false, false, false});
@@ -196,6 +243,8 @@ void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, true, EvaluateLayers{false, false, false});
 }
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
+void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
+void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
 
 // The fastest repetition next to the median: on a shared machine the minimum is the least
 // disturbed estimate of what the code costs.
@@ -210,6 +259,8 @@ BENCHMARK(BM_Reference) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHead) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHeadMusclesOnly) MIMETIC_SIZES;
 BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
+BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
+BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
 
 }  // namespace
 

@@ -268,26 +268,29 @@ inline float PointRatio(const float4& sum, uint32_t count) {
   return count ? sum.w / float(count) : 1.f;
 }
 
-// One point of DisplaceAlongNormals (the scalar lane).
+// One point of DisplaceAlongNormals (the scalar lane). The offset d = (1/rc - 1) h + extra
+// (MODEL.md §4 with rc = max(r, r_min), plus the wrinkle sum) and the normalisation share one
+// division: d / |n| = ((1 - rc) h + rc extra) / (rc |n|).
 inline void DisplacePoint(const float4& s, uint32_t count, const float* h, float min_ratio,
                           const float* extra, uint32_t p, float3* points, float* ratios) {
   const float r = PointRatio(s, count);
   ratios[p] = r;
-  float d = 0.f;
-  if (h) d += ThicknessOffset(r, h[p], min_ratio);
-  if (extra) d += extra[p];
-  const float len2 = (s.x * s.x + s.y * s.y) + s.z * s.z;
-  if (len2 > 1e-30f) {  // NormalizeOr's test; its fallback normal is +Z
-    const float k = d * (1.f / std::sqrt(len2));
-    points[p] += float3{s.x * k, s.y * k, s.z * k};
-  } else {
-    points[p] += float3{0.f, 0.f, d};
+  float rc = 1.f, num = 0.f;
+  if (h) {  // ThicknessOffset's clamp: r below r_min (or NaN) counts as r_min
+    rc = r >= min_ratio ? r : min_ratio;
+    num = (1.f - rc) * h[p];
   }
+  if (extra) num = num + rc * extra[p];
+  const float len2 = (s.x * s.x + s.y * s.y) + s.z * s.z;
+  const bool ok = len2 > 1e-30f;  // NormalizeOr's test; its fallback normal is +Z
+  const float k = num / (rc * (ok ? std::sqrt(len2) : 1.f));
+  points[p] += ok ? float3{s.x * k, s.y * k, s.z * k} : float3{0.f, 0.f, k};
 }
 
 // For p in [b, e): r = sums[p].w / count (stored in ratios), d = (1/max(r, r_min) - 1) h[p]
 // (h non-null) + extra[p] (non-null), points[p] += d * sums[p].xyz / |sums[p].xyz|. Four
-// points per step with SSE (the same operations lane by lane as DisplacePoint).
+// points per step with SSE (the same operations lane by lane as DisplacePoint): two divisions
+// and one square root per four points.
 void DisplaceAlongNormals(const float4* sums, const uint32_t* off, const float* h,
                           float min_ratio, const float* extra, uint32_t b, uint32_t e,
                           float3* points, float* ratios) {
@@ -305,21 +308,21 @@ void DisplaceAlongNormals(const float4* sums, const uint32_t* off, const float* 
     const __m128 has = _mm_cmpgt_ps(count, zero);
     const __m128 r = _mm_or_ps(_mm_and_ps(has, _mm_div_ps(w, count)), _mm_andnot_ps(has, one));
     _mm_storeu_ps(ratios + p, r);
-    __m128 d = zero;
-    if (h) {  // ThicknessOffset: r below r_min (or NaN) counts as r_min
-      const __m128 keep = _mm_cmpge_ps(r, rmin);
-      const __m128 rc = _mm_or_ps(_mm_and_ps(keep, r), _mm_andnot_ps(keep, rmin));
-      const __m128 t = _mm_mul_ps(_mm_sub_ps(_mm_div_ps(one, rc), one), _mm_loadu_ps(h + p));
-      d = _mm_add_ps(d, t);
+    __m128 rc = one, num = zero;
+    if (h) {
+      const __m128 keep = _mm_cmpge_ps(r, rmin);  // false for NaN, as `r >= min_ratio`
+      rc = _mm_or_ps(_mm_and_ps(keep, r), _mm_andnot_ps(keep, rmin));
+      num = _mm_mul_ps(_mm_sub_ps(one, rc), _mm_loadu_ps(h + p));
     }
-    if (extra) d = _mm_add_ps(d, _mm_loadu_ps(extra + p));
+    if (extra) num = _mm_add_ps(num, _mm_mul_ps(rc, _mm_loadu_ps(extra + p)));
     const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)), _mm_mul_ps(z, z));
     const __m128 ok = _mm_cmpgt_ps(len2, tiny);
-    const __m128 k = _mm_mul_ps(d, _mm_div_ps(one, _mm_sqrt_ps(len2)));
+    const __m128 len = _mm_or_ps(_mm_and_ps(ok, _mm_sqrt_ps(len2)), _mm_andnot_ps(ok, one));
+    const __m128 k = _mm_div_ps(num, _mm_mul_ps(rc, len));
     alignas(16) float dx[4], dy[4], dz[4];
     _mm_store_ps(dx, _mm_and_ps(ok, _mm_mul_ps(x, k)));
     _mm_store_ps(dy, _mm_and_ps(ok, _mm_mul_ps(y, k)));
-    _mm_store_ps(dz, _mm_or_ps(_mm_and_ps(ok, _mm_mul_ps(z, k)), _mm_andnot_ps(ok, d)));
+    _mm_store_ps(dz, _mm_or_ps(_mm_and_ps(ok, _mm_mul_ps(z, k)), _mm_andnot_ps(ok, k)));
     for (uint32_t j = 0; j < 4; ++j) points[p + j] += float3{dx[j], dy[j], dz[j]};
   }
 #endif
@@ -341,14 +344,7 @@ bool EvaluateJob::Run() const {
 
   // 1. Muscles (MODEL.md §1 step 1): summed on the rest pose; only points that can move.
   ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
-    MuscleDeformJob job;
-    job.table = &r.muscles;
-    job.activations = ctx.activations_;
-    job.rest_points = r.rest_points;
-    job.out_points = ctx.points_;
-    job.begin = b;
-    job.end = e;
-    job.Run();
+    MusclePoints(r.muscles, ctx.activations_.data(), r.rest_points.data(), b, e, ctx.points_.data());
   });
 
   const bool thickness = layers.thickness && r.layers.thickness;
@@ -381,11 +377,16 @@ bool EvaluateJob::Run() const {
     const float* length = ctx.edge_lengths_.data();
     if (muscle_wrinkles) {
       ParallelFor(*this, uint32_t(ctx.compression_.size()), [&](uint32_t b, uint32_t e) {
+        const uint32_t* offsets = ctx.row_offsets_.data();
+        const uint32_t* edges = ctx.entry_edges_.data();
+        const float* coeffs = ctx.entry_coeffs_.data();
+        const float* rest = ctx.entry_rest_.data();
+        float* out = ctx.compression_.data();
         for (uint32_t i = b; i < e; ++i) {
           float eps = 0.f;
-          for (uint32_t k = ctx.row_offsets_[i]; k < ctx.row_offsets_[i + 1]; ++k)
-            eps += ctx.entry_coeffs_[k] * (ctx.entry_rest_[k] - length[ctx.entry_edges_[k]]);
-          ctx.compression_[i] = eps;
+          for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k)
+            eps += coeffs[k] * (rest[k] - length[edges[k]]);
+          out[i] = eps;
         }
       });
     }
@@ -414,29 +415,38 @@ bool EvaluateJob::Run() const {
     const bool wrinkles = muscle_wrinkles || curve_wrinkles;
     if (wrinkles) {
       ParallelFor(*this, uint32_t(ctx.wrinkle_points_.size()), [&](uint32_t b, uint32_t e) {
+        // Plain pointers: the stores to `offsets` cannot alias them in the compiler's eyes.
         const CurveWrinkleParams* params = r.curve_wrinkles.wrinkles.data();
         const CurveWrinkleEntry* entries = r.curve_wrinkles.entries.data();
         const uint32_t* curve_offsets = r.curve_wrinkles.offsets.data();
+        const uint32_t* wrinkle_points = ctx.wrinkle_points_.data();
+        const uint32_t* row_offsets = ctx.point_row_offsets_.data();
+        const uint32_t* rows = ctx.point_rows_.data();
+        const float* profiles = ctx.row_profiles_.data();
+        const float* compression = ctx.compression_.data();
+        const uint32_t* curve_row_offsets = ctx.point_curve_offsets_.data();
+        const uint32_t* curve_rows = ctx.point_curve_rows_.data();
+        const float* shrinkage = ctx.shrinkage_.data();
+        float* offsets = ctx.wrinkle_offsets_.data();
         for (uint32_t i = b; i < e; ++i) {
-          const uint32_t p = ctx.wrinkle_points_[i];
+          const uint32_t p = wrinkle_points[i];
           float d = 0.f;
           if (muscle_wrinkles) {
-            for (uint32_t k = ctx.point_row_offsets_[p]; k < ctx.point_row_offsets_[p + 1]; ++k) {
-              const uint32_t row = ctx.point_rows_[k];
+            for (uint32_t k = row_offsets[p]; k < row_offsets[p + 1]; ++k) {
+              const uint32_t row = rows[k];
               // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6).
-              d += ctx.row_profiles_[row] * Anisotropy(ctx.compression_[row]);
+              d += profiles[row] * Anisotropy(compression[row]);
             }
           }
-          if (curve_wrinkles) {
+          if (curve_wrinkles && curve_row_offsets[p] < curve_row_offsets[p + 1]) {
             const float rp = PointRatio(sums[p], off[p + 1] - off[p]);
-            for (uint32_t k = ctx.point_curve_offsets_[p]; k < ctx.point_curve_offsets_[p + 1];
-                 ++k) {
-              const uint32_t row = ctx.point_curve_rows_[k];
+            for (uint32_t k = curve_row_offsets[p]; k < curve_row_offsets[p + 1]; ++k) {
+              const uint32_t row = curve_rows[k];
               d += CurveWrinkleRowSum(params, entries, curve_offsets[row], curve_offsets[row + 1],
-                                      ctx.shrinkage_.data(), rp);
+                                      shrinkage, rp);
             }
           }
-          ctx.wrinkle_offsets_[p] = d;
+          offsets[p] = d;
         }
       });
     }

@@ -4,8 +4,11 @@
 #include "rig/runtime/face_kernels.h"
 
 #include <cmath>
+#include <cstddef>
 
 namespace mimetic {
+
+static_assert(offsetof(MuscleInfluence, displacement) == 4, "MusclePoints loads an entry whole");
 
 void FaceNormals4Scalar(const float3* points, const uint32_t* triangles, uint32_t begin,
                         uint32_t end, const float* rest_areas, float4* out) {
@@ -26,6 +29,18 @@ void EdgeLengthsScalar(const float3* points, const uint32_t* pairs, uint32_t beg
                        float* out) {
   for (uint32_t e = begin; e < end; ++e)
     out[e] = Length(points[pairs[2 * e]] - points[pairs[2 * e + 1]]);
+}
+
+void MusclePointsScalar(const MuscleTable& table, const float* activations, const float3* rest,
+                        uint32_t begin, uint32_t end, float3* out) {
+  const uint32_t* offsets = table.offsets.data();
+  const MuscleInfluence* entries = table.entries.data();
+  for (uint32_t p = begin; p < end; ++p) {
+    float3 pos = rest[p];
+    for (uint32_t e = offsets[p]; e < offsets[p + 1]; ++e)
+      pos += activations[entries[e].muscle] * entries[e].displacement;
+    out[p] = pos;
+  }
 }
 
 #if MIMETIC_FACE_KERNELS_SSE
@@ -114,7 +129,35 @@ void EdgeLengths(const float3* points, const uint32_t* pairs, uint32_t begin, ui
   EdgeLengthsScalar(points, pairs, e, end, out);
 }
 
+void MusclePoints(const MuscleTable& table, const float* activations, const float3* rest,
+                  uint32_t begin, uint32_t end, float3* out) {
+  if (begin >= end) return;
+  const uint32_t* offsets = table.offsets.data();
+  const MuscleInfluence* entries = table.entries.data();
+  // An entry loads as (muscle bits, dx, dy, dz); the mask zeroes the index lane so the sum
+  // never sees it (as a float it would be a denormal).
+  const __m128 yzw = _mm_castsi128_ps(_mm_set_epi32(-1, -1, -1, 0));
+  const uint32_t last = end - 1;
+  for (uint32_t p = begin; p < last; ++p) {
+    // rest[p + 1] exists (p + 1 <= last < point count), so the 16-byte load stays inside;
+    // rotate (x, y, z, next) to (next, x, y, z) to line up with the entries.
+    const __m128 r = _mm_loadu_ps(&rest[p].x);
+    __m128 pos = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 1, 0, 3));
+    for (uint32_t e = offsets[p]; e < offsets[p + 1]; ++e) {
+      const __m128 d = _mm_and_ps(_mm_loadu_ps(reinterpret_cast<const float*>(&entries[e])), yzw);
+      pos = _mm_add_ps(pos, _mm_mul_ps(_mm_set1_ps(activations[entries[e].muscle]), d));
+    }
+    _mm_storeu_ps(&out[p].x, _mm_shuffle_ps(pos, pos, _MM_SHUFFLE(0, 3, 2, 1)));
+  }
+  MusclePointsScalar(table, activations, rest, last, end, out);
+}
+
 #else  // no SSE: the scalar kernels
+
+void MusclePoints(const MuscleTable& table, const float* activations, const float3* rest,
+                  uint32_t begin, uint32_t end, float3* out) {
+  MusclePointsScalar(table, activations, rest, begin, end, out);
+}
 
 void FaceNormals4(const float3* points, const uint32_t* triangles, uint32_t begin, uint32_t end,
                   const float* rest_areas, float4* out) {

@@ -15,6 +15,7 @@
 #include <cstdint>
 
 #include "core/math.h"
+#include "muscles/runtime/muscle_table.h"
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -41,6 +42,15 @@ void FaceNormals4Listed(const float3* points, const uint32_t* triangles, const u
 // `points` padded (kPointPadFloats).
 void EdgeLengths(const float3* points, const uint32_t* pairs, uint32_t begin, uint32_t end,
                  float* out);
+
+// MuscleDeformJob's sum for p in [begin, end) with activations already in [0, 1] (no clamp per
+// entry; SanitizeActivations gives such): out[p] = rest[p] + sum of a * displacement in CSR
+// order, the same bits. `out` padded (kPointPadFloats); `rest` holds the table's points; end <=
+// the table's point count. Every point is written as one 16-byte store whose spare lane lands
+// on out[p + 1].x, which the next point then rewrites, except the last point of the range
+// (written exactly, so ranges on other threads are not touched).
+void MusclePoints(const MuscleTable& table, const float* activations, const float3* rest,
+                  uint32_t begin, uint32_t end, float3* out);
 
 // Sum of the face slots of point p's triangles, in CSR order (xyz: the unnormalised
 // area-weighted normal; w: the sum of the ratios).
@@ -78,5 +88,7 @@ void FaceNormals4Scalar(const float3* points, const uint32_t* triangles, uint32_
                         uint32_t end, const float* rest_areas, float4* out);
 void EdgeLengthsScalar(const float3* points, const uint32_t* pairs, uint32_t begin, uint32_t end,
                        float* out);
+void MusclePointsScalar(const MuscleTable& table, const float* activations, const float3* rest,
+                        uint32_t begin, uint32_t end, float3* out);
 
 }  // namespace mimetic

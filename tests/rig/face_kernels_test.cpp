@@ -1,6 +1,7 @@
 // rig/runtime/face_kernels.h: the SIMD kernels give the same bits as the scalar expressions of
-// the public stage jobs (FaceNormalsJob, TriangleAreaRatioJob, PointNormalsJob, Length), on a
-// random mesh with degenerate triangles, zero and NaN rest areas, and odd range ends.
+// the public stage jobs (FaceNormalsJob, TriangleAreaRatioJob, PointNormalsJob, Length,
+// MuscleDeformJob), on random meshes and tables with degenerate triangles, zero and NaN rest
+// areas, and odd range ends.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "muscles/runtime/muscle_table.h"
 #include "rig/runtime/face_kernels.h"
 #include "rig/runtime/normals_job.h"
 #include "wrinkles/runtime/strain_jobs.h"
@@ -135,6 +137,49 @@ TEST(FaceKernels, EdgeLengthsAreLengthsBits) {
     ASSERT_TRUE(SameBits(Length(s.points[pairs[2 * e + 1]] - s.points[pairs[2 * e]]), expect));
   }
   EXPECT_EQ(simd[E - 1], 0.f);
+}
+
+TEST(FaceKernels, MusclePointsAreTheMuscleDeformJobsBits) {
+  // A random CSR table (0 to 5 entries per point, some points none) and activations in
+  // [0, 1] (what SanitizeActivations hands on), over split ranges as threads would run them.
+  const uint32_t n = 203, muscles = 7;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-3.f, 3.f), a01(0.f, 1.f);
+  MuscleTable table;
+  table.muscle_count = muscles;
+  table.offsets.assign(1, 0u);
+  std::vector<float3> rest(n);
+  for (uint32_t p = 0; p < n; ++p) {
+    rest[p] = {u(rng), u(rng), u(rng)};
+    const uint32_t count = (p * 5 + 3) % 6;
+    for (uint32_t k = 0; k < count; ++k)
+      table.entries.push_back({(p + 3 * k) % muscles, float3{u(rng), u(rng), u(rng)}});
+    table.offsets.push_back(uint32_t(table.entries.size()));
+  }
+  std::vector<float> act(muscles);
+  for (float& a : act) a = a01(rng);
+  act[2] = 0.f;
+  act[5] = 1.f;
+  std::vector<float3> expect(n);
+  ASSERT_TRUE((MuscleDeformJob{&table, act, rest, expect, 0, n}.Run()));
+  for (const bool simd : {true, false}) {
+    std::vector<float3> out(n + 1, float3{-7.f, -7.f, -7.f});  // padded
+    const uint32_t cuts[] = {0, 1, 2, 64, 65, 150, n - 1, n};
+    for (size_t c = 0; c + 1 < std::size(cuts); ++c) {
+      if (simd)
+        MusclePoints(table, act.data(), rest.data(), cuts[c], cuts[c + 1], out.data());
+      else
+        MusclePointsScalar(table, act.data(), rest.data(), cuts[c], cuts[c + 1], out.data());
+    }
+    for (uint32_t p = 0; p < n; ++p)
+      ASSERT_EQ(std::memcmp(&out[p], &expect[p], sizeof(float3)), 0) << "point " << p << simd;
+  }
+  // A range writes only its own points: [10, 20) leaves 9 and 20 as they were.
+  std::vector<float3> out(n + 1, float3{-7.f, -7.f, -7.f});
+  MusclePoints(table, act.data(), rest.data(), 10, 20, out.data());
+  EXPECT_EQ(out[9].x, -7.f);
+  EXPECT_EQ(out[20].x, -7.f);
+  EXPECT_EQ(std::memcmp(&out[19], &expect[19], sizeof(float3)), 0);
 }
 
 }  // namespace

@@ -14,7 +14,8 @@ namespace mimetic {
 inline constexpr float kDefaultMinAreaRatio = 0.05f;
 
 // The offset along the normal, (1/max(r, r_min) - 1) h (MODEL.md §4, 002 eq. 3); NaN r counts
-// as r_min. Shared by ThicknessJob and EvaluateJob's fused normal pass.
+// as r_min. ThicknessJob uses it; EvaluateJob folds the same clamp into its one division per
+// point (DisplacePoint in rig/runtime/evaluate_job.cpp).
 inline float ThicknessOffset(float r, float h, float min_area_ratio) {
   if (!(r >= min_area_ratio)) r = min_area_ratio;
   return (1.f / r - 1.f) * h;
