@@ -271,10 +271,8 @@ inline float PointRatio(const float4& sum, uint32_t count) {
 // One point of DisplaceAlongNormals (the scalar lane). The offset d = (1/rc - 1) h + extra
 // (MODEL.md §4 with rc = max(r, r_min), plus the wrinkle sum) and the normalisation share one
 // division: d / |n| = ((1 - rc) h + rc extra) / (rc |n|).
-inline void DisplacePoint(const float4& s, uint32_t count, const float* h, float min_ratio,
-                          const float* extra, uint32_t p, float3* points, float* ratios) {
-  const float r = PointRatio(s, count);
-  ratios[p] = r;
+inline void DisplacePoint(const float4& s, float r, const float* h, float min_ratio,
+                          const float* extra, uint32_t p, float3* points) {
   float rc = 1.f, num = 0.f;
   if (h) {  // ThicknessOffset's clamp: r below r_min (or NaN) counts as r_min
     rc = r >= min_ratio ? r : min_ratio;
@@ -287,13 +285,13 @@ inline void DisplacePoint(const float4& s, uint32_t count, const float* h, float
   points[p] += ok ? float3{s.x * k, s.y * k, s.z * k} : float3{0.f, 0.f, k};
 }
 
-// For p in [b, e): r = sums[p].w / count (stored in ratios), d = (1/max(r, r_min) - 1) h[p]
-// (h non-null) + extra[p] (non-null), points[p] += d * sums[p].xyz / |sums[p].xyz|. Four
-// points per step with SSE (the same operations lane by lane as DisplacePoint): two divisions
-// and one square root per four points.
-void DisplaceAlongNormals(const float4* sums, const uint32_t* off, const float* h,
+// For p in [b, e): with r = ratios[p], d = (1/max(r, r_min) - 1) h[p] (h non-null) + extra[p]
+// (non-null), points[p] += d * sums[p].xyz / |sums[p].xyz|. Four points per step with SSE (the
+// same operations lane by lane as DisplacePoint): one division and one square root per four
+// points.
+void DisplaceAlongNormals(const float4* sums, const float* ratios, const float* h,
                           float min_ratio, const float* extra, uint32_t b, uint32_t e,
-                          float3* points, float* ratios) {
+                          float3* points) {
   uint32_t p = b;
 #if MIMETIC_FACE_KERNELS_SSE
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f), rmin = _mm_set1_ps(min_ratio);
@@ -302,14 +300,9 @@ void DisplaceAlongNormals(const float4* sums, const uint32_t* off, const float* 
     __m128 x = _mm_load_ps(&sums[p].x), y = _mm_load_ps(&sums[p + 1].x);
     __m128 z = _mm_load_ps(&sums[p + 2].x), w = _mm_load_ps(&sums[p + 3].x);
     _MM_TRANSPOSE4_PS(x, y, z, w);
-    const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(off + p));
-    const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(off + p + 1));
-    const __m128 count = _mm_cvtepi32_ps(_mm_sub_epi32(hi, lo));
-    const __m128 has = _mm_cmpgt_ps(count, zero);
-    const __m128 r = _mm_or_ps(_mm_and_ps(has, _mm_div_ps(w, count)), _mm_andnot_ps(has, one));
-    _mm_storeu_ps(ratios + p, r);
     __m128 rc = one, num = zero;
     if (h) {
+      const __m128 r = _mm_loadu_ps(ratios + p);
       const __m128 keep = _mm_cmpge_ps(r, rmin);  // false for NaN, as `r >= min_ratio`
       rc = _mm_or_ps(_mm_and_ps(keep, r), _mm_andnot_ps(keep, rmin));
       num = _mm_mul_ps(_mm_sub_ps(one, rc), _mm_loadu_ps(h + p));
@@ -326,8 +319,7 @@ void DisplaceAlongNormals(const float4* sums, const uint32_t* off, const float* 
     for (uint32_t j = 0; j < 4; ++j) points[p + j] += float3{dx[j], dy[j], dz[j]};
   }
 #endif
-  for (; p < e; ++p)
-    DisplacePoint(sums[p], off[p + 1] - off[p], h, min_ratio, extra, p, points, ratios);
+  for (; p < e; ++p) DisplacePoint(sums[p], ratios[p], h, min_ratio, extra, p, points);
 }
 
 }  // namespace
@@ -410,7 +402,11 @@ bool EvaluateJob::Run() const {
     // in place.
     float4* sums = ctx.point_sums_.data();
     ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
-      for (uint32_t p = b; p < e; ++p) sums[p] = GatherFaces4(off, tri, faces, p);
+      float* ratios = ctx.point_ratios_.data();
+      for (uint32_t p = b; p < e; ++p) {
+        sums[p] = GatherFaces4(off, tri, faces, p);
+        ratios[p] = PointRatio(sums[p], off[p + 1] - off[p]);
+      }
     });
     const bool wrinkles = muscle_wrinkles || curve_wrinkles;
     if (wrinkles) {
@@ -427,6 +423,7 @@ bool EvaluateJob::Run() const {
         const uint32_t* curve_row_offsets = ctx.point_curve_offsets_.data();
         const uint32_t* curve_rows = ctx.point_curve_rows_.data();
         const float* shrinkage = ctx.shrinkage_.data();
+        const float* ratios = ctx.point_ratios_.data();
         float* offsets = ctx.wrinkle_offsets_.data();
         for (uint32_t i = b; i < e; ++i) {
           const uint32_t p = wrinkle_points[i];
@@ -439,7 +436,7 @@ bool EvaluateJob::Run() const {
             }
           }
           if (curve_wrinkles && curve_row_offsets[p] < curve_row_offsets[p + 1]) {
-            const float rp = PointRatio(sums[p], off[p + 1] - off[p]);
+            const float rp = ratios[p];
             for (uint32_t k = curve_row_offsets[p]; k < curve_row_offsets[p + 1]; ++k) {
               const uint32_t row = curve_rows[k];
               d += CurveWrinkleRowSum(params, entries, curve_offsets[row], curve_offsets[row + 1],
@@ -451,9 +448,10 @@ bool EvaluateJob::Run() const {
       });
     }
     ParallelFor(*this, r.active_point_count, [&](uint32_t b, uint32_t e) {
-      DisplaceAlongNormals(sums, off, thickness ? r.point_thickness.data() : nullptr,
-                           r.min_area_ratio, wrinkles ? ctx.wrinkle_offsets_.data() : nullptr,
-                           b, e, ctx.points_.data(), ctx.point_ratios_.data());
+      DisplaceAlongNormals(sums, ctx.point_ratios_.data(),
+                           thickness ? r.point_thickness.data() : nullptr, r.min_area_ratio,
+                           wrinkles ? ctx.wrinkle_offsets_.data() : nullptr, b, e,
+                           ctx.points_.data());
     });
     // 4. Face normals of X3 (the per-point gather happens in the output pass).
     if (want_normals) face_normals(false);
