@@ -53,17 +53,28 @@ void EvaluateContext::BuildStrainTables(const Rig& r) {
     }
     return it->second;
   };
+  // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
+  // themselves, so its sum adds them in the order MuscleWrinkleJob would), and so are their
+  // entries.
+  const uint32_t active = r.active_point_count;
+  struct RowRef {
+    const RigMuscleWrinkles* table;
+    uint32_t index;
+  };
+  std::vector<std::vector<RowRef>> rows_of(active);
+  std::vector<std::vector<uint32_t>> curves_of(active);
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
+    for (uint32_t i = 0; i < w.row_count(); ++i) rows_of[w.points[i]].push_back({&w, i});
   row_offsets_.assign(1, 0u);
   entry_edges_.clear();
   entry_rest_.clear();
   entry_coeffs_.clear();
   row_profiles_.clear();
-  const uint32_t active = r.active_point_count;
-  std::vector<std::vector<uint32_t>> rows_of(active), curves_of(active);
-  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
-    for (uint32_t i = 0; i < w.row_count(); ++i) {
-      const uint32_t row = uint32_t(row_profiles_.size());
-      rows_of[w.points[i]].push_back(row);
+  point_row_offsets_.assign(1, 0u);
+  for (uint32_t p = 0; p < active; ++p) {
+    for (const RowRef& ref : rows_of[p]) {
+      const RigMuscleWrinkles& w = *ref.table;
+      const uint32_t i = ref.index;
       row_profiles_.push_back(w.profile.empty()
                                   ? MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth,
                                                          w.shape, w.attenuation[i])
@@ -73,7 +84,7 @@ void EvaluateContext::BuildStrainTables(const Rig& r) {
         weight_sum += w.edge_weights[k];
       for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k) {
         const float rest = w.edge_rest_lengths[k];
-        entry_edges_.push_back(edge(w.points[i], w.edge_neighbors[k]));
+        entry_edges_.push_back(edge(p, w.edge_neighbors[k]));
         entry_rest_.push_back(rest);
         // 001 eq. 9-10: eps = sum_j w_j (L_j - l_j) / L_j / sum_j w_j, as sum_j c_j (L_j - l_j)
         // (no division per frame; L_j - l_j is exactly 0 at rest, so is eps).
@@ -83,8 +94,8 @@ void EvaluateContext::BuildStrainTables(const Rig& r) {
       }
       row_offsets_.push_back(uint32_t(entry_edges_.size()));
     }
+    point_row_offsets_.push_back(uint32_t(row_profiles_.size()));
   }
-  compression_.assign(row_profiles_.size(), 0.f);
   const RigCurveWrinkles& c = r.curve_wrinkles;
   probe_edges_.assign(4 * c.probes.size(), 0u);
   for (size_t k = 0; k < c.probes.size(); ++k) {
@@ -94,20 +105,14 @@ void EvaluateContext::BuildStrainTables(const Rig& r) {
       probe_edges_[4 * k + 2 * s + 1] = edge(probe.point, probe.sides[s].v3);
     }
   }
-  shrinkage_.assign(c.entries.size(), 0.f);
   for (uint32_t i = 0; i < c.row_count(); ++i) curves_of[c.points[i]].push_back(i);
   edge_lengths_.assign(edge_pairs_.size() / 2, 0.f);
-  auto flatten = [](const std::vector<std::vector<uint32_t>>& lists,
-                    std::vector<uint32_t>* offsets, std::vector<uint32_t>* items) {
-    offsets->assign(1, 0u);
-    items->clear();
-    for (const std::vector<uint32_t>& l : lists) {
-      items->insert(items->end(), l.begin(), l.end());
-      offsets->push_back(uint32_t(items->size()));
-    }
-  };
-  flatten(rows_of, &point_row_offsets_, &point_rows_);
-  flatten(curves_of, &point_curve_offsets_, &point_curve_rows_);
+  point_curve_offsets_.assign(1, 0u);
+  point_curve_rows_.clear();
+  for (const std::vector<uint32_t>& l : curves_of) {
+    point_curve_rows_.insert(point_curve_rows_.end(), l.begin(), l.end());
+    point_curve_offsets_.push_back(uint32_t(point_curve_rows_.size()));
+  }
   wrinkle_points_.clear();
   for (uint32_t p = 0; p < active; ++p)
     if (!rows_of[p].empty() || !curves_of[p].empty()) wrinkle_points_.push_back(p);
@@ -357,42 +362,16 @@ bool EvaluateJob::Run() const {
 
   if (thickness || muscle_wrinkles || curve_wrinkles) {
     // 2. The strain of X1 against the rest pose (MODEL.md §4-5): face normals and triangle
-    // area ratios of X1; the lengths of the edges the strain measures read, then compression
-    // eps per wrinkled-muscle row (001 eq. 9-10) and shrinkage s per curve-wrinkle entry
-    // (000 eq. 4). All read X1, so they run before anything moves.
+    // area ratios of X1, and the lengths of the edges the strain measures read (compression
+    // eps per wrinkled-muscle row, 001 eq. 9-10, and shrinkage s per curve-wrinkle entry,
+    // 000 eq. 4, are computed from them where step 3 needs them). All read X1, so they run
+    // before anything moves.
     face_normals(true);
     if (muscle_wrinkles || curve_wrinkles) {
       ParallelFor(*this, uint32_t(ctx.edge_lengths_.size()), [&](uint32_t b, uint32_t e) {
         EdgeLengths(points, ctx.edge_pairs_.data(), b, e, ctx.edge_lengths_.data());
       });
     }
-    const float* length = ctx.edge_lengths_.data();
-    if (muscle_wrinkles) {
-      ParallelFor(*this, uint32_t(ctx.compression_.size()), [&](uint32_t b, uint32_t e) {
-        const uint32_t* offsets = ctx.row_offsets_.data();
-        const uint32_t* edges = ctx.entry_edges_.data();
-        const float* coeffs = ctx.entry_coeffs_.data();
-        const float* rest = ctx.entry_rest_.data();
-        float* out = ctx.compression_.data();
-        for (uint32_t i = b; i < e; ++i) {
-          float eps = 0.f;
-          for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k)
-            eps += coeffs[k] * (rest[k] - length[edges[k]]);
-          out[i] = eps;
-        }
-      });
-    }
-    if (curve_wrinkles) {
-      ParallelFor(*this, uint32_t(r.curve_wrinkles.probes.size()), [&](uint32_t b, uint32_t e) {
-        for (uint32_t k = b; k < e; ++k) {
-          const uint32_t* edges = &ctx.probe_edges_[4 * k];
-          ctx.shrinkage_[k] = ProbeShrinkage(r.curve_wrinkles.probes[k], [&](uint32_t s, int which) {
-            return length[edges[2 * s + which]];
-          });
-        }
-      });
-    }
-
     // 3. Per point: N1 and r from its triangles (MODEL.md §1 step 2, §4), then one
     // displacement along N1 (MODEL.md §4, §6-8): the volume-preserving thickness (1/r - 1) h,
     // its muscle-wrinkle rows H At A(eps) in rig order, its curve wrinkles S(l) M. Three
@@ -412,35 +391,48 @@ bool EvaluateJob::Run() const {
     if (wrinkles) {
       ParallelFor(*this, uint32_t(ctx.wrinkle_points_.size()), [&](uint32_t b, uint32_t e) {
         // Plain pointers: the stores to `offsets` cannot alias them in the compiler's eyes.
+        const float* length = ctx.edge_lengths_.data();
+        const uint32_t* wrinkle_points = ctx.wrinkle_points_.data();
+        const uint32_t* point_rows = ctx.point_row_offsets_.data();
+        const uint32_t* row_entries = ctx.row_offsets_.data();
+        const uint32_t* edges = ctx.entry_edges_.data();
+        const float* coeffs = ctx.entry_coeffs_.data();
+        const float* rest = ctx.entry_rest_.data();
+        const float* profiles = ctx.row_profiles_.data();
         const CurveWrinkleParams* params = r.curve_wrinkles.wrinkles.data();
         const CurveWrinkleEntry* entries = r.curve_wrinkles.entries.data();
+        const ShrinkageProbe* probes = r.curve_wrinkles.probes.data();
+        const uint32_t* probe_edges = ctx.probe_edges_.data();
         const uint32_t* curve_offsets = r.curve_wrinkles.offsets.data();
-        const uint32_t* wrinkle_points = ctx.wrinkle_points_.data();
-        const uint32_t* row_offsets = ctx.point_row_offsets_.data();
-        const uint32_t* rows = ctx.point_rows_.data();
-        const float* profiles = ctx.row_profiles_.data();
-        const float* compression = ctx.compression_.data();
-        const uint32_t* curve_row_offsets = ctx.point_curve_offsets_.data();
+        const uint32_t* point_curves = ctx.point_curve_offsets_.data();
         const uint32_t* curve_rows = ctx.point_curve_rows_.data();
-        const float* shrinkage = ctx.shrinkage_.data();
         const float* ratios = ctx.point_ratios_.data();
         float* offsets = ctx.wrinkle_offsets_.data();
+        // Shrinkage s of curve-wrinkle entry k (000 eq. 4) from the edge lengths.
+        auto shrinkage = [&](uint32_t k) {
+          const uint32_t* pe = probe_edges + 4 * k;
+          return ProbeShrinkage(probes[k], [&](uint32_t s, int which) {
+            return length[pe[2 * s + which]];
+          });
+        };
         for (uint32_t i = b; i < e; ++i) {
           const uint32_t p = wrinkle_points[i];
           float d = 0.f;
           if (muscle_wrinkles) {
-            for (uint32_t k = row_offsets[p]; k < row_offsets[p + 1]; ++k) {
-              const uint32_t row = rows[k];
-              // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6).
-              d += profiles[row] * Anisotropy(compression[row]);
+            for (uint32_t row = point_rows[p]; row < point_rows[p + 1]; ++row) {
+              // 001 eq. 9-10: eps = sum_j c_j (L_j - l_j); eq. 4: W = H(w_i) A(eps) At_i
+              // (MODEL.md §5-6).
+              float eps = 0.f;
+              for (uint32_t k = row_entries[row]; k < row_entries[row + 1]; ++k)
+                eps += coeffs[k] * (rest[k] - length[edges[k]]);
+              d += profiles[row] * Anisotropy(eps);
             }
           }
-          if (curve_wrinkles && curve_row_offsets[p] < curve_row_offsets[p + 1]) {
-            const float rp = ratios[p];
-            for (uint32_t k = curve_row_offsets[p]; k < curve_row_offsets[p + 1]; ++k) {
+          if (curve_wrinkles) {
+            for (uint32_t k = point_curves[p]; k < point_curves[p + 1]; ++k) {
               const uint32_t row = curve_rows[k];
-              d += CurveWrinkleRowSum(params, entries, curve_offsets[row], curve_offsets[row + 1],
-                                      shrinkage, rp);
+              d += CurveWrinkleRowSumWith(params, entries, curve_offsets[row],
+                                          curve_offsets[row + 1], shrinkage, ratios[p]);
             }
           }
           offsets[p] = d;

@@ -3,11 +3,12 @@
 // rest mesh + activations -> positions and normals (MODEL.md §1). Stages:
 //   1. muscles (MuscleDeformJob over points)  X1 = X + sum_m a_m U_m          MODEL.md §1-3
 //   2. face normals of X1 with each triangle's area ratio in the same pass; strain of X1 vs
-//      X: lengths of the edges the strain measures read (each edge once), then compression
-//      eps per wrinkled-muscle row and shrinkage s per curve-wrinkle entry  MODEL.md §4-5
-//   3. per point: N1 and r gathered from its triangles, then X3 = X1 + d N1 with
+//      X: lengths of the edges the strain measures read (each edge once)  MODEL.md §4-5
+//   3. per point: N1 and r gathered from its triangles; compression eps of its
+//      wrinkled-muscle rows and shrinkage s of its directional curve-wrinkle entries from the
+//      edge lengths; then X3 = X1 + d N1 with
 //      d = (1/r - 1) h  +  sum of its muscle-wrinkle rows W  +  its curve-wrinkle sum
-//                                                                        MODEL.md §4, §6-8
+//                                                                        MODEL.md §4-8
 //   4. face normals of X3
 //   5. output (vertices): positions scattered to the file's vertex layout, normals of X3
 //      gathered per vertex straight into the output, with strides
@@ -66,17 +67,16 @@ class EvaluateContext {
   // Strain, derived from the rig's wrinkle tables when the context is sized:
   std::vector<uint32_t> edge_pairs_;     // 2 per edge that a strain measure reads
   std::vector<float> edge_lengths_;      // per such edge, this frame
-  std::vector<uint32_t> row_offsets_;    // muscle-wrinkle rows of every table, in rig order,
-                                         // + 1 -> entries
+  // Muscle-wrinkle rows of every table, point-major (a point's rows contiguous, in rig order):
+  std::vector<uint32_t> row_offsets_;    // + 1 -> entries
   std::vector<uint32_t> entry_edges_;    // per entry: its edge
   std::vector<float> entry_rest_;        // L_ij
   std::vector<float> entry_coeffs_;      // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
   std::vector<float> row_profiles_;      // H(w_i) At_i per row
-  std::vector<float> compression_;       // eps per row
   std::vector<uint32_t> probe_edges_;    // 4 per curve-wrinkle probe: sides' v1v2, v1v3
-  std::vector<float> shrinkage_;         // s per curve-wrinkle entry
-  // Per point that can move: its muscle-wrinkle rows and its curve-wrinkle rows (CSR).
-  std::vector<uint32_t> point_row_offsets_, point_rows_;
+  // Per point that can move: its muscle-wrinkle rows (a range of the rows above) and its
+  // curve-wrinkle rows (CSR).
+  std::vector<uint32_t> point_row_offsets_;
   std::vector<uint32_t> point_curve_offsets_, point_curve_rows_;
   std::vector<uint32_t> wrinkle_points_;  // points with any row above, ascending
   std::vector<float> wrinkle_offsets_;    // #P: their summed wrinkle displacement this frame

@@ -106,25 +106,6 @@ bool CurveWrinkleJob::Run() const {
   return true;
 }
 
-float CurveWrinkleRowSum(const CurveWrinkleParams* wrinkles, const CurveWrinkleEntry* entries,
-                         uint32_t first, uint32_t last, const float* shrinkage, float r_point) {
-  float sum = 0.f;
-  for (uint32_t k = first; k < last; ++k) {
-    const CurveWrinkleParams& params = wrinkles[entries[k].wrinkle];
-    const bool directional = params.modulation == CurveWrinkleModulation::kDirectional;
-    const float s = directional ? shrinkage[k] : 0.f;
-    const float r = directional ? 1.f : r_point;
-    if (entries[k].has_profile && params.profile == CurveWrinkleProfile::kBando) {
-      // CurveWrinkleValue's Bando branch with S(l) precomputed: the same bits.
-      sum += entries[k].profile * (directional ? DirectionalModulation(s, params.rest_amplitude)
-                                               : AreaModulation(r, params.rest_amplitude));
-    } else {
-      sum += CurveWrinkleValue(params, entries[k].distance, s, r);
-    }
-  }
-  return sum;
-}
-
 void CurveWrinkleJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     const uint32_t p = points[i];

@@ -11,6 +11,7 @@
 
 #include "core/math.h"
 #include "core/span.h"
+#include "wrinkles/runtime/profiles.h"
 
 namespace mimetic {
 
@@ -125,8 +126,34 @@ struct CurveWrinkleJob {
 float CurveWrinkleValue(const CurveWrinkleParams& p, float l, float s, float r);
 
 // Sum of W_e over entries [first, last) of a row whose point has area ratio r
-// (CurveWrinkleJob's per-row step): `shrinkage` is indexed by entry.
-float CurveWrinkleRowSum(const CurveWrinkleParams* wrinkles, const CurveWrinkleEntry* entries,
-                         uint32_t first, uint32_t last, const float* shrinkage, float r);
+// (CurveWrinkleJob's per-row step): shrinkage(k) gives entry k's s, and is called only for
+// directionally modulated entries (an area-modulated one never reads s).
+template <class ShrinkageFn>
+inline float CurveWrinkleRowSumWith(const CurveWrinkleParams* wrinkles,
+                                    const CurveWrinkleEntry* entries, uint32_t first,
+                                    uint32_t last, const ShrinkageFn& shrinkage, float r_point) {
+  float sum = 0.f;
+  for (uint32_t k = first; k < last; ++k) {
+    const CurveWrinkleParams& params = wrinkles[entries[k].wrinkle];
+    const bool directional = params.modulation == CurveWrinkleModulation::kDirectional;
+    const float s = directional ? shrinkage(k) : 0.f;
+    const float r = directional ? 1.f : r_point;
+    if (entries[k].has_profile && params.profile == CurveWrinkleProfile::kBando) {
+      // CurveWrinkleValue's Bando branch with S(l) precomputed: the same bits.
+      sum += entries[k].profile * (directional ? DirectionalModulation(s, params.rest_amplitude)
+                                               : AreaModulation(r, params.rest_amplitude));
+    } else {
+      sum += CurveWrinkleValue(params, entries[k].distance, s, r);
+    }
+  }
+  return sum;
+}
+// The same with s read from an array indexed by entry.
+inline float CurveWrinkleRowSum(const CurveWrinkleParams* wrinkles,
+                                const CurveWrinkleEntry* entries, uint32_t first, uint32_t last,
+                                const float* shrinkage, float r) {
+  return CurveWrinkleRowSumWith(wrinkles, entries, first, last,
+                                [shrinkage](uint32_t k) { return shrinkage[k]; }, r);
+}
 
 }  // namespace mimetic
