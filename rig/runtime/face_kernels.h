@@ -32,7 +32,9 @@ inline constexpr size_t kPointPadFloats = 1;
 
 // out[t] for t in [begin, end): xyz = (b - a) x (c - a) of triangle t (unnormalised, length =
 // twice the area), w = its area ratio S'/S (0.5 |n| / rest_areas[t], 1 where the rest area is
-// not positive) when rest_areas is non-null, else 0. `points` padded (kPointPadFloats).
+// not positive) when rest_areas is non-null, else 0. `points` padded (kPointPadFloats). With
+// ratios, eight triangles at a time with AVX where the CPU has it (checked at run time; the
+// same bits as the SSE and scalar paths).
 void FaceNormals4(const float3* points, const uint32_t* triangles, uint32_t begin, uint32_t end,
                   const float* rest_areas, float4* out);
 // The same without ratios for the listed triangles only: out[list[k]] for k < count.
