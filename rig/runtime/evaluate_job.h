@@ -1,7 +1,7 @@
 // rig/runtime/evaluate_job.h: the one per-frame entry point.
 //
 // rest mesh + activations -> positions and normals (MODEL.md §1). Stages:
-//   1. muscles (MuscleDeformJob over points)  X1 = X + sum_m a_m U_m          MODEL.md §1-3
+//   1. muscles (MusclePoints: MuscleDeformJob in SSE)  X1 = X + sum_m a_m U_m  MODEL.md §1-3
 //   2. face normals of X1 with each triangle's area ratio in the same pass; strain of X1 vs
 //      X: lengths of the edges the strain measures read (each edge once)  MODEL.md §4-5
 //   3. per point: N1 and r gathered from its triangles; compression eps of its
