@@ -133,22 +133,38 @@ void SetCounters(benchmark::State& state, const Rig& rig) {
                          benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// Activations (or blendshape weights) of frame `frame`: smooth, different per channel.
+void FillWeights(std::vector<float>* w, uint32_t frame) {
+  for (size_t m = 0; m < w->size(); ++m)
+    (*w)[m] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * m));
+}
+
+// An EvaluateJob over its own context and output buffers.
+struct EvaluateSetup {
+  EvaluateSetup(const Rig& rig, EvaluateLayers layers)
+      : context(rig), activations(rig.muscle_count()), positions(3 * rig.vertex_count()),
+        normals(3 * rig.vertex_count()) {
+    job.rig = &rig;
+    job.context = &context;
+    job.activations = activations;
+    job.out_positions = positions;
+    job.out_normals = normals;
+    job.layers = layers;
+  }
+  EvaluateContext context;
+  std::vector<float> activations, positions, normals;
+  EvaluateJob job;
+};
+
 void RunEvaluate(benchmark::State& state, bool head, EvaluateLayers layers) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;
-  EvaluateContext context(rig);
-  std::vector<float> activations(rig.muscle_count());
-  std::vector<float> positions(3 * rig.vertex_count()), normals(3 * rig.vertex_count());
-  EvaluateJob job;
-  job.rig = &rig;
-  job.context = &context;
-  job.activations = activations;
-  job.out_positions = positions;
-  job.out_normals = normals;
-  job.layers = layers;
+  EvaluateSetup setup(rig, layers);
+  const EvaluateJob& job = setup.job;
+  std::vector<float>& positions = setup.positions;
+  std::vector<float>& normals = setup.normals;
   uint32_t frame = 0;
   for (auto _ : state) {
-    for (size_t m = 0; m < activations.size(); ++m)
-      activations[m] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * m));
+    FillWeights(&setup.activations, frame);
     if (!job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
@@ -176,8 +192,7 @@ void RunReference(benchmark::State& state, bool head) {
   std::vector<float> positions(3 * rig.vertex_count()), normals(3 * rig.vertex_count());
   uint32_t frame = 0;
   for (auto _ : state) {
-    for (size_t s = 0; s < weights.size(); ++s)
-      weights[s] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * s));
+    FillWeights(&weights, frame);
     bench::EvaluateReference(rig, f.reference, weights, &context, positions, normals);
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
@@ -193,26 +208,19 @@ void RunReference(benchmark::State& state, bool head) {
 void RunPaired(benchmark::State& state, bool head) {
   const Fixture& f = GetFixture(head, int(state.range(0)));
   const Rig& rig = f.rig;
-  EvaluateContext context(rig);
+  EvaluateSetup setup(rig, EvaluateLayers{});
   bench::ReferenceContext ref_context(rig);
-  std::vector<float> activations(rig.muscle_count()), weights(f.reference.shapes.size());
-  std::vector<float> positions(3 * rig.vertex_count()), normals(3 * rig.vertex_count());
-  EvaluateJob job;
-  job.rig = &rig;
-  job.context = &context;
-  job.activations = activations;
-  job.out_positions = positions;
-  job.out_normals = normals;
+  std::vector<float> weights(f.reference.shapes.size());
+  std::vector<float>& positions = setup.positions;
+  std::vector<float>& normals = setup.normals;
   using Clock = std::chrono::steady_clock;
   Clock::duration evaluate{}, reference{};
   uint32_t frame = 0;
   for (auto _ : state) {
-    for (size_t m = 0; m < activations.size(); ++m)
-      activations[m] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * m));
-    for (size_t s = 0; s < weights.size(); ++s)
-      weights[s] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * s));
+    FillWeights(&setup.activations, frame);
+    FillWeights(&weights, frame);
     const Clock::time_point t0 = Clock::now();
-    if (!job.Run()) state.SkipWithError("EvaluateJob failed");
+    if (!setup.job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
     const Clock::time_point t1 = Clock::now();
