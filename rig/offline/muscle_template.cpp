@@ -134,6 +134,18 @@ class Parser {
     return &*it;
   }
 
+  // The required "name" of an object: a non-empty string (`example` shows one).
+  void ReadName(const json& v, const std::string& path, const std::string& example,
+                std::string* out) {
+    const std::string expect = "a non-empty string such as \"" + example + "\"";
+    if (const json* n = Member(v, path, "name", expect)) {
+      if (!n->is_string() || n->get<std::string>().empty())
+        Error(Key(path, "name"), "expected a non-empty string, got " + Describe(*n));
+      else
+        *out = n->get<std::string>();
+    }
+  }
+
   // `on_surface`: a curve wrinkle's control point, which lies in the skin: `depth` is optional
   // and must be 0 when given.
   bool ParsePoint(const json& v, const std::string& path, TemplatePoint* out,
@@ -296,12 +308,7 @@ class Parser {
     }
     const size_t before = errors_;
     TemplateMuscle m;
-    if (const json* n = Member(v, path, "name", "a non-empty string such as \"zygomaticus_major_L\"")) {
-      if (!n->is_string() || n->get<std::string>().empty())
-        Error(Key(path, "name"), "expected a non-empty string, got " + Describe(*n));
-      else
-        m.name = n->get<std::string>();
-    }
+    ReadName(v, path, "zygomaticus_major_L", &m.name);
     bool typed = false;
     if (const json* t = Member(v, path, "type", "\"linear\" or \"sheet\"")) {
       if (t->is_string() && t->get<std::string>() == "linear") {
@@ -519,12 +526,7 @@ class Parser {
                         "rest_amplitude"},
               "a curve wrinkle");
     TemplateCurveWrinkle c;
-    if (const json* n = Member(v, path, "name", "a non-empty string such as \"nasolabial_L\"")) {
-      if (!n->is_string() || n->get<std::string>().empty())
-        Error(Key(path, "name"), "expected a non-empty string, got " + Describe(*n));
-      else
-        c.name = n->get<std::string>();
-    }
+    ReadName(v, path, "nasolabial_L", &c.name);
     bool mirror = false;
     if (const json* mm = Member(v, path, "mirror", "")) {
       if (!mm->is_boolean()) {
