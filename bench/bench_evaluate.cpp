@@ -26,12 +26,13 @@
 #include <vector>
 
 #include "bench/reference_blendshapes.h"
-#include "rig/offline/fit.h"
-#include "rig/offline/landmarks.h"
-#include "rig/offline/muscle_template.h"
-#include "rig/offline/procedural.h"
+#include "content/procedural.h"
+#include "content/sample_head.h"
+#include "fitting/fit.h"
+#include "fitting/landmarks.h"
+#include "fitting/muscle_template.h"
+#include "io/template_file.h"
 #include "rig/offline/rig_builder.h"
-#include "rig/offline/sample_head.h"
 #include "rig/runtime/evaluate_job.h"
 
 namespace {

@@ -1,5 +1,5 @@
 // tools/cmd_fit.cpp: `mimetic fit`, a muscle template placed on a head from its landmarks
-// (rig/offline/fit.h, docs/fitting.md).
+// (fitting/fit.h, docs/fitting.md).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,14 +7,19 @@
 #include <vector>
 
 #include "core/file_util.h"
-#include "rig/offline/fit.h"
-#include "rig/offline/landmarks.h"
-#include "rig/offline/mesh.h"
-#include "rig/offline/muscle_template.h"
-#include "rig/offline/render.h"
+#include "fitting/fit.h"
+#include "fitting/landmarks.h"
+#include "fitting/muscle_template.h"
+#include "geometry/mesh.h"
+#include "io/image.h"
+#include "io/landmarks_file.h"
+#include "io/mesh_io.h"
+#include "io/rig_file.h"
+#include "io/template_file.h"
 #include "rig/offline/rig_spec.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/render/render.h"
 
 namespace mimetic::tools {
 namespace {

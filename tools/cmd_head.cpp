@@ -3,9 +3,11 @@
 #include <cstdio>
 #include <string>
 
-#include "rig/offline/landmarks.h"
-#include "rig/offline/mesh.h"
-#include "rig/offline/sample_head.h"
+#include "content/sample_head.h"
+#include "fitting/landmarks.h"
+#include "geometry/mesh.h"
+#include "io/landmarks_file.h"
+#include "io/mesh_io.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

@@ -5,10 +5,12 @@
 #include <cstdlib>
 #include <string>
 
-#include "rig/offline/mesh.h"
-#include "rig/offline/render.h"
+#include "geometry/mesh.h"
+#include "io/image.h"
+#include "io/mesh_io.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/render/render.h"
 
 namespace mimetic::tools {
 

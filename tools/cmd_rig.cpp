@@ -8,7 +8,9 @@
 
 #include "core/file_util.h"
 #include "expressions/offline/activation_binding.h"
-#include "rig/offline/mesh.h"
+#include "geometry/mesh.h"
+#include "io/mesh_io.h"
+#include "io/rig_loader.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"

@@ -3,8 +3,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "rig/offline/mesh.h"
-#include "rig/offline/procedural.h"
+#include "content/procedural.h"
+#include "geometry/mesh.h"
+#include "io/mesh_io.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

@@ -6,14 +6,18 @@
 #   bash tools/install-deps.sh --viewer   # also GLFW, Dear ImGui and Xvfb for the viewer
 set -euo pipefail
 
+# Why each is here (README "Dependencies"): the toolchain; nlohmann-json (the JSON reader),
+# tinygltf (glTF), OpenMesh (OBJ reading, offline geometry), stb (images) for the offline io
+# module; GoogleTest and Google Benchmark for tests/ and bench/; python3-jsonschema checks the
+# rig schema in a test. The runtime libraries need none of them.
 packages=(
   build-essential cmake pkg-config git
-  nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libglm-dev libstb-dev
+  nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
 )
 if [[ "${1:-}" == "--viewer" ]]; then
-  packages+=(libglfw3-dev libimgui-dev libgl-dev xvfb xauth)
+  packages+=(libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth)
 fi
 
 missing=()

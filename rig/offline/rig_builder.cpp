@@ -6,11 +6,9 @@
 #include <limits>
 #include <string>
 
-#include <stb/stb_image.h>
-
 #include "muscles/offline/muscle_builder.h"
-#include "rig/offline/refine.h"
-#include "rig/offline/weld.h"
+#include "geometry/refine.h"
+#include "geometry/weld.h"
 #include "rig/runtime/normals_job.h"
 #include "wrinkles/offline/bezier.h"
 #include "wrinkles/offline/wrinkle_builder.h"
@@ -19,23 +17,6 @@ namespace mimetic {
 namespace {
 
 std::atomic<uint64_t> g_next_uid{1};
-
-// Reads a grayscale image (any format stb_image reads) into 8-bit values.
-bool LoadGray(const std::string& path, std::vector<uint8_t>* gray, int* width, int* height,
-              Diagnostics* diag) {
-  int channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), width, height, &channels, 1);
-  if (!data) {
-    const char* reason = stbi_failure_reason();
-    diag->Error("thickness.path", "cannot read thickness image '" + path +
-                                      "': " + (reason ? reason : "unknown error") +
-                                      " (expected a PNG, JPEG, TGA or BMP image)");
-    return false;
-  }
-  gray->assign(data, data + size_t(*width) * size_t(*height));
-  stbi_image_free(data);
-  return true;
-}
 
 bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
                       std::vector<float>* out, Diagnostics* diag) {
@@ -66,9 +47,14 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
                                      mesh.source + "' has none");
         return false;
       }
-      std::vector<uint8_t> gray;
-      int width = 0, height = 0;
-      if (!LoadGray(spec.image_path, &gray, &width, &height, diag)) return false;
+      if (spec.image.empty()) {  // io's LoadRig decodes it (io/rig_loader.h)
+        diag->Error("thickness.path", "thickness image '" + spec.image_path +
+                                          "' was not decoded (load the rig with LoadRig, or fill "
+                                          "ThicknessSpec::image before BuildRig)");
+        return false;
+      }
+      const std::vector<uint8_t>& gray = spec.image.pixels;
+      const int width = spec.image.width, height = spec.image.height;
       // Gray level in [0, 1] at every file vertex (002 §6), then min + (max - min) * g.
       std::vector<float> level;
       if (!SampleThicknessMap(gray, width, height, 1.f, mesh.uvs, "thickness", &level, diag))
@@ -441,27 +427,6 @@ MeshData RestMesh(const Rig& rig) {
   mesh.uvs = rig.vertex_uvs;
   mesh.indices = rig.vertex_indices;
   return mesh;
-}
-
-bool LoadRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag,
-             const BuildOptions& options) {
-  Diagnostics local;
-  LoadedRig loaded;
-  if (!LoadRigSpec(rig_path, &loaded.spec, &local)) {
-    diag->Append(local, rig_path);
-    return false;
-  }
-  if (!ImportMesh(loaded.spec.mesh_path, loaded.spec.mesh_name, &loaded.mesh, &local)) {
-    diag->Append(local, loaded.spec.mesh_path);
-    return false;
-  }
-  diag->Append(local, loaded.spec.mesh_path);
-  local.Clear();
-  const bool ok = BuildRig(loaded.spec, loaded.mesh, options, &loaded.rig, &local);
-  diag->Append(local, rig_path);
-  if (!ok) return false;
-  *out = std::move(loaded);
-  return true;
 }
 
 }  // namespace mimetic

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/diagnostics.h"
-#include "rig/offline/mesh.h"
+#include "geometry/mesh.h"
 #include "rig/offline/rig_spec.h"
 #include "rig/runtime/rig.h"
 
@@ -24,15 +24,5 @@ bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& opt
 // The rig's rest mesh in its output layout (refined where wrinkles act): positions, uvs and
 // triangles per output vertex. Tools use it to write posed meshes and measure displacements.
 MeshData RestMesh(const Rig& rig);
-
-// Everything a tool needs about one rig file.
-struct LoadedRig {
-  RigSpec spec;
-  MeshData mesh;
-  Rig rig;
-};
-// LoadRigSpec + ImportMesh + BuildRig. Diagnostics are prefixed with the file they concern.
-bool LoadRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag,
-             const BuildOptions& options = {});
 
 }  // namespace mimetic

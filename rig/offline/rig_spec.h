@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/image.h"
 #include "muscles/offline/muscle_spec.h"
 #include "wrinkles/offline/wrinkle_spec.h"
 
@@ -19,6 +20,7 @@ struct ThicknessSpec {
   float value = 0.f;               // kConstant
   std::vector<float> per_vertex;   // kPerVertex: one per file vertex
   std::string image_path;          // kImage: absolute or relative to the cwd (resolved)
+  GrayImage image;                 // kImage: its pixels, decoded by io (LoadRig) before BuildRig
   float min = 0.f, max = 0.f;      // kImage: black -> min, white -> max
 };
 
@@ -62,16 +64,5 @@ struct RigSpec {
 // Waters' Rf, phi the zone angle; sheet lines, Ls and Ws as they are. (Here because muscles/
 // and wrinkles/ are siblings that do not include each other.)
 WrinkleMuscleGeometry WrinkleGeometryOf(const MuscleSpec& muscle);
-
-// Parses and validates a rig file. Every problem is recorded with its JSON path
-// (`muscles[3].insertion: expected array of 3 numbers, got string`); returns false when any
-// error was recorded. `base_dir` resolves relative paths ("" = current directory).
-bool ParseRigSpec(std::string_view json_text, const std::string& base_dir, RigSpec* out,
-                  Diagnostics* diag);
-bool LoadRigSpec(const std::string& path, RigSpec* out, Diagnostics* diag);
-
-// Writes the rig file atomically (temp file + rename). Paths are written relative to the
-// directory of `path` where possible.
-bool SaveRigSpec(const std::string& path, const RigSpec& spec, Diagnostics* diag);
 
 }  // namespace mimetic

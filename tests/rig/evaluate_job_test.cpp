@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "muscles/offline/waters.h"
-#include "rig/offline/procedural.h"
+#include "content/procedural.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "rig/offline/procedural.h"
+#include "content/procedural.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "rig/runtime/normals_job.h"

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <fstream>
 
+#include "geometry/mesh.h"
+#include "io/mesh_io.h"
+#include "io/rig_file.h"
 #include "muscles/offline/waters.h"
-#include "rig/offline/mesh.h"
 #include "rig/offline/rig_spec.h"
 #include "test_support.h"
 

@@ -1,0 +1,547 @@
+// content/sample_head.cpp: the procedural sample head.
+//
+// Shape: a signed-distance-like field built from anatomical parts joined with smooth unions
+// (polynomial smooth min). Sampling: a spherical range image (the Cyberware form of Bando
+// 2003 §6, with polar rows so that the crown and the underside of the nose and chin are seen
+// at a useful angle) taken from a centre inside the head; each grid node takes the outermost
+// crossing of its ray, so the result is always a single-valued surface.
+//
+// Proportions (adult, neutral; y = 0 at the eye corners, so the eyes sit halfway between the
+// crown at +115 and the menton at -114):
+//   brows +18, nasion +5, subnasale -47 (brow to nose base = nose base to chin: the classic
+//   facial thirds), stomion -66 (a third of the way from the nose base to the chin), menton
+//   -114; head breadth 146, head length ~200, bizygomatic ~136, bigonial ~104, intercanthal
+//   30, biocular 90, nose width (alae) 34, nose protrusion ~20 from subnasale, mouth width 52.
+#include "content/sample_head.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace mimetic {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Small double-precision vector helpers (the field is evaluated in double so that the mesh
+// is the same on every build that rounds IEEE doubles the same way).
+struct V3 {
+  double x = 0, y = 0, z = 0;
+};
+V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+V3 operator*(V3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double Dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double Len(V3 a) { return std::sqrt(Dot(a, a)); }
+
+constexpr double kPiD = 3.14159265358979323846;
+double Rad(double deg) { return deg * kPiD / 180.0; }
+
+double Clamp01(double v) { return v < 0 ? 0 : (v > 1 ? 1 : v); }
+double SmoothStep(double e0, double e1, double x) {
+  const double t = Clamp01((x - e0) / (e1 - e0));
+  return t * t * (3 - 2 * t);
+}
+double Gauss(double x, double sigma) { return std::exp(-(x * x) / (sigma * sigma)); }
+
+// Polynomial smooth minimum (blend radius k) and maximum.
+double SMin(double a, double b, double k) {
+  const double h = std::max(k - std::fabs(a - b), 0.0) / k;
+  return std::min(a, b) - h * h * k * 0.25;
+}
+double SMax(double a, double b, double k) { return -SMin(-a, -b, k); }
+
+// Ellipsoid distance estimate (exact on the surface, a bound nearby).
+double Ellipsoid(V3 p, V3 r) {
+  const V3 q{p.x / r.x, p.y / r.y, p.z / r.z};
+  const V3 q2{p.x / (r.x * r.x), p.y / (r.y * r.y), p.z / (r.z * r.z)};
+  const double k0 = Len(q), k1 = Len(q2);
+  if (k1 < 1e-12) return -std::min({r.x, r.y, r.z});
+  return k0 * (k0 - 1.0) / k1;
+}
+// Capsule with radius varying linearly from ra (at a) to rb (at b).
+double Capsule(V3 p, V3 a, V3 b, double ra, double rb) {
+  const V3 ab = b - a;
+  const double t = Clamp01(Dot(p - a, ab) / Dot(ab, ab));
+  return Len(p - (a + ab * t)) - (ra + (rb - ra) * t);
+}
+// 2D distance from (x, y) to the segment (ax, ay)-(bx, by).
+double Seg2(double x, double y, double ax, double ay, double bx, double by) {
+  const double dx = bx - ax, dy = by - ay;
+  const double t = Clamp01(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy));
+  return std::hypot(x - ax - t * dx, y - ay - t * dy);
+}
+
+// ---------------------------------------------------------------------------------------
+// Anatomy. All parts are mirror-symmetric: paired parts are evaluated at |x|.
+constexpr double kMenton = -114.0;
+constexpr V3 kRayCentre{0.0, 0.0, 10.0};
+
+// Eyes: eyeball (closed lid) centre, lid radius; canthi.
+constexpr V3 kEye{31.0, -0.5, 66.0};
+constexpr double kLidRadius = 13.2;
+constexpr double kInnerCanthusX = 16.0, kOuterCanthusX = 45.0;
+// Closed-lid line: y of the fissure as a function of x (slightly lower in the middle).
+double LidLineY(double ax) {
+  const double t = Clamp01((ax - kInnerCanthusX) / (kOuterCanthusX - kInnerCanthusX));
+  return -1.5 + 1.5 * t - 2.0 * std::sin(kPiD * t);
+}
+// Mouth: the lips follow the dental arch, a bend of radius kArch about a vertical axis.
+constexpr double kArch = 46.0;
+constexpr double kStomionY = -66.0, kLipFrontZ = 99.0, kMouthHalfWidth = 26.0;
+V3 MouthSpace(V3 q) { return {q.x, q.y, q.z + q.x * q.x / (2 * kArch)}; }
+
+double HeadField(V3 p, bool ears) {
+  const V3 q{std::fabs(p.x), p.y, p.z};
+
+  // Cranium (top at kCrown) and the neck stump.
+  double d = Ellipsoid(p - V3{0, 27, -8}, {73, 88, 98});
+  d = SMin(d, Ellipsoid(p - V3{0, 45, -18}, {72, 67, 88}), 10);  // parietal fullness
+  // Forehead: a slightly flatter, fuller front of the skull.
+  d = SMin(d, Ellipsoid(p - V3{0, 38, 38}, {60, 52, 52}), 12);
+  d = SMin(d, Capsule(p, {0, -40, -22}, {0, -260, -32}, 52, 54), 28);
+
+  // Midface (maxilla and zygomatic body) and the muzzle over the dental arch.
+  d = SMin(d, Ellipsoid(p - V3{0, -18, 24}, {62, 48, 66}), 16);
+  d = SMin(d, Ellipsoid(p - V3{0, -60, 56}, {37, 30, 38}), 14);
+  // Mandible: ramus, body to the chin, chin.
+  const V3 gonion{51, -80, 2};
+  d = SMin(d, Capsule(q, {58, -28, -8}, gonion, 11, 11), 22);
+  d = SMin(d, Capsule(q, gonion, {17, -104, 72}, 10, 9), 20);
+  d = SMin(d, Ellipsoid(p - V3{0, -99, 80}, {18, 14, 14}), 16);
+  // Cheekbones and malar fat pads (their inner edge makes the nasolabial fold).
+  d = SMin(d, Ellipsoid(q - V3{47, -11, 53}, {17, 9, 16}), 16);
+  d = SMin(d, Ellipsoid(q - V3{31, -30, 70}, {17, 15, 12}), 14);
+  d = SMin(d, Ellipsoid(q - V3{41, -56, 42}, {17, 24, 24}), 18);  // buccal fullness
+
+  // Brow ridge (two arcs meeting at the glabella).
+  d = SMin(d, Ellipsoid(q - V3{20, 16, 83}, {24, 8, 11}), 12);
+
+  // Eye sockets and closed lids.
+  d = SMax(d, -Ellipsoid(q - V3{kEye.x, 0.0, 87}, {19, 11, 17}), 8);
+  double lid = Len(q - kEye) - kLidRadius;
+  {
+    const double across = Clamp01((q.x - kInnerCanthusX + 1) / 3.0) *
+                          Clamp01((kOuterCanthusX + 1 - q.x) / 3.0);
+    const double front = SmoothStep(kEye.z, kEye.z + 6, q.z);
+    lid += 0.9 * Gauss(q.y - LidLineY(q.x), 0.9) * across * front;              // lid line
+    lid += 0.35 * Gauss(q.y - (LidLineY(q.x) + 7.5), 1.4) * across * front;     // lid crease
+  }
+  d = SMin(d, lid, 3);
+
+  // Nose: a wedge with sloping sides along the dorsum line (nasion to tip), a rounded tip,
+  // alae and nostrils.
+  double nose;
+  {
+    const V3 top{0, 4, 89}, tip{0, -33, 111};
+    const double t = Clamp01((p.y - top.y) / (tip.y - top.y));
+    const double ridge_z = top.z + (tip.z - top.z) * t;
+    const double half_round = 2.5 + 3.0 * t;  // the dorsum widens toward the tip
+    const double ax = std::sqrt(p.x * p.x + half_round * half_round) - half_round;
+    nose = 0.8 * ax + 0.6 * (p.z - ridge_z);            // sides at ~37 deg to the face plane
+    nose = SMax(nose, p.y - top.y - 4, 6);                // fades out above the nasion
+    nose = SMax(nose, tip.y - 6 - p.y, 4);                // ends under the tip
+    nose = SMax(nose, ridge_z - 24 - p.z, 4);             // rooted in the face
+  }
+  nose = SMin(nose, Ellipsoid(p - V3{0, -35, 107.5}, {7.0, 7.5, 8.0}), 5);
+  nose = SMin(nose, Ellipsoid(q - V3{12.0, -40.5, 96.5}, {5.5, 5.5, 8.0}), 5);
+  nose = SMax(nose, -Ellipsoid(q - V3{6.0, -46.5, 103}, {3.4, 2.4, 6.0}), 1.5);
+  d = SMin(d, nose, 5);
+
+  // Lips and mouth line (in the arch-bent frame).
+  const V3 m = MouthSpace(q);
+  d = SMin(d, Ellipsoid(m - V3{0, -60.5, kLipFrontZ - 7}, {kMouthHalfWidth, 6, 9}), 4);
+  d = SMin(d, Ellipsoid(m - V3{0, -72.0, kLipFrontZ - 9}, {22, 6.5, 10}), 4);
+  d = SMax(d, -Ellipsoid(m - V3{0, kStomionY, kLipFrontZ}, {kMouthHalfWidth + 1, 0.7, 6}), 0.8);
+
+  // Grooves as small displacements along the outward field direction.
+  if (q.z > 40) {
+    // Philtrum.
+    d += 0.7 * Gauss(q.x - 0.0, 3.0) * SmoothStep(-47, -50, q.y) * SmoothStep(-60, -57, q.y);
+    // Mouth corners (modiolus).
+    d += 0.8 * Gauss(std::hypot(q.x - kMouthHalfWidth - 0.5, q.y - kStomionY), 2.5);
+    // Nasolabial folds: from beside the ala down past the mouth corner.
+    d += 1.0 * Gauss(Seg2(q.x, q.y, 20, -39, 31, -72), 2.5) * SmoothStep(60, 75, q.z);
+  }
+
+  // Ears: low relief (helix rim, concha bowl), just behind the jaw.
+  if (ears) {
+    const V3 e = q - V3{70, -8, -8};
+    double ear = Ellipsoid(e, {8, 30, 17});
+    ear = SMax(ear, -Ellipsoid(e - V3{8, -4, 3}, {5, 12, 8}), 3);  // concha
+    d = SMin(d, ear, 6);
+  }
+  return d;
+}
+
+// ---------------------------------------------------------------------------------------
+// Ray casting.
+V3 Direction(double theta, double phi) {
+  return {std::sin(phi) * std::sin(theta), std::cos(phi), std::sin(phi) * std::cos(theta)};
+}
+
+// The ray origin slides down the vertical axis x = 0, z = 10 as phi grows: from the eye
+// level for the upper head and face, to the mouth level for the jaw and neck, so that the
+// underside of the jaw is seen from below its line instead of behind it. The descent starts
+// lower at the front (the mouth and chin keep the eye-level view) than at the sides. For a
+// fixed theta the origin never rises as phi grows, so the rays of one half-plane cannot
+// cross and the grid cannot fold.
+V3 RayOrigin(double theta, double phi) {
+  const double side = SmoothStep(Rad(25), Rad(55), std::fabs(theta));
+  const double lo = Rad(175) + (Rad(128) - Rad(175)) * side;
+  const double hi = Rad(200) + (Rad(158) - Rad(200)) * side;
+  return {kRayCentre.x, kRayCentre.y - 60.0 * SmoothStep(lo, hi, phi), kRayCentre.z};
+}
+
+// Outermost crossing of the ray from `origin` along `dir`: march inward from far outside.
+double CastRay(V3 origin, V3 dir, bool ears) {
+  double r_out = 330.0;
+  double r = r_out;
+  for (int i = 0; i < 400 && r > 0; ++i) {
+    const double f = HeadField(origin + dir * r, ears);
+    if (f < 0) {
+      double lo = r, hi = r_out;  // lo inside, hi outside
+      for (int k = 0; k < 24; ++k) {  // the bracket is < 1 mm: 24 halvings reach 1e-7 mm
+        const double mid = 0.5 * (lo + hi);
+        if (HeadField(origin + dir * mid, ears) < 0) lo = mid;
+        else hi = mid;
+      }
+      return 0.5 * (lo + hi);
+    }
+    r_out = r;
+    r -= std::max(0.6 * f, 0.15);
+  }
+  return 1.0;  // not reached for this field (every origin is inside the head)
+}
+
+V3 SurfacePoint(double theta, double phi, bool ears) {
+  const V3 o = RayOrigin(theta, phi);
+  const V3 dir = Direction(theta, phi);
+  return o + dir * CastRay(o, dir, ears);
+}
+
+// The first surface point met going from `p` along `dir` (p outside the head).
+V3 ProjectAlong(V3 p, V3 dir, bool ears) {
+  double t_out = 0.0, t = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    const double f = HeadField(p + dir * t, ears);
+    if (f < 0) {
+      double lo = t_out, hi = t;  // lo outside, hi inside
+      for (int k = 0; k < 40; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        if (HeadField(p + dir * mid, ears) < 0) hi = mid;
+        else lo = mid;
+      }
+      return p + dir * (0.5 * (lo + hi));
+    }
+    t_out = t;
+    t += std::max(0.6 * f, 0.1);
+  }
+  return p;
+}
+
+// Polar angle at which the ray in azimuth `theta` meets the surface at height y_cut.
+double PhiEnd(double theta, double y_cut, bool ears) {
+  double lo = Rad(100), hi = Rad(179);
+  for (int k = 0; k < 40; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    if (SurfacePoint(theta, mid, ears).y > y_cut) lo = mid;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Inverts the cumulative density of `density` over [a, b] at `count + 1` evenly spaced
+// quantiles (first = a, last = b).
+template <typename F>
+std::vector<double> Quantiles(F density, double a, double b, int count) {
+  const int K = 8192;
+  std::vector<double> cdf(K + 1, 0.0);
+  const double h = (b - a) / K;
+  for (int k = 0; k < K; ++k)
+    cdf[k + 1] = cdf[k] + 0.5 * h * (density(a + k * h) + density(a + (k + 1) * h));
+  std::vector<double> out(count + 1);
+  out[0] = a;
+  out[count] = b;
+  int k = 0;
+  for (int i = 1; i < count; ++i) {
+    const double target = cdf[K] * i / count;
+    while (k < K - 1 && cdf[k + 1] < target) ++k;
+    const double t = (target - cdf[k]) / std::max(cdf[k + 1] - cdf[k], 1e-300);
+    out[i] = a + (k + t) * h;
+  }
+  return out;
+}
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5).
+V3 ClosestOnTriangle(V3 p, V3 a, V3 b, V3 c) {
+  const V3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V3 bp = p - b;
+  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const V3 cp = p - c;
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+V3 ToV3(float3 v) { return {v.x, v.y, v.z}; }
+float3 ToF3(V3 v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
+
+// ---------------------------------------------------------------------------------------
+// Landmarks, in the iBUG 68 order, placed the way an annotator marks a frontal photograph:
+// each is an (x, y) position on the face, projected onto the surface along -Z. The jaw
+// contour (0-16) is a silhouette in a photograph; here it is projected from outside toward
+// a point inside the lower head, so it lies on the jaw line. Subject's left (+x) points are
+// given; the right side mirrors them.
+// Mirror pairs (iBUG): subject's left index -> subject's right index.
+constexpr int kMirrorPairs[][2] = {
+    {9, 7},   {10, 6},  {11, 5},  {12, 4},  {13, 3},  {14, 2},  {15, 1},  {16, 0},
+    {22, 21}, {23, 20}, {24, 19}, {25, 18}, {26, 17}, {34, 32}, {35, 31}, {42, 39},
+    {43, 38}, {44, 37}, {45, 36}, {46, 41}, {47, 40}, {53, 49}, {52, 50}, {54, 48},
+    {55, 59}, {56, 58}, {63, 61}, {64, 60}, {65, 67}};
+
+struct LandmarkTarget {
+  V3 from;  // start point, outside the head
+  V3 dir;   // unit direction toward the surface
+};
+std::array<LandmarkTarget, 68> LandmarkTargets() {
+  std::array<LandmarkTarget, 68> t{};
+  auto front = [](double x, double y) { return LandmarkTarget{{x, y, 200}, {0, 0, -1}}; };
+  // Jaw contour, left half 8..16: menton, along the mandible to the jaw angle and up in front
+  // of the ear to eye level.
+  const V3 inner{0, -25, 10};
+  const std::array<V3, 9> jaw = {{{0, -125, 95},
+                                  {19, -120, 85},
+                                  {36, -112, 72},
+                                  {50, -100, 55},
+                                  {60, -85, 35},
+                                  {68, -66, 25},
+                                  {74, -46, 20},
+                                  {78, -25, 16},
+                                  {80, -4, 14}}};
+  for (int i = 0; i < 9; ++i) {
+    const V3 d = inner - jaw[i];
+    t[8 + i] = {jaw[i], d * (1.0 / Len(d))};
+  }
+  // Left brow 22 (inner) .. 26 (outer), along the brow ridge.
+  t[22] = front(11, 17);
+  t[23] = front(20, 20.5);
+  t[24] = front(30, 22);
+  t[25] = front(40, 20.5);
+  t[26] = front(49, 15);
+  // Nose bridge 27 (nasion, level with the eye corners) .. 30 (tip).
+  t[27] = front(0, 1.5);
+  t[28] = front(0, -10.5);
+  t[29] = front(0, -22.5);
+  t[30] = {{0, -34.5, 200}, {0, 0, -1}};
+  // Lower nose: 33 the nose base centre, 34 between, 35 the left ala's lower edge.
+  t[33] = {{0, -60, 130}, {0, 0.5, -0.866}};  // seen a little from below: the columella base
+  t[34] = {{7, -59, 127}, {0, 0.5, -0.866}};
+  t[35] = front(15.5, -42.5);
+  // Left eye: 42 inner corner, 43-44 upper lid, 45 outer corner, 46-47 lower lid. Closed
+  // lids: the upper and lower points sit just above and below the lid line.
+  t[42] = front(kInnerCanthusX + 0.5, LidLineY(kInnerCanthusX + 0.5));
+  t[43] = front(26, LidLineY(26) + 0.6);
+  t[44] = front(36, LidLineY(36) + 0.6);
+  t[45] = front(kOuterCanthusX - 0.5, LidLineY(kOuterCanthusX - 0.5));
+  t[46] = front(36, LidLineY(36) - 0.6);
+  t[47] = front(26, LidLineY(26) - 0.6);
+  // Outer lip 51 (top centre) .. 54 (left corner) .. 57 (bottom centre); inner lip on the
+  // closed mouth line, just above (61-63) and below (65-67) it.
+  t[54] = front(kMouthHalfWidth, kStomionY);
+  t[53] = front(16, -60.5);
+  t[52] = front(6, -57.5);
+  t[51] = front(0, -58.0);
+  t[55] = front(16, -72.5);
+  t[56] = front(7, -76.0);
+  t[57] = front(0, -76.5);
+  t[64] = front(kMouthHalfWidth - 2.5, kStomionY);
+  t[63] = front(10, kStomionY + 0.5);
+  t[62] = front(0, kStomionY + 0.5);
+  t[65] = front(10, kStomionY - 0.5);
+  t[66] = front(0, kStomionY - 0.5);
+  for (const auto& pr : kMirrorPairs) {
+    const LandmarkTarget& l = t[pr[0]];
+    t[pr[1]] = {{-l.from.x, l.from.y, l.from.z}, {-l.dir.x, l.dir.y, l.dir.z}};
+  }
+  return t;
+}
+
+}  // namespace
+
+SampleHead MakeSampleHead(const SampleHeadOptions& options) {
+  int N = std::clamp(options.columns, 16, 4096);
+  N += N % 2;
+  const int M = std::clamp(options.rows, 8, 4096);
+  const double fd = std::max(1.0, static_cast<double>(options.face_density));
+  const bool ears = options.ears;
+  const double y_cut = kMenton - 1.0;
+
+  // Columns: dense over the face (|theta| < 75 deg), sparse at the back; eye corners and
+  // the nasolabial region (|theta| 15-45 deg) a little denser still.
+  auto col_density = [&](double th) {
+    const double a = std::fabs(th);
+    return 1.0 + (fd - 1.0) * (1.0 - SmoothStep(Rad(70), Rad(110), a)) +
+           0.5 * (fd - 1.0) * Gauss(a - Rad(30), Rad(14)) +
+           0.6 * (fd - 1.0) * Gauss(a, Rad(9));  // the nose
+  };
+  std::vector<double> theta = Quantiles(col_density, -kPiD, kPiD, N);
+  for (int j = 0; j <= N / 2; ++j) theta[N - j] = -theta[j];
+  theta[N / 2] = 0.0;
+
+  // Rows: every column is sampled densely in phi, and its rows are placed at equal steps of
+  // arc length weighted by a height-dependent density (dense from the hairline to the chin,
+  // denser still at the forehead, the lid line and the mouth line). The weight depends on
+  // height only, so a row stays at about the same height around the head.
+  auto row_density = [&](double y) {
+    return 1.0 + (fd - 1.0) * SmoothStep(85, 70, y) * SmoothStep(-125, -105, y) +
+           1.0 * (fd - 1.0) * Gauss(y - LidLineY(kEye.x), 4.0) +
+           0.8 * (fd - 1.0) * Gauss(y - kStomionY, 4.0) +
+           0.4 * (fd - 1.0) * Gauss(y - 45.0, 18.0);  // forehead
+  };
+  const int K = 600;  // phi samples per column
+
+  SampleHead head;
+  MeshData& mesh = head.mesh;
+  const size_t ring = static_cast<size_t>(N) + 1;
+  mesh.positions.resize(1 + ring * M);
+  mesh.uvs.resize(mesh.positions.size());
+  auto vid = [&](int i, int j) { return static_cast<uint32_t>(1 + (i - 1) * ring + j); };
+
+  // Pole.
+  {
+    mesh.positions[0] = ToF3(SurfacePoint(0.0, 0.0, ears));
+    mesh.positions[0].x = 0.f;
+    mesh.uvs[0] = {0.5f, 0.f};
+  }
+  // Columns 0..N/2 are cast; the rest mirror them (exact symmetry).
+  std::vector<double> arc(mesh.positions.size(), 0.0);  // unweighted arc length from the pole
+  double arc_max = 0.0;
+  std::vector<V3> pts(K + 1);
+  std::vector<double> wlen(K + 1), len(K + 1);
+  for (int j = 0; j <= N / 2; ++j) {
+    const double pe = PhiEnd(theta[j], y_cut, ears);
+    for (int k = 0; k <= K; ++k) {
+      pts[k] = SurfacePoint(theta[j], pe * k / K, ears);
+      if (k == 0) {
+        wlen[0] = len[0] = 0.0;
+        continue;
+      }
+      const double seg = Len(pts[k] - pts[k - 1]);
+      len[k] = len[k - 1] + seg;
+      wlen[k] = wlen[k - 1] + seg * row_density(0.5 * (pts[k].y + pts[k - 1].y));
+    }
+    int k = 0;
+    for (int i = 1; i <= M; ++i) {
+      const double target = wlen[K] * i / M;
+      while (k < K - 1 && wlen[k + 1] < target) ++k;
+      const double t = Clamp01((target - wlen[k]) / std::max(wlen[k + 1] - wlen[k], 1e-300));
+      const double ph = i == M ? pe : pe * (k + t) / K;
+      float3 pos = ToF3(SurfacePoint(theta[j], ph, ears));
+      if (j == 0 || j == N / 2) pos.x = 0.f;
+      const double s_arc = len[k] + t * (len[k + 1] - len[k]);
+      arc_max = std::max(arc_max, s_arc);
+      const float u = static_cast<float>(0.5 + theta[j] / (2 * kPiD));
+      mesh.positions[vid(i, j)] = pos;
+      mesh.uvs[vid(i, j)] = {u, 0.f};
+      arc[vid(i, j)] = s_arc;
+      if (j != N - j) {
+        mesh.positions[vid(i, N - j)] = {-pos.x, pos.y, pos.z};
+        mesh.uvs[vid(i, N - j)] = {1.f - u, 0.f};
+        arc[vid(i, N - j)] = s_arc;
+      }
+    }
+  }
+  for (size_t k = 1; k < mesh.positions.size(); ++k)
+    mesh.uvs[k].y = static_cast<float>(arc[k] / arc_max);
+  // The seam: column N repeats column 0 (u = 1 instead of 0).
+  for (int i = 1; i <= M; ++i) {
+    mesh.positions[vid(i, N)] = mesh.positions[vid(i, 0)];
+    mesh.uvs[vid(i, 0)].x = 0.f;
+    mesh.uvs[vid(i, N)].x = 1.f;
+  }
+
+  // Triangles: a fan at the pole, then quads split along their shorter diagonal;
+  // counter-clockwise seen from outside.
+  mesh.indices.reserve(static_cast<size_t>(N) * (2 * M - 1) * 3);
+  for (int j = 0; j < N; ++j) {
+    mesh.indices.insert(mesh.indices.end(), {0u, vid(1, j), vid(1, j + 1)});
+  }
+  for (int i = 1; i < M; ++i) {
+    for (int j = 0; j < N; ++j) {
+      const uint32_t a = vid(i, j), b = vid(i, j + 1), c = vid(i + 1, j), e = vid(i + 1, j + 1);
+      const float ad = LengthSquared(mesh.positions[a] - mesh.positions[e]);
+      const float bc = LengthSquared(mesh.positions[b] - mesh.positions[c]);
+      // Mirrored quads compare the same two lengths, so the choice mirrors too.
+      if (ad <= bc) {
+        mesh.indices.insert(mesh.indices.end(), {a, c, e, a, e, b});
+      } else {
+        mesh.indices.insert(mesh.indices.end(), {a, c, b, b, c, e});
+      }
+    }
+  }
+
+  if (options.normals) {
+    std::vector<V3> acc(mesh.positions.size());
+    for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+      const V3 a = ToV3(mesh.positions[mesh.indices[t]]);
+      const V3 b = ToV3(mesh.positions[mesh.indices[t + 1]]);
+      const V3 c = ToV3(mesh.positions[mesh.indices[t + 2]]);
+      const V3 u = b - a, w = c - a;
+      const V3 n{u.y * w.z - u.z * w.y, u.z * w.x - u.x * w.z, u.x * w.y - u.y * w.x};
+      for (int k = 0; k < 3; ++k) acc[mesh.indices[t + k]] = acc[mesh.indices[t + k]] + n;
+    }
+    for (int i = 1; i <= M; ++i) {
+      const V3 s = acc[vid(i, 0)] + acc[vid(i, N)];
+      acc[vid(i, 0)] = acc[vid(i, N)] = s;
+    }
+    mesh.normals.resize(mesh.positions.size());
+    for (size_t k = 0; k < acc.size(); ++k) {
+      const double l = Len(acc[k]);
+      mesh.normals[k] = l > 0 ? ToF3(acc[k] * (1.0 / l)) : float3{0.f, 1.f, 0.f};
+    }
+  }
+
+  // Landmarks: project each target onto the field's surface, then onto the nearest mesh
+  // point.
+  const std::array<LandmarkTarget, 68> targets = LandmarkTargets();
+  head.landmarks.resize(68);
+  for (int l = 0; l < 68; ++l) {
+    if (targets[l].from.x < 0) continue;  // mirrored below
+    const V3 s = ProjectAlong(targets[l].from, targets[l].dir, ears);
+    V3 best = s;
+    double best_d2 = 1e300;
+    for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+      const V3 a = ToV3(mesh.positions[mesh.indices[t]]);
+      if (Dot(a - s, a - s) > 400.0) continue;  // far triangles (edges are < 20 mm here)
+      const V3 c = ClosestOnTriangle(s, a, ToV3(mesh.positions[mesh.indices[t + 1]]),
+                                     ToV3(mesh.positions[mesh.indices[t + 2]]));
+      const double d2 = Dot(c - s, c - s);
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = c;
+      }
+    }
+    head.landmarks[l] = ToF3(best);
+    if (targets[l].from.x == 0) head.landmarks[l].x = 0.f;
+  }
+  for (const auto& pr : kMirrorPairs) {
+    const float3 p = head.landmarks[pr[0]];
+    head.landmarks[pr[1]] = {-p.x, p.y, p.z};
+  }
+  return head;
+}
+
+}  // namespace mimetic

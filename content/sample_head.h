@@ -1,0 +1,50 @@
+// content/sample_head.h: the procedural sample head (no redistributable scan ships with
+// Debian, so mimetic makes its own).
+//
+// The head is a smooth implicit solid built from anatomical parts (cranium, brow ridge, eye
+// sockets with closed lids, nose with alae and nostrils, cheekbones and cheek pads, nasolabial
+// folds, lips with a mouth line, chin, mandible, ears, a neck stump). It is sampled the way a
+// range scanner sees a head: one ray per (theta, phi) grid node from a centre inside the
+// head, theta the azimuth about +Y (0 = +Z, the face), phi the polar angle from +Y. The grid
+// rows and columns are spaced non-uniformly (denser over the face, forehead, eyes, mouth and
+// nasolabial region) and triangulated; the crown is one pole vertex with a triangle fan and
+// the mesh ends in an open boundary at the neck, level with the chin.
+//
+// Units millimetres, +Y up, facing +Z, x = +subject's left. Deterministic: no RNG, no
+// threads; the same options give the same bytes. Exactly mirror-symmetric in x.
+#pragma once
+
+#include <vector>
+
+#include "core/math.h"
+#include "geometry/mesh.h"
+
+namespace mimetic {
+
+struct SampleHeadOptions {
+  // Grid columns (azimuth steps around the head; the seam column is duplicated, so a row has
+  // `columns + 1` vertices). Even; clamped to [16, 4096].
+  int columns = 240;
+  // Grid rows below the crown pole (each a ring of `columns + 1` vertices). Clamped to
+  // [8, 4096]. Defaults give 1 + 140 * 241 = 33741 vertices.
+  int rows = 140;
+  // How much denser the face is sampled than the back of the head / the crown (>= 1).
+  float face_density = 4.f;
+  bool ears = true;  // low-relief ears (a range image cannot hold the gap behind an ear)
+  bool normals = true;  // fill MeshData::normals (area-weighted, equal across the seam)
+};
+
+struct SampleHead {
+  MeshData mesh;
+  // 68 points in the Multi-PIE / iBUG order (docs/landmarks-format.md), on the mesh surface.
+  std::vector<float3> landmarks;
+};
+
+// Builds the head. UVs: u = 0.5 + theta / (2 pi) (the cylindrical projection of Bando 2001
+// §3.2 / 2003 §6 with the seam at the back: the seam column appears twice, u = 0 and u = 1,
+// same positions); v = phi_ref / phi_ref_max, a latitude that grows monotonically down every
+// column, 0 at the crown as glTF's top row (a plain height t = y would fold under the chin
+// and at the crown).
+SampleHead MakeSampleHead(const SampleHeadOptions& options = {});
+
+}  // namespace mimetic

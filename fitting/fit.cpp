@@ -1,0 +1,814 @@
+// fitting/fit.cpp: place a landmark-relative muscle template on a head (docs/fitting.md).
+#include "fitting/fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace mimetic {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+float3 Min3(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
+float3 Max3(float3 a, float3 b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+float Comp(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+
+std::string Vec(float3 v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", double(v.x), double(v.y), double(v.z));
+  return buf;
+}
+
+// Ericson, Real-Time Collision Detection §5.1.5: closest point on triangle abc to p, with
+// barycentric weights.
+float3 ClosestOnTriangle(float3 p, float3 a, float3 b, float3 c, float3* bary) {
+  const float3 ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = Dot(ab, ap), d2 = Dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return *bary = {1, 0, 0}, a;
+  const float3 bp = p - b;
+  const float d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return *bary = {0, 1, 0}, b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const float v = d1 / (d1 - d3);
+    return *bary = {1 - v, v, 0}, a + ab * v;
+  }
+  const float3 cp = p - c;
+  const float d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return *bary = {0, 0, 1}, c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const float w = d2 / (d2 - d6);
+    return *bary = {1 - w, 0, w}, a + ac * w;
+  }
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return *bary = {0, 1 - w, w}, b + (c - b) * w;
+  }
+  const float denom = 1.f / (va + vb + vc);
+  const float v = vb * denom, w = vc * denom;
+  *bary = {1 - v - w, v, w};
+  return a + ab * v + ac * w;
+}
+
+float BoxDistance2(float3 p, float3 lo, float3 hi) {
+  const float dx = std::fmax(std::fmax(lo.x - p.x, 0.f), p.x - hi.x);
+  const float dy = std::fmax(std::fmax(lo.y - p.y, 0.f), p.y - hi.y);
+  const float dz = std::fmax(std::fmax(lo.z - p.z, 0.f), p.z - hi.z);
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// Slab test: entry distance of the ray into the box, or +inf.
+float RayBox(float3 o, float3 inv, float3 lo, float3 hi, float tmax) {
+  float t0 = 0.f, t1 = tmax;
+  for (int a = 0; a < 3; ++a) {
+    float ta = (Comp(lo, a) - Comp(o, a)) * Comp(inv, a);
+    float tb = (Comp(hi, a) - Comp(o, a)) * Comp(inv, a);
+    if (std::isnan(ta) || std::isnan(tb)) {  // 0 * inf: origin on the slab plane
+      if (Comp(o, a) < Comp(lo, a) || Comp(o, a) > Comp(hi, a)) return kInf;
+      continue;
+    }
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::fmax(t0, ta);
+    t1 = std::fmin(t1, tb);
+    if (t0 > t1) return kInf;
+  }
+  return t0;
+}
+
+const std::vector<std::pair<std::string, double>>& UnitsInMm() {
+  static const std::vector<std::pair<std::string, double>> units = {
+      {"mm", 1.0}, {"cm", 10.0}, {"dm", 100.0}, {"m", 1000.0}, {"in", 25.4}};
+  return units;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// FaceFrame
+
+float3 FaceFrame::ToWorld(float3 l) const {
+  return origin + (x * l.x + y * l.y + z * l.z) * scale;
+}
+float3 FaceFrame::ToLocal(float3 w) const {
+  const float3 d = (w - origin) / scale;
+  return {Dot(d, x), Dot(d, y), Dot(d, z)};
+}
+float3 FaceFrame::DirectionToWorld(float3 l) const { return x * l.x + y * l.y + z * l.z; }
+
+bool ComputeFaceFrame(const std::vector<float3>& lm, FaceFrame* out, Diagnostics* diag) {
+  if (lm.size() != size_t(kTemplateLandmarkCount)) {
+    diag->Error("landmarks", "expected 68 landmarks (iBUG order), got " + std::to_string(lm.size()));
+    return false;
+  }
+  bool ok = true;
+  for (size_t i = 0; i < lm.size(); ++i) {
+    if (!IsFinite(lm[i])) {
+      diag->Error("landmarks[" + std::to_string(i) + "]", "expected a finite position, got " + Vec(lm[i]));
+      ok = false;
+    }
+  }
+  if (!ok) return false;
+  const float3 eye = lm[45] - lm[36];
+  const float s = Length(eye);
+  const float3 up = lm[27] - lm[8];
+  const float up_len = Length(up);
+  // Scale-free degeneracy thresholds: relative to the landmarks' extent.
+  float3 lo = lm[0], hi = lm[0];
+  for (const float3& p : lm) lo = Min3(lo, p), hi = Max3(hi, p);
+  const float extent = Length(hi - lo);
+  if (!(s > 1e-6f * extent) || !(s > 0.f)) {
+    diag->Error("landmarks[36], landmarks[45]",
+                "the outer eye corners coincide (distance " + std::to_string(s) +
+                    "); expected two distinct points to define the face's x axis and scale");
+    return false;
+  }
+  FaceFrame f;
+  f.x = eye / s;
+  const float3 y = up - f.x * Dot(up, f.x);
+  const float y_len = Length(y);
+  if (!(up_len > 0.f) || !(y_len > 0.05f * up_len)) {
+    diag->Error("landmarks[8], landmarks[27]",
+                "the chin (8) and the nose bridge (27) do not span an up direction across the "
+                "eye-corner line; expected a chin below the eyes");
+    return false;
+  }
+  f.y = y / y_len;
+  f.z = Cross(f.x, f.y);
+  f.origin = lm[27];
+  f.scale = s;
+  *out = f;
+  return true;
+}
+
+std::string GuessUnits(float s) {
+  if (!(s > 0.f) || !std::isfinite(s)) return "";
+  std::string best;
+  double best_err = 1e30;
+  for (const auto& [name, mm] : UnitsInMm()) {
+    const double err = std::fabs(std::log(double(s) * mm / 90.0));
+    if (err < best_err) best_err = err, best = name;
+  }
+  return best;
+}
+
+
+bool ResolveLandmarks(const Landmarks& landmarks, const MeshData& head, std::vector<float3>* out,
+                      Diagnostics* diag) {
+  const size_t n = size_t(kTemplateLandmarkCount);
+  if (!landmarks.vertex_indices.empty()) {
+    if (landmarks.vertex_indices.size() != n) {
+      diag->Error("landmarks.vertices", "expected 68 vertex indices (iBUG order), got " +
+                                            std::to_string(landmarks.vertex_indices.size()));
+      return false;
+    }
+    bool ok = true;
+    out->assign(n, {});
+    for (size_t i = 0; i < n; ++i) {
+      const int64_t v = landmarks.vertex_indices[i];
+      if (v < 0 || uint64_t(v) >= head.vertex_count()) {
+        diag->Error("landmarks.vertices[" + std::to_string(i) + "]",
+                    "vertex index " + std::to_string(v) + " is out of range; expected 0.." +
+                        std::to_string(head.vertex_count()) + " - 1 (a vertex of " +
+                        (head.source.empty() ? std::string("the head mesh") : head.source) + ")");
+        ok = false;
+        continue;
+      }
+      (*out)[i] = head.positions[size_t(v)];
+    }
+    return ok;
+  }
+  if (landmarks.points.size() != n) {
+    diag->Error("landmarks.points", "expected 68 landmarks (iBUG order), got " +
+                                        std::to_string(landmarks.points.size()));
+    return false;
+  }
+  *out = landmarks.points;
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// SurfaceQuery
+
+SurfaceQuery::SurfaceQuery(const MeshData& mesh) : mesh_(mesh) {
+  const size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
+  // Area-weighted vertex normals, shared by vertices at the same position (UV seams).
+  std::map<std::tuple<float, float, float>, float3> by_position;
+  std::vector<float3> acc(nv);
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1], c = mesh.indices[3 * t + 2];
+    const float3 n = Cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+    acc[a] += n, acc[b] += n, acc[c] += n;
+  }
+  for (size_t v = 0; v < nv; ++v) {
+    const float3 p = mesh.positions[v];
+    by_position[{p.x, p.y, p.z}] += acc[v];
+  }
+  vertex_normals_.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    const float3 p = mesh.positions[v];
+    vertex_normals_[v] = NormalizeOr(by_position[{p.x, p.y, p.z}], {0, 0, 0});
+  }
+  order_.resize(nt);
+  centroids_.resize(nt);
+  for (uint32_t t = 0; t < nt; ++t) {
+    order_[t] = t;
+    centroids_[t] = (mesh.positions[mesh.indices[3 * t]] + mesh.positions[mesh.indices[3 * t + 1]] +
+                     mesh.positions[mesh.indices[3 * t + 2]]) / 3.f;
+  }
+  nodes_.reserve(nt / 2 + 2);
+  if (nt > 0) Build(0, uint32_t(nt), 0);
+}
+
+uint32_t SurfaceQuery::Build(uint32_t first, uint32_t count, int depth) {
+  const uint32_t index = uint32_t(nodes_.size());
+  nodes_.push_back({});
+  float3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf}, clo = lo, chi = hi;
+  for (uint32_t i = first; i < first + count; ++i) {
+    const uint32_t t = order_[i];
+    for (int k = 0; k < 3; ++k) {
+      const float3 p = mesh_.positions[mesh_.indices[3 * t + k]];
+      lo = Min3(lo, p), hi = Max3(hi, p);
+    }
+    clo = Min3(clo, centroids_[t]), chi = Max3(chi, centroids_[t]);
+  }
+  nodes_[index].lo = lo;
+  nodes_[index].hi = hi;
+  const float3 ext = chi - clo;
+  if (count <= 4 || depth > 60 || (ext.x <= 0 && ext.y <= 0 && ext.z <= 0)) {
+    nodes_[index].first = first;
+    nodes_[index].count = count;
+    return index;
+  }
+  const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+  const uint32_t half = count / 2;
+  std::nth_element(order_.begin() + first, order_.begin() + first + half,
+                   order_.begin() + first + count, [&](uint32_t a, uint32_t b) {
+                     return Comp(centroids_[a], axis) < Comp(centroids_[b], axis);
+                   });
+  const uint32_t left = Build(first, half, depth + 1);
+  const uint32_t right = Build(first + half, count - half, depth + 1);
+  nodes_[index].left = left;
+  nodes_[index].right = right;
+  return index;
+}
+
+float3 SurfaceQuery::NormalAt(uint32_t tri, float3 p) const {
+  const uint32_t a = mesh_.indices[3 * tri], b = mesh_.indices[3 * tri + 1], c = mesh_.indices[3 * tri + 2];
+  const float3 pa = mesh_.positions[a], pb = mesh_.positions[b], pc = mesh_.positions[c];
+  const float3 face = NormalizeOr(Cross(pb - pa, pc - pa), {0, 0, 1});
+  float3 bary;
+  ClosestOnTriangle(p, pa, pb, pc, &bary);
+  float3 n = vertex_normals_[a] * bary.x + vertex_normals_[b] * bary.y + vertex_normals_[c] * bary.z;
+  n = NormalizeOr(n, face);
+  if (Dot(n, face) < 0.f) n = face;  // inconsistent winding around the vertex: trust the face
+  return n;
+}
+
+SurfaceQuery::Hit SurfaceQuery::Raycast(float3 o, float3 dir) const {
+  Hit hit;
+  const float len = Length(dir);
+  if (nodes_.empty() || !(len > 0.f)) return hit;
+  const float3 d = dir / len;
+  const float3 inv{1.f / d.x, 1.f / d.y, 1.f / d.z};
+  float best = kInf;
+  uint32_t best_tri = 0;
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& n = nodes_[stack.back()];
+    stack.pop_back();
+    if (RayBox(o, inv, n.lo, n.hi, best) == kInf) continue;
+    if (n.count == 0) {
+      stack.push_back(n.left);
+      stack.push_back(n.right);
+      continue;
+    }
+    for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+      const uint32_t t = order_[i];
+      // Moller-Trumbore, both sides.
+      const float3 a = mesh_.positions[mesh_.indices[3 * t]];
+      const float3 e1 = mesh_.positions[mesh_.indices[3 * t + 1]] - a;
+      const float3 e2 = mesh_.positions[mesh_.indices[3 * t + 2]] - a;
+      const float3 pv = Cross(d, e2);
+      const float det = Dot(e1, pv);
+      if (std::fabs(det) < 1e-20f) continue;
+      const float inv_det = 1.f / det;
+      const float3 tv = o - a;
+      const float u = Dot(tv, pv) * inv_det;
+      if (u < 0.f || u > 1.f) continue;
+      const float3 qv = Cross(tv, e1);
+      const float v = Dot(d, qv) * inv_det;
+      if (v < 0.f || u + v > 1.f) continue;
+      const float tt = Dot(e2, qv) * inv_det;
+      if (tt > 0.f && tt < best) best = tt, best_tri = t;
+    }
+  }
+  if (best == kInf) return hit;
+  hit.found = true;
+  hit.t = best;
+  hit.point = o + d * best;
+  hit.triangle = best_tri;
+  hit.normal = NormalAt(best_tri, hit.point);
+  if (Dot(hit.normal, d) > 0.f) hit.normal = -hit.normal;  // face the ray's origin
+  return hit;
+}
+
+SurfaceQuery::Hit SurfaceQuery::Nearest(float3 p) const {
+  Hit hit;
+  if (nodes_.empty()) return hit;
+  float best2 = kInf;
+  float3 best_point;
+  uint32_t best_tri = 0;
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& n = nodes_[stack.back()];
+    stack.pop_back();
+    if (BoxDistance2(p, n.lo, n.hi) >= best2) continue;
+    if (n.count == 0) {
+      // Visit the nearer child first (pushed last).
+      const float dl = BoxDistance2(p, nodes_[n.left].lo, nodes_[n.left].hi);
+      const float dr = BoxDistance2(p, nodes_[n.right].lo, nodes_[n.right].hi);
+      if (dl < dr) stack.push_back(n.right), stack.push_back(n.left);
+      else stack.push_back(n.left), stack.push_back(n.right);
+      continue;
+    }
+    for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+      const uint32_t t = order_[i];
+      float3 bary;
+      const float3 q = ClosestOnTriangle(p, mesh_.positions[mesh_.indices[3 * t]],
+                                         mesh_.positions[mesh_.indices[3 * t + 1]],
+                                         mesh_.positions[mesh_.indices[3 * t + 2]], &bary);
+      const float d2 = LengthSquared(q - p);
+      if (d2 < best2) best2 = d2, best_point = q, best_tri = t;
+    }
+  }
+  hit.found = true;
+  hit.t = std::sqrt(best2);
+  hit.point = best_point;
+  hit.triangle = best_tri;
+  hit.normal = NormalAt(best_tri, best_point);
+  return hit;
+}
+
+// ---------------------------------------------------------------------------------------------
+// FitTemplate
+
+namespace {
+
+struct Placer {
+  const FaceFrame& frame;
+  const std::vector<float3>& lm;
+  const SurfaceQuery& query;
+  float reach;  // ray start distance in front of the face, mesh units
+  Diagnostics* diag;
+  FitReport* report;
+
+  bool Place(const TemplatePoint& tp, const std::string& muscle, const std::string& role,
+             const std::string& where, float3* out, SurfaceQuery::Hit* hit_out = nullptr) {
+    float3 base{0, 0, 0};
+    for (size_t i = 0; i < tp.landmarks.size(); ++i) base += lm[size_t(tp.landmarks[i])] * tp.weights[i];
+    const float3 p = base + frame.DirectionToWorld({tp.offset.x, tp.offset.y, 0.f}) * frame.scale;
+    PlacedPoint placed;
+    placed.muscle = muscle;
+    placed.role = role;
+    placed.landmark_point = p;
+    placed.depth = tp.depth * frame.scale;
+    SurfaceQuery::Hit hit = query.Raycast(p + frame.z * reach, -frame.z);
+    float3 outward;
+    if (hit.found) {
+      outward = hit.normal;  // faces the ray origin, in front of the face
+    } else {
+      hit = query.Nearest(p);
+      placed.ray_hit = false;
+      if (!hit.found || hit.t > 0.5f * frame.scale) {
+        diag->Error(where, "found no surface: the ray along -z of the face frame from " + Vec(p) +
+                               " missed the mesh and the nearest surface point is " +
+                               (hit.found ? std::to_string(hit.t / frame.scale) + " s away"
+                                          : std::string("missing")) +
+                               "; expected a point over the face (check the landmarks and offset)");
+        return false;
+      }
+      outward = hit.normal;
+      if (Dot(outward, frame.z) < 0.f) outward = -outward;  // toward the viewer
+      diag->Warning(where, "the ray along -z of the face frame missed the mesh; used the nearest "
+                           "surface point, " + std::to_string(hit.t / frame.scale) + " s away");
+    }
+    placed.surface = hit.point;
+    placed.position = hit.point - outward * placed.depth;
+    *out = placed.position;
+    if (hit_out) *hit_out = hit;
+    if (report) report->points.push_back(placed);
+    return true;
+  }
+};
+
+}  // namespace
+
+bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
+                 const std::string& units, RigSpec* out, Diagnostics* diag, FitReport* report) {
+  bool units_ok = false;
+  for (const auto& u : UnitsInMm()) units_ok = units_ok || u.first == units;
+  if (!units_ok) {
+    diag->Error("units", "unknown unit \"" + units + "\"; expected \"mm\", \"cm\", \"dm\", \"m\" or \"in\"");
+    return false;
+  }
+  if (head.vertex_count() == 0 || head.triangle_count() == 0) {
+    diag->Error(head.source, "the head mesh is empty; expected triangles");
+    return false;
+  }
+  std::vector<float3> lm;
+  if (!ResolveLandmarks(landmarks, head, &lm, diag)) return false;
+  FaceFrame frame;
+  if (!ComputeFaceFrame(lm, &frame, diag)) return false;
+
+  float3 lo = head.positions[0], hi = lo;
+  for (const float3& p : head.positions) lo = Min3(lo, p), hi = Max3(hi, p);
+  const SurfaceQuery query(head);
+  FitReport local_report;
+  Placer placer{frame, lm, query, 2.f * Length(hi - lo) + 4.f * frame.scale, diag,
+                report ? &local_report : nullptr};
+  local_report.frame = frame;
+  local_report.units = units;
+
+  RigSpec spec;
+  spec.units = units;
+  const float s = frame.scale;
+  bool ok = true;
+  for (size_t i = 0; i < tmpl.muscles.size(); ++i) {
+    const TemplateMuscle& tm = tmpl.muscles[i];
+    const std::string path = "muscles[" + std::to_string(i) + "] (" + tm.name + ")";
+    MuscleSpec m;
+    m.name = tm.name;
+    m.type = tm.type;
+    m.strength = tm.strength * s;
+    if (tm.type == MuscleType::kLinear) {
+      bool placed = placer.Place(tm.attachment[0], tm.name, "attachment", path + ".attachment", &m.linear.attachment);
+      placed &= placer.Place(tm.insertion[0], tm.name, "insertion", path + ".insertion", &m.linear.insertion);
+      if (placed && !(Length(m.linear.insertion - m.linear.attachment) > 1e-4f * s)) {
+        diag->Error(path, "attachment and insertion land on the same point " + Vec(m.linear.insertion) +
+                              "; expected distinct points (a muscle needs a direction)");
+        placed = false;
+      }
+      ok &= placed;
+      m.linear.zone_angle = tm.zone_angle_deg * kPi / 180.f;
+      m.linear.falloff_start = tm.falloff_start * s;
+      m.linear.falloff_end = tm.falloff_end * s;
+    } else {
+      bool placed = true;
+      for (int k = 0; k < 2; ++k) {
+        const std::string idx = "[" + std::to_string(k) + "]";
+        placed &= placer.Place(tm.attachment[k], tm.name, "attachment" + idx, path + ".attachment" + idx,
+                               &m.sheet.attachment[k]);
+        placed &= placer.Place(tm.insertion[k], tm.name, "insertion" + idx, path + ".insertion" + idx,
+                               &m.sheet.insertion[k]);
+      }
+      const float3 ac = (m.sheet.attachment[0] + m.sheet.attachment[1]) * 0.5f;
+      const float3 ic = (m.sheet.insertion[0] + m.sheet.insertion[1]) * 0.5f;
+      if (placed && !(Length(ic - ac) > 1e-4f * s)) {
+        diag->Error(path, "the attachment and insertion lines have the same midpoint " + Vec(ac) +
+                              "; expected distinct lines (the sheet's fibre needs a direction)");
+        placed = false;
+      }
+      ok &= placed;
+      m.sheet.length = tm.length * s;
+      m.sheet.width = tm.width * s;
+      m.sheet.falloff_start = tm.falloff_start * s;
+    }
+    spec.muscles.push_back(m);
+    if (tm.wrinkles) {
+      // MODEL.md §6: the block as written, lengths from units of s to mesh units.
+      MuscleWrinkleSpec w = *tm.wrinkles;
+      w.depth *= s;
+      w.h_c *= s;
+      const WrinkleMuscleGeometry g = WrinkleGeometryOf(m);
+      ok &= ValidateMuscleWrinkleSpec(w, g, path + ".wrinkles", diag);
+      spec.muscle_wrinkles.resize(tmpl.muscles.size());
+      spec.muscle_wrinkles[i] = w;
+    }
+  }
+  // Curve wrinkles (MODEL.md §7-8): control points on the skin -> texture coordinates.
+  const bool has_uvs = !head.uvs.empty() && head.uvs.size() == head.vertex_count();
+  if (!tmpl.curve_wrinkles.empty() && !has_uvs) {
+    diag->Error("curve_wrinkles", "the head mesh " + head.source + " has no texture coordinates; "
+                                  "curve wrinkles are drawn in texture space and need them");
+    ok = false;
+  }
+  for (size_t i = 0; i < tmpl.curve_wrinkles.size() && has_uvs; ++i) {
+    const TemplateCurveWrinkle& tc = tmpl.curve_wrinkles[i];
+    const std::string path = "curve_wrinkles[" + std::to_string(i) + "] (" + tc.name + ")";
+    NamedCurveWrinkle c;
+    c.name = tc.name;
+    c.spec.depth = tc.depth * s;
+    c.spec.width = tc.width * s;
+    c.spec.profile = tc.profile;
+    c.spec.modulation = tc.modulation;
+    c.spec.rest_amplitude = tc.rest_amplitude;
+    bool placed = true;
+    for (int k = 0; k < 4; ++k) {
+      const std::string role = "control[" + std::to_string(k) + "]";
+      float3 position;
+      SurfaceQuery::Hit hit;
+      if (!placer.Place(tc.control[k], tc.name, role, path + "." + role, &position, &hit)) {
+        placed = false;
+        continue;
+      }
+      // The uv of the hit: barycentric in the hit triangle (its own corners' uvs, so a point
+      // next to a seam takes one side's chart).
+      const uint32_t* tri = &head.indices[3 * size_t(hit.triangle)];
+      float3 bary;
+      ClosestOnTriangle(hit.point, head.positions[tri[0]], head.positions[tri[1]],
+                        head.positions[tri[2]], &bary);
+      const float2 ua = head.uvs[tri[0]], ub = head.uvs[tri[1]], uc = head.uvs[tri[2]];
+      c.spec.control[k] = {ua.x * bary.x + ub.x * bary.y + uc.x * bary.z,
+                           ua.y * bary.x + ub.y * bary.y + uc.y * bary.z};
+    }
+    if (placed) {
+      float2 lo = c.spec.control[0], hi = lo;
+      for (const float2& uv : c.spec.control) {
+        lo = {std::fmin(lo.x, uv.x), std::fmin(lo.y, uv.y)};
+        hi = {std::fmax(hi.x, uv.x), std::fmax(hi.y, uv.y)};
+      }
+      if (hi.x - lo.x > 0.5f || hi.y - lo.y > 0.5f) {
+        std::string uvs;
+        for (const float2& uv : c.spec.control) {
+          char buf[48];
+          std::snprintf(buf, sizeof buf, "%s(%.3g, %.3g)", uvs.empty() ? "" : ", ", double(uv.x),
+                        double(uv.y));
+          uvs += buf;
+        }
+        diag->Error(path, "the control points land at texture coordinates " + uvs +
+                              ", more than 0.5 apart: the curve would cross a UV seam; expected "
+                              "a curve inside one UV chart (move it or split it)");
+        placed = false;
+      }
+    }
+    if (placed) placed = ValidateCurveWrinkleSpec(c.spec, path, diag);
+    ok &= placed;
+    if (placed && report) {
+      PlacedCurve pc;
+      pc.name = c.name;
+      for (int k = 0; k < 4; ++k) pc.uv[k] = c.spec.control[k];
+      local_report.curves.push_back(pc);
+    }
+    spec.curve_wrinkles.push_back(c);
+  }
+  // Skin thickness per vertex (MODEL.md §4), template units of s -> mesh units.
+  spec.thickness.kind = ThicknessSpec::Kind::kPerVertex;
+  spec.thickness.per_vertex.resize(head.vertex_count());
+  for (size_t v = 0; v < head.vertex_count(); ++v)
+    spec.thickness.per_vertex[v] =
+        EvaluateTemplateThickness(tmpl.thickness, frame.ToLocal(head.positions[v])) * s;
+  if (!ok) return false;
+  spec.file = out->file;
+  spec.mesh_path = out->mesh_path;
+  spec.mesh_name = out->mesh_name;
+  *out = std::move(spec);
+  if (report) *report = std::move(local_report);
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Thickness map in texture space
+
+bool RasterizeThicknessMap(const MeshData& mesh, const std::vector<float>& values, int size,
+                           float blur_sigma_px, std::vector<uint8_t>* gray, float* max_value,
+                           Diagnostics* diag) {
+  bool ok = true;
+  if (mesh.uvs.size() != mesh.vertex_count() || mesh.uvs.empty()) {
+    diag->Error(mesh.source, "a thickness map needs texture coordinates and the mesh has none");
+    ok = false;
+  }
+  if (values.size() != mesh.vertex_count()) {
+    diag->Error("thickness", "expected one value per vertex (" + std::to_string(mesh.vertex_count()) +
+                                 "), got " + std::to_string(values.size()));
+    ok = false;
+  }
+  if (size < 8 || size > 8192) {
+    diag->Error("size", "expected an image size in [8, 8192], got " + std::to_string(size));
+    ok = false;
+  }
+  if (!ok) return false;
+  float vmax = 0.f;
+  for (float v : values) vmax = std::fmax(vmax, v);
+  // Round the white level up to two significant digits so the rig file reads well.
+  if (vmax > 0.f) {
+    const float p = std::pow(10.f, std::floor(std::log10(vmax)) - 1.f);
+    vmax = std::ceil(vmax / p - 1e-4f) * p;
+  } else {
+    vmax = 1.f;
+  }
+  const int n = size;
+  std::vector<float> img(size_t(n) * n, 0.f), cover(size_t(n) * n, 0.f);
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t ia = mesh.indices[3 * t], ib = mesh.indices[3 * t + 1], ic = mesh.indices[3 * t + 2];
+    // Pixel centres at (i + 0.5) / n; the bilinear sampler in rig_builder reads u * (n - 1),
+    // so rasterise in that convention: pixel i is at u = i / (n - 1).
+    auto px = [&](uint32_t v) {
+      return float2{mesh.uvs[v].x * float(n - 1), mesh.uvs[v].y * float(n - 1)};
+    };
+    const float2 a = px(ia), b = px(ib), c = px(ic);
+    const float area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (!(std::fabs(area) > 1e-12f)) continue;
+    const int x0 = std::max(0, int(std::floor(std::fmin(a.x, std::fmin(b.x, c.x)))));
+    const int x1 = std::min(n - 1, int(std::ceil(std::fmax(a.x, std::fmax(b.x, c.x)))));
+    const int y0 = std::max(0, int(std::floor(std::fmin(a.y, std::fmin(b.y, c.y)))));
+    const int y1 = std::min(n - 1, int(std::ceil(std::fmax(a.y, std::fmax(b.y, c.y)))));
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const float fx = float(x), fy = float(y);
+        const float w0 = ((b.x - fx) * (c.y - fy) - (b.y - fy) * (c.x - fx)) / area;
+        const float w1 = ((c.x - fx) * (a.y - fy) - (c.y - fy) * (a.x - fx)) / area;
+        const float w2 = 1.f - w0 - w1;
+        const float eps = -1e-3f;
+        if (w0 < eps || w1 < eps || w2 < eps) continue;
+        const size_t i = size_t(y) * n + x;
+        img[i] += w0 * values[ia] + w1 * values[ib] + w2 * values[ic];
+        cover[i] += 1.f;
+      }
+    }
+  }
+  for (size_t i = 0; i < img.size(); ++i)
+    if (cover[i] > 0.f) img[i] /= cover[i], cover[i] = 1.f;
+  // Fill uncovered pixels from covered neighbours (repeated dilation), so that bilinear
+  // sampling at a chart's border never mixes in black.
+  for (int pass = 0; pass < n; ++pass) {
+    bool changed = false;
+    std::vector<float> next = img, next_cover = cover;
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        const size_t i = size_t(y) * n + x;
+        if (cover[i] > 0.f) continue;
+        float sum = 0.f, cnt = 0.f;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= n || yy >= n) continue;
+            const size_t j = size_t(yy) * n + xx;
+            if (cover[j] > 0.f) sum += img[j], cnt += 1.f;
+          }
+        if (cnt > 0.f) next[i] = sum / cnt, next_cover[i] = 1.f, changed = true;
+      }
+    }
+    img.swap(next);
+    cover.swap(next_cover);
+    if (!changed) break;
+  }
+  // Separable Gaussian blur (Bando 2003 §6: "a Gaussian filter so that the thickness changes
+  // continuously").
+  if (blur_sigma_px > 0.f) {
+    const int r = int(std::ceil(3.f * blur_sigma_px));
+    std::vector<float> k(size_t(2 * r + 1));
+    float ksum = 0.f;
+    for (int i = -r; i <= r; ++i) ksum += k[size_t(i + r)] = std::exp(-0.5f * float(i * i) / (blur_sigma_px * blur_sigma_px));
+    for (float& w : k) w /= ksum;
+    std::vector<float> tmp(img.size());
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        float acc = 0.f;
+        for (int i = -r; i <= r; ++i) acc += k[size_t(i + r)] * img[size_t(y) * n + std::clamp(x + i, 0, n - 1)];
+        tmp[size_t(y) * n + x] = acc;
+      }
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        float acc = 0.f;
+        for (int i = -r; i <= r; ++i) acc += k[size_t(i + r)] * tmp[size_t(std::clamp(y + i, 0, n - 1)) * n + x];
+        img[size_t(y) * n + x] = acc;
+      }
+  }
+  gray->resize(img.size());
+  for (size_t i = 0; i < img.size(); ++i)
+    (*gray)[i] = uint8_t(std::lround(ClampOrLow(img[i] / vmax, 0.f, 1.f) * 255.f));
+  *max_value = vmax;
+  return true;
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// Landmark transfer (docs/landmarks-format.md, "Heads without landmarks")
+
+namespace {
+
+struct MidlineFeatures {
+  float3 nose_tip, nasion;
+  bool ok = false;
+};
+
+// The frontmost midline silhouette, sampled in 200 height bins: nose tip = its most forward
+// point; nasion = its deepest point between 5% and 30% of the mesh height above the tip.
+MidlineFeatures FindMidlineFeatures(const MeshData& m) {
+  MidlineFeatures f;
+  float3 lo = m.positions[0], hi = lo;
+  for (const float3& p : m.positions) lo = Min3(lo, p), hi = Max3(hi, p);
+  const float width = hi.x - lo.x, height = hi.y - lo.y;
+  const float cx = 0.5f * (lo.x + hi.x);
+  const int bins = 200;
+  std::vector<int> best(bins, -1);
+  for (size_t v = 0; v < m.vertex_count(); ++v) {
+    const float3 p = m.positions[v];
+    if (std::fabs(p.x - cx) > 0.01f * width) continue;
+    const int b = std::clamp(int((p.y - lo.y) / height * bins), 0, bins - 1);
+    if (best[b] < 0 || p.z > m.positions[size_t(best[b])].z) best[b] = int(v);
+  }
+  int tip = -1;
+  for (int b = 0; b < bins; ++b)
+    if (best[b] >= 0 && (tip < 0 || m.positions[size_t(best[b])].z > m.positions[size_t(tip)].z)) tip = best[b];
+  if (tip < 0) return f;
+  f.nose_tip = m.positions[size_t(tip)];
+  int nasion = -1;
+  for (int b = 0; b < bins; ++b) {
+    if (best[b] < 0) continue;
+    const float3 p = m.positions[size_t(best[b])];
+    if (p.y < f.nose_tip.y + 0.05f * height || p.y > f.nose_tip.y + 0.3f * height) continue;
+    if (nasion < 0 || p.z < m.positions[size_t(nasion)].z) nasion = best[b];
+  }
+  if (nasion < 0) return f;
+  f.nasion = m.positions[size_t(nasion)];
+  f.ok = Length(f.nasion - f.nose_tip) > 0.f;
+  return f;
+}
+
+}  // namespace
+
+bool TransferLandmarks(const MeshData& source, const std::vector<float3>& source_landmarks,
+                       const MeshData& target, std::vector<uint32_t>* target_vertices,
+                       Diagnostics* diag) {
+  if (source.triangle_count() == 0 || target.triangle_count() == 0) {
+    diag->Error("", "landmark transfer needs two non-empty meshes");
+    return false;
+  }
+  FaceFrame frame;
+  if (!ComputeFaceFrame(source_landmarks, &frame, diag)) return false;
+  const MidlineFeatures fs = FindMidlineFeatures(source), ft = FindMidlineFeatures(target);
+  if (!fs.ok || !ft.ok) {
+    diag->Error(fs.ok ? target.source : source.source,
+                "found no nose tip and nasion on the midline (x = centre of the bounding box); "
+                "expected a head facing +Z with +Y up");
+    return false;
+  }
+  // 1. Initial similarity: the nose tips coincide, the tip-nasion distances match.
+  float scale[3];
+  scale[0] = scale[1] = scale[2] = Length(ft.nasion - ft.nose_tip) / Length(fs.nasion - fs.nose_tip);
+  float3 shift = ft.nose_tip - fs.nose_tip * scale[0];
+  auto apply = [&](float3 p) { return float3{p.x * scale[0], p.y * scale[1], p.z * scale[2]} + shift; };
+  // 2. Refine with a per-axis scale and a translation (iterated closest points) over the
+  // source's face: x within the jaw contour, y from below the chin to above the brows, in
+  // front of the ears.
+  std::vector<float3> samples;
+  for (const float3& p : source.positions) {
+    const float3 l = frame.ToLocal(p);
+    if (std::fabs(l.x) < 0.75f && l.y > -1.3f && l.y < 0.6f && l.z > -0.45f) samples.push_back(p);
+  }
+  const SurfaceQuery query(target);
+  for (int iter = 0; iter < 30 && samples.size() >= 16; ++iter) {
+    std::vector<std::pair<float3, float3>> pairs;
+    std::vector<float> dist;
+    for (const float3& p : samples) {
+      const SurfaceQuery::Hit h = query.Nearest(apply(p));
+      pairs.push_back({p, h.point});
+      dist.push_back(h.t);
+    }
+    std::vector<float> sorted = dist;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const float cutoff = 3.f * sorted[sorted.size() / 2] + 1e-6f;
+    double mp[3] = {0, 0, 0}, mq[3] = {0, 0, 0}, n = 0;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (dist[i] > cutoff) continue;
+      for (int a = 0; a < 3; ++a) mp[a] += Comp(pairs[i].first, a), mq[a] += Comp(pairs[i].second, a);
+      n += 1;
+    }
+    if (n < 8) break;
+    for (int a = 0; a < 3; ++a) mp[a] /= n, mq[a] /= n;
+    double num[3] = {0, 0, 0}, den[3] = {0, 0, 0};
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (dist[i] > cutoff) continue;
+      for (int a = 0; a < 3; ++a) {
+        const double dp = Comp(pairs[i].first, a) - mp[a], dq = Comp(pairs[i].second, a) - mq[a];
+        num[a] += dp * dq;
+        den[a] += dp * dp;
+      }
+    }
+    for (int a = 0; a < 3; ++a)
+      if (den[a] > 0 && num[a] > 0) scale[a] = float(num[a] / den[a]);
+    shift = {float(mq[0] - scale[0] * mp[0]), float(mq[1] - scale[1] * mp[1]),
+             float(mq[2] - scale[2] * mp[2])};
+  }
+  // 3. Each landmark: the nearest target surface point, then the nearest target vertex.
+  target_vertices->assign(source_landmarks.size(), 0);
+  for (size_t l = 0; l < source_landmarks.size(); ++l) {
+    const SurfaceQuery::Hit h = query.Nearest(apply(source_landmarks[l]));
+    float best = kInf;
+    for (size_t v = 0; v < target.vertex_count(); ++v) {
+      const float d = LengthSquared(target.positions[v] - h.point);
+      if (d < best) best = d, (*target_vertices)[l] = uint32_t(v);
+    }
+  }
+  return true;
+}
+
+}  // namespace mimetic

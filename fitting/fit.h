@@ -1,0 +1,144 @@
+// fitting/fit.h: place a landmark-relative muscle template (muscle_template.h) on a head.
+//
+// Method (docs/fitting.md): the 68 landmarks give a face frame (FaceFrame); each template
+// point is the weighted mean of its landmarks plus an offset in the face plane (units of the
+// eye-corner distance s), cast onto the head along -z of the frame (first hit from the
+// front; the nearest surface point when the ray misses) and moved `depth * s` along the
+// inward surface normal. Radii, lengths, widths and strengths scale by s; the skin thickness
+// is evaluated per vertex from the template's regions. The result is an ordinary RigSpec.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+#include "fitting/landmarks.h"
+#include "geometry/mesh.h"
+#include "fitting/muscle_template.h"
+#include "rig/offline/rig_spec.h"
+
+namespace mimetic {
+
+// Orthonormal face frame from the 68 iBUG landmarks.
+struct FaceFrame {
+  float3 origin;            // landmark 27 (top of the nose bridge), mesh units
+  float3 x{1.f, 0.f, 0.f};  // unit: subject's right outer eye corner (36) -> left one (45)
+  float3 y{0.f, 1.f, 0.f};  // unit: chin (8) -> bridge (27), made orthogonal to x
+  float3 z{0.f, 0.f, 1.f};  // x cross y: toward the viewer
+  float scale = 1.f;        // s = |45 - 36|, mesh units
+
+  // Face-frame coordinates in units of s -> mesh position, and back.
+  float3 ToWorld(float3 local) const;
+  float3 ToLocal(float3 world) const;
+  // A face-frame direction (no origin, no scale) -> mesh direction.
+  float3 DirectionToWorld(float3 local) const;
+};
+
+// Builds the frame from 68 landmark positions. Errors: not 68 points, non-finite points,
+// coincident eye corners (36, 45) or a chin (8) on the eye-corner line (degenerate frame).
+bool ComputeFaceFrame(const std::vector<float3>& landmarks, FaceFrame* out, Diagnostics* diag);
+
+// Landmark positions on `head`: the file's points, or the positions of its vertex indices
+// (each must be < head.vertex_count()). Errors name the landmark and say what was expected.
+bool ResolveLandmarks(const Landmarks& landmarks, const MeshData& head,
+                      std::vector<float3>* out, Diagnostics* diag);
+
+// Ray casting and nearest-point queries over a triangle mesh: a bounding-volume hierarchy
+// (binary, median split on the longest axis of the centroid bounds, 4 triangles per leaf),
+// built in O(T log T); a query visits O(log T) nodes on typical meshes.
+class SurfaceQuery {
+ public:
+  explicit SurfaceQuery(const MeshData& mesh);
+  struct Hit {
+    bool found = false;
+    float t = 0.f;          // ray parameter (distance along the unit direction)
+    float3 point;           // mesh units
+    float3 normal;          // unit, interpolated vertex normal (area-weighted, from positions)
+    uint32_t triangle = 0;
+  };
+  // First hit of the ray origin + t * dir, t > 0 (`dir` need not be unit).
+  Hit Raycast(float3 origin, float3 dir) const;
+  // Closest surface point to `p` (found = false only for an empty mesh); t = distance.
+  Hit Nearest(float3 p) const;
+
+ private:
+  struct Node {
+    float3 lo, hi;
+    uint32_t first = 0, count = 0;  // leaf: triangles [first, first + count) of order_
+    uint32_t left = 0, right = 0;   // inner: children (count == 0)
+  };
+  uint32_t Build(uint32_t first, uint32_t count, int depth);
+  float3 NormalAt(uint32_t tri, float3 p) const;
+  const MeshData& mesh_;
+  std::vector<float3> vertex_normals_;
+  std::vector<uint32_t> order_;
+  std::vector<float3> centroids_;
+  std::vector<Node> nodes_;
+};
+
+// What the fit did with one template point (for `mimetic fit` and tests).
+struct PlacedPoint {
+  std::string muscle;  // muscle name, or curve wrinkle name for a curve's control point
+  std::string role;    // "attachment", "insertion", "attachment[0]", ..., "control[2]"
+  float3 landmark_point;  // weighted landmark mean + offset, before projection (mesh units)
+  float3 surface;         // where it met the surface
+  float3 position;        // final position: surface + depth * s * inward normal
+  float depth = 0.f;      // mesh units
+  bool ray_hit = true;    // false: the ray missed and the nearest surface point was used
+};
+
+// A curve wrinkle's control points in texture space (the uvs of the surface hits).
+struct PlacedCurve {
+  std::string name;
+  float2 uv[4];
+};
+
+struct FitReport {
+  FaceFrame frame;
+  std::string units;  // the units written into the rig
+  std::vector<PlacedPoint> points;  // muscle points, then curve control points
+  std::vector<PlacedCurve> curves;
+};
+
+// Places `tmpl` on `head` (units `units`: "mm", "cm", "dm", "m" or "in"; written into the
+// rig). Fills every field of `out` except `file`, `mesh_path` and `mesh_name`, which the
+// caller sets. Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.
+// Muscle wrinkle blocks go to `muscle_wrinkles` (depth and h_c times s; empty when no muscle
+// has one); each curve wrinkle's control points are placed like muscle points (depth 0) and
+// replaced by the texture coordinates of the surface hit (barycentric in the hit triangle),
+// depth and width times s.
+// Errors: landmarks count != 68, a vertex index out of range, a degenerate frame, unknown
+// units, a point that found no surface (ray missed and nearest surface point farther than
+// 0.5 s), a linear muscle whose attachment and insertion coincide, curve wrinkles on a head
+// without texture coordinates, a curve whose control points' uvs lie more than 0.5 apart in u
+// or v (the curve would cross a UV seam), a wrinkle the wrinkle module's checks refuse.
+bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
+                 const std::string& units, RigSpec* out, Diagnostics* diag,
+                 FitReport* report = nullptr);
+
+// Guesses the mesh unit from the eye-corner distance s (about 9 cm on adults): the unit in
+// which s is closest to 90 mm. Returns "" when s is not a positive finite number.
+std::string GuessUnits(float eye_corner_distance);
+
+// Writes a grayscale thickness map (MODEL.md §4, Bando 2003 §6) in texture space: each
+// triangle is rasterised in UV space with its per-vertex thickness (v = 0 on the top row, as
+// in glTF), the image is blurred with a small Gaussian (sigma in pixels) and holes are filled
+// from their neighbours; black = 0, white = `max_value` (the largest value, rounded up).
+// Errors: mesh without UVs, values.size() != #V, bad size.
+bool RasterizeThicknessMap(const MeshData& mesh, const std::vector<float>& values, int size,
+                           float blur_sigma_px, std::vector<uint8_t>* gray, float* max_value,
+                           Diagnostics* diag);
+
+// Landmark transfer for heads without landmarks (docs/landmarks-format.md): three midline
+// features found geometrically on both meshes (nose tip = most forward midline point;
+// nasion = deepest midline point above it; pogonion = most forward midline point below the
+// mouth) give a similarity transform from `source` to `target`; each source landmark is moved
+// by it and projected onto `target` along the source surface normal, then snapped to the
+// nearest target vertex. Both heads must face +Z with +Y up and be roughly symmetric in x.
+bool TransferLandmarks(const MeshData& source, const std::vector<float3>& source_landmarks,
+                       const MeshData& target, std::vector<uint32_t>* target_vertices,
+                       Diagnostics* diag);
+
+}  // namespace mimetic

@@ -1,0 +1,98 @@
+// fitting/muscle_template.h: a head-independent muscle layout, expressed relative to the
+// 68 iBUG facial landmarks (docs/template-format.md, docs/fitting.md).
+//
+// A template says where each Waters muscle (MODEL.md §2 linear, §3 sheet) lies on a face in
+// the face frame of fit.h: origin at the nose bridge top (landmark 27), x from the subject's
+// right outer eye corner (36) to the left one (45), y up (chin 8 -> bridge 27, made
+// orthogonal to x), z = x cross y toward the viewer, unit s = |45 - 36|. Every length in a
+// template (offsets, depths, radii, strengths, thickness) is in units of s, so one template
+// fits heads of any size, unit and proportion; FitTemplate (fit.h) turns it into a RigSpec.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/math.h"
+#include "muscles/offline/muscle_spec.h"
+#include "wrinkles/offline/wrinkle_spec.h"
+
+namespace mimetic {
+
+inline constexpr int kTemplateLandmarkCount = 68;  // iBUG / Multi-PIE 68-point order
+
+
+// One point of a muscle: the weighted mean of some landmarks, moved by `offset` in the face
+// plane, projected onto the surface along -z of the face frame, then `depth` under it along
+// the inward surface normal.
+struct TemplatePoint {
+  std::vector<int> landmarks;  // iBUG indices in [0, 68), at least one, no repeats
+  std::vector<float> weights;  // one per landmark, >= 0, normalised to sum 1 by the parser
+  float2 offset;               // face-frame (dx, dy), units of s
+  float depth = 0.f;           // under the surface along the inward normal, units of s, >= 0
+};
+
+struct TemplateMuscle {
+  std::string name;  // unique; `_L` / `_R` = subject's left (+x) / right
+  MuscleType type = MuscleType::kLinear;
+  float strength = 0.f;  // contraction at activation 1, units of s, >= 0
+  // Linear: attachment[0] = v1 (bone), insertion[0] = v2 (skin). Sheet: both ends of the
+  // attachment line and of the insertion line.
+  TemplatePoint attachment[2];
+  TemplatePoint insertion[2];
+  float zone_angle_deg = 0.f;  // linear: Omega, degrees, (0, 180)
+  float falloff_start = 0.f;   // linear: Rs; sheet: Rs in (0, length); units of s
+  float falloff_end = 0.f;     // linear: Rf > Rs, units of s
+  float length = 0.f;          // sheet: Ls, units of s, > 0
+  float width = 0.f;           // sheet: Ws, units of s, > 0
+  // The optional wrinkle block (MODEL.md §6), as in the rig file but with `depth` (k0) and
+  // `h_c` in units of s; `phi_c` in radians (the file says degrees). Mirrored copies share it.
+  std::optional<MuscleWrinkleSpec> wrinkles;
+};
+
+// A curve wrinkle (MODEL.md §7-8) placed relative to the landmarks: its 4 Bezier control
+// points are template points (depth 0) that the fit casts onto the head and turns into the
+// texture coordinates of the surface hit; depth and width in units of s.
+struct TemplateCurveWrinkle {
+  std::string name;           // unique among curve wrinkles (after mirroring)
+  TemplatePoint control[4];   // depth is always 0 (the curve lies in the skin)
+  float depth = 0.f;          // d (Bando) or h0 (Yang-Zhang), units of s, > 0
+  float width = 0.f;          // w (Bando) or a0 (Yang-Zhang), units of s, > 0
+  CurveWrinkleProfile profile = CurveWrinkleProfile::kBando;
+  CurveWrinkleModulation modulation = CurveWrinkleModulation::kDirectional;
+  float rest_amplitude = 0.f;  // [0, 1]
+};
+
+// A region of the skin-thickness map (Bando et al. 2003 §6: the face is divided into regions
+// filled with their thickness, then blurred): a Gaussian weight around `center` with the
+// given radii (standard deviations) in the face plane.
+struct ThicknessRegion {
+  std::string name;
+  float2 center;  // face-frame (x, y), units of s
+  float2 radius;  // (sx, sy) > 0, units of s
+  float value = 0.f;  // thickness at the region's centre, units of s, >= 0
+};
+
+// h(p) = (w0 * base + sum_i g_i(p) v_i) / (w0 + sum_i g_i(p)), a normalised Gaussian blend,
+// g_i = exp(-((x - cx)^2 / sx^2 + (y - cy)^2 / sy^2) / 2) * F(z), w0 = exp(-2) (the base takes
+// over two radii away from every region), F(z) = smoothstep(front[0], front[1], z): the
+// regions hold on the face only, not on the back of the head that projects onto it.
+struct TemplateThickness {
+  float base = 0.f;  // units of s, >= 0
+  float front[2] = {-1.f, -0.5f};  // face-frame z range of the fade, units of s
+  std::vector<ThicknessRegion> regions;
+};
+
+struct MuscleTemplate {
+  std::string file;  // where it was loaded from ("" when parsed from text)
+  TemplateThickness thickness;
+  std::vector<TemplateMuscle> muscles;  // `mirror` entries already expanded, file order
+  std::vector<TemplateCurveWrinkle> curve_wrinkles;  // likewise
+};
+
+// Thickness at face-frame position `p` (units of s, as FaceFrame::ToLocal gives), units of s.
+float EvaluateTemplateThickness(const TemplateThickness& t, float3 p);
+
+}  // namespace mimetic

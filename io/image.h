@@ -1,0 +1,21 @@
+// io/image.h: image files through stb (Debian's libstb: stb_image reads, stb_image_write
+// writes).
+#pragma once
+
+#include <string>
+
+#include "core/diagnostics.h"
+#include "core/image.h"
+
+namespace mimetic {
+
+// Reads any image stb_image reads (PNG, JPEG, TGA, BMP, ...) as 8-bit grey levels. On failure
+// records `where: cannot read <what> '<path>': <reason> (expected a PNG, JPEG, TGA or BMP
+// image)` and returns false.
+bool LoadGrayImage(const std::string& path, const std::string& where, const std::string& what,
+                   GrayImage* out, Diagnostics* diag);
+
+// Writes `image` as PNG atomically (stb_image_write into memory, then WriteFileAtomic).
+bool SavePng(const std::string& path, const Image& image, Diagnostics* diag);
+
+}  // namespace mimetic

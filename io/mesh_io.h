@@ -1,0 +1,50 @@
+// io/mesh_io.h: triangle mesh files (glTF 2.0 through tinygltf, OBJ through OpenMesh's reader).
+#pragma once
+
+#include <string>
+
+#include "core/diagnostics.h"
+#include "geometry/mesh.h"
+
+namespace mimetic {
+
+// Reads a triangle mesh; the format comes from the extension (case-insensitive).
+//
+// .gltf / .glb (tinygltf): the mesh named `mesh_name`, or the first mesh when it is empty;
+// every primitive of it, concatenated in order (vertex and triangle numbers run on across
+// primitives). Per primitive: POSITION (float VEC3, required), NORMAL (float VEC3), TEXCOORD_0
+// (float, or normalized u8/u16, VEC2), indices (u8/u16/u32 SCALAR, or none = non-indexed).
+// Only mode TRIANGLES. Accessor byteOffset and bufferView byteStride are honoured and every
+// accessor is bounds-checked against its bufferView and buffer. Node transforms, morph
+// targets, skins and materials are ignored: positions are the mesh's own, in mesh space.
+// Normals / uvs are kept only when every primitive has them (otherwise dropped, with a
+// warning). Images are never decoded.
+//
+// .obj (OpenMesh's OBJ reader, cross-checked by a validating scan so that nothing OpenMesh
+// would silently drop goes unreported): polygons are fan-triangulated from their first corner.
+// Vertex layout: vertices 0..#v-1 are the file's `v` lines in order (OBJ index k is vertex
+// k-1), each with the texcoord of its first use; every further distinct (v, vt) pair used by a
+// face (a UV seam) is appended as an extra vertex in order of first use. `vn` normals are not
+// imported (`normals` stays empty; the rig computes normals from the geometry). Faces must use
+// distinct vertices and either v/vt on every corner or on none. `mesh_name` is ignored.
+//
+// Returns false and records every problem in `diag` (capped at 20 messages per kind), naming
+// the element: unreadable or empty file, unknown extension, invalid glTF (tinygltf's message),
+// missing mesh (listing the available names), unsupported mode, accessor out of bounds,
+// attribute count mismatch, `triangle 4: index 99 out of range (mesh has 12 vertices)`,
+// `vertex 7: position is not finite`, OBJ `line 12: face 3: references vertex 0, ...`,
+// no triangles. `where` names the element only (`triangle 4`, `line 12: face 3`, `mesh 'head'
+// primitive 1`; empty for whole-file problems): callers prefix the file, e.g.
+// `diag->Append(local, path)`. On failure `out` holds no geometry (only `source`). Never throws.
+bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData* out,
+                Diagnostics* diag);
+
+// Writes positions, normals (when present), uvs (when present) and triangles; `.obj` or `.glb`
+// by extension. OBJ: `v`/`vt`/`vn` with %.9g (floats round-trip exactly) and 1-based
+// `f a/a/a ...` faces. GLB: one buffer, POSITION (with min/max), NORMAL, TEXCOORD_0, u32
+// indices, one mesh named "mesh", one node, one scene. Refuses (returns false, writes nothing)
+// meshes with out-of-range indices, non-finite values or attribute sizes other than 0 or #V.
+// The file is written to a temporary name and renamed (WriteFileAtomic).
+bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag);
+
+}  // namespace mimetic

@@ -1,0 +1,309 @@
+// Muscle template loader (docs/template-format.md): bad-input table, mirroring, the default
+// template, and the thickness blend against hand-computed values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "fitting/muscle_template.h"
+#include "io/template_file.h"
+#include "test_support.h"
+
+namespace mimetic {
+namespace {
+
+// A valid template with one linear and one sheet muscle; cases below edit its text.
+const std::string kValid = R"({
+  "format": "mimetic-muscle-template", "version": 1,
+  "thickness": {"base": 0.03, "front": [-1, -0.5],
+                "regions": [{"name": "cheek", "center": [0.3, -0.5], "radius": [0.1, 0.2], "value": 0.09, "mirror": true}]},
+  "muscles": [
+    {"name": "zyg_L", "type": "linear", "mirror": true, "strength": 0.08,
+     "attachment": {"landmarks": [45], "offset": [0.08, -0.22], "depth": 0.08},
+     "insertion": {"landmarks": [54, 48], "weights": [3, 1], "depth": 0.02},
+     "zone_angle_deg": 25, "falloff_start": 0.5, "falloff_end": 0.8,
+     "wrinkles": {"depth": 0.012, "phi_c_deg": 10}},
+    {"name": "front", "type": "sheet", "strength": 0.1,
+     "attachment": [{"landmarks": [22], "offset": [0, 0.6], "depth": 0.03},
+                    {"landmarks": [24], "offset": [0, 0.6], "depth": 0.03}],
+     "insertion": [{"landmarks": [22], "depth": 0.01}, {"landmarks": [24], "depth": 0.01}],
+     "length": 0.8, "width": 0.36, "falloff_start": 0.6,
+     "wrinkles": {"lambda_w": 0.2, "count": 4, "depth": 0.01, "shape": 0.5, "h_c": 0.05}}
+  ],
+  "curve_wrinkles": [
+    {"name": "fold_L", "mirror": true,
+     "control": [{"landmarks": [35], "offset": [0.05, 0.08]}, {"landmarks": [35], "offset": [0.1, -0.06]},
+                 {"landmarks": [54], "offset": [0.06, 0.1]}, {"landmarks": [54], "offset": [0.07, -0.04], "depth": 0}],
+     "depth": 0.04, "width": 0.05, "modulation": "area", "rest_amplitude": 0.2}
+  ]
+})";
+
+std::string Replace(std::string s, const std::string& from, const std::string& to) {
+  const size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+TEST(MuscleTemplate, ValidTextParsesWithMirroringAndNormalisedWeights) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(kValid, &t, &diag)) << diag.Format();
+  ASSERT_EQ(t.muscles.size(), 3u);
+  EXPECT_EQ(t.muscles[0].name, "zyg_L");
+  EXPECT_EQ(t.muscles[1].name, "zyg_R");
+  EXPECT_EQ(t.muscles[2].name, "front");
+  const TemplateMuscle& r = t.muscles[1];
+  // Mirror: 45 <-> 36, 54 <-> 48, dx negated.
+  EXPECT_EQ(r.attachment[0].landmarks, (std::vector<int>{36}));
+  EXPECT_EQ(r.insertion[0].landmarks, (std::vector<int>{48, 54}));
+  EXPECT_FLOAT_EQ(r.attachment[0].offset.x, -0.08f);
+  EXPECT_FLOAT_EQ(r.attachment[0].offset.y, -0.22f);
+  EXPECT_FLOAT_EQ(t.muscles[0].insertion[0].weights[0], 0.75f);
+  EXPECT_FLOAT_EQ(t.muscles[0].insertion[0].weights[1], 0.25f);
+  EXPECT_FLOAT_EQ(t.muscles[2].insertion[0].weights[0], 1.f);  // default: equal
+  EXPECT_FLOAT_EQ(t.muscles[2].insertion[0].offset.x, 0.f);   // default offset
+  EXPECT_EQ(t.muscles[2].type, MuscleType::kSheet);
+  ASSERT_EQ(t.thickness.regions.size(), 2u);  // mirrored region
+  EXPECT_FLOAT_EQ(t.thickness.regions[1].center.x, -0.3f);
+}
+
+TEST(MuscleTemplate, WrinkleBlocksAndCurveWrinklesParseMirrorAndDefault) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(kValid, &t, &diag)) << diag.Format();
+  ASSERT_EQ(t.muscles.size(), 3u);
+  // Linear block: absent keys take the rig file's defaults; phi_c in radians.
+  for (int i : {0, 1}) {  // the mirrored copy carries the block too
+    ASSERT_TRUE(t.muscles[size_t(i)].wrinkles.has_value()) << i;
+    const MuscleWrinkleSpec& w = *t.muscles[size_t(i)].wrinkles;
+    EXPECT_FLOAT_EQ(w.lambda_w, 0.5f);
+    EXPECT_EQ(w.count, 3);
+    EXPECT_FLOAT_EQ(w.depth, 0.012f);
+    EXPECT_FLOAT_EQ(w.shape, 0.f);
+    EXPECT_NEAR(w.phi_c, 10.f * 3.14159265f / 180.f, 1e-6f);
+  }
+  const MuscleWrinkleSpec& sw = *t.muscles[2].wrinkles;
+  EXPECT_FLOAT_EQ(sw.lambda_w, 0.2f);
+  EXPECT_EQ(sw.count, 4);
+  EXPECT_FLOAT_EQ(sw.depth, 0.01f);
+  EXPECT_FLOAT_EQ(sw.shape, 0.5f);
+  EXPECT_FLOAT_EQ(sw.h_c, 0.05f);
+  // Curve: mirrored (35 <-> 31, 54 <-> 48, dx negated), defaults, depth 0 on the skin.
+  ASSERT_EQ(t.curve_wrinkles.size(), 2u);
+  const TemplateCurveWrinkle& l = t.curve_wrinkles[0];
+  const TemplateCurveWrinkle& r = t.curve_wrinkles[1];
+  EXPECT_EQ(l.name, "fold_L");
+  EXPECT_EQ(r.name, "fold_R");
+  EXPECT_EQ(l.control[0].landmarks, (std::vector<int>{35}));
+  EXPECT_EQ(r.control[0].landmarks, (std::vector<int>{31}));
+  EXPECT_EQ(r.control[3].landmarks, (std::vector<int>{48}));
+  EXPECT_FLOAT_EQ(r.control[1].offset.x, -0.1f);
+  EXPECT_FLOAT_EQ(r.control[1].offset.y, -0.06f);
+  for (const TemplatePoint& p : l.control) EXPECT_FLOAT_EQ(p.depth, 0.f);
+  EXPECT_FLOAT_EQ(l.depth, 0.04f);
+  EXPECT_FLOAT_EQ(l.width, 0.05f);
+  EXPECT_EQ(l.profile, CurveWrinkleProfile::kBando);  // default
+  EXPECT_EQ(l.modulation, CurveWrinkleModulation::kArea);
+  EXPECT_FLOAT_EQ(r.rest_amplitude, 0.2f);
+}
+
+struct BadCase {
+  const char* name;
+  std::string text;
+  std::vector<std::string> expect;  // substrings of the diagnostics (where or what)
+};
+
+TEST(MuscleTemplate, BadInputTable) {
+  const std::vector<BadCase> cases = {
+      {"not json", "{\"format\": ", {"not valid JSON"}},
+      {"not an object", "[1, 2]", {"expected a JSON object"}},
+      {"wrong format", Replace(kValid, "\"mimetic-muscle-template\"", "\"mimetic-rig\""),
+       {"format", "expected \"mimetic-muscle-template\""}},
+      {"newer version", Replace(kValid, "\"version\": 1", "\"version\": 2"),
+       {"unsupported version 2"}},
+      {"unknown top key", Replace(kValid, "\"version\": 1,", "\"version\": 1, \"colour\": 3,"),
+       {"colour", "unknown key"}},
+      {"no muscles", Replace(kValid, "\"muscles\": [", "\"muscles\": [], \"x\": ["),
+       {"muscles", "non-empty array"}},
+      {"bad type", Replace(kValid, "\"type\": \"linear\"", "\"type\": \"ring\""),
+       {"muscles[0].type", "\"linear\" or \"sheet\""}},
+      {"landmark out of range", Replace(kValid, "\"landmarks\": [45]", "\"landmarks\": [68]"),
+       {"muscles[0].attachment.landmarks[0]", "0..67"}},
+      {"landmark repeated", Replace(kValid, "[54, 48]", "[54, 54]"),
+       {"muscles[0].insertion.landmarks[1]", "appears twice"}},
+      {"weights count", Replace(kValid, "\"weights\": [3, 1]", "\"weights\": [3]"),
+       {"muscles[0].insertion.weights", "array of 2 numbers"}},
+      {"weights zero", Replace(kValid, "\"weights\": [3, 1]", "\"weights\": [0, 0]"),
+       {"weights sum to 0"}},
+      {"negative depth", Replace(kValid, "\"depth\": 0.08", "\"depth\": -0.08"),
+       {"muscles[0].attachment.depth", ">= 0"}},
+      {"missing depth", Replace(kValid, ", \"depth\": 0.02}", "}"),
+       {"muscles[0].insertion.depth", "missing"}},
+      {"offset shape", Replace(kValid, "\"offset\": [0.08, -0.22]", "\"offset\": [0.08]"),
+       {"muscles[0].attachment.offset", "[dx, dy]"}},
+      {"zone angle", Replace(kValid, "\"zone_angle_deg\": 25", "\"zone_angle_deg\": 190"),
+       {"zone_angle_deg", "(0, 180)"}},
+      {"falloff order", Replace(kValid, "\"falloff_end\": 0.8", "\"falloff_end\": 0.4"),
+       {"falloff_end", "> falloff_start"}},
+      {"sheet falloff beyond length", Replace(kValid, "\"falloff_start\": 0.6", "\"falloff_start\": 0.9"),
+       {"muscles[1].falloff_start", "(0, length"}},
+      {"sheet with one insertion",
+       Replace(kValid, "[{\"landmarks\": [22], \"depth\": 0.01}, {\"landmarks\": [24], \"depth\": 0.01}]",
+               "{\"landmarks\": [22], \"depth\": 0.01}"),
+       {"muscles[1].insertion", "array of 2 point objects"}},
+      {"linear key on a sheet", Replace(kValid, "\"length\": 0.8,", "\"length\": 0.8, \"zone_angle_deg\": 20,"),
+       {"muscles[1].zone_angle_deg", "unknown key in a sheet muscle"}},
+      {"mirror without suffix", Replace(kValid, "\"name\": \"zyg_L\"", "\"name\": \"zyg\""),
+       {"muscles[0].mirror", "_L or _R"}},
+      {"duplicate via mirror", Replace(kValid, "\"name\": \"front\"", "\"name\": \"zyg_R\""),
+       {"duplicate muscle name \"zyg_R\""}},
+      {"negative strength", Replace(kValid, "\"strength\": 0.1", "\"strength\": -1"),
+       {"muscles[1].strength", ">= 0"}},
+      {"overflowing number", Replace(kValid, "\"strength\": 0.1", "\"strength\": 1e300"),
+       {"muscles[1].strength", "too large for a float"}},
+      {"thickness front order", Replace(kValid, "\"front\": [-1, -0.5]", "\"front\": [0, -0.5]"),
+       {"thickness.front", "z0 < z1"}},
+      {"thickness radius", Replace(kValid, "\"radius\": [0.1, 0.2]", "\"radius\": [0, 0.2]"),
+       {"thickness.regions[0].radius", "> 0"}},
+      {"thickness value type", Replace(kValid, "\"value\": 0.09", "\"value\": \"thick\""),
+       {"thickness.regions[0].value", "got \"thick\""}},
+      // Muscle wrinkle blocks (docs/template-format.md, "Wrinkles").
+      {"wrinkles not an object", Replace(kValid, "\"wrinkles\": {\"depth\": 0.012, \"phi_c_deg\": 10}",
+                                         "\"wrinkles\": 3"),
+       {"muscles[0].wrinkles", "expected a wrinkle object"}},
+      {"wrinkles without depth", Replace(kValid, "{\"depth\": 0.012, \"phi_c_deg\": 10}", "{\"phi_c_deg\": 10}"),
+       {"muscles[0].wrinkles.depth", "missing"}},
+      {"wrinkles negative depth", Replace(kValid, "\"depth\": 0.012,", "\"depth\": -0.012,"),
+       {"muscles[0].wrinkles.depth", ">= 0"}},
+      {"wrinkles lambda_w 1", Replace(kValid, "\"lambda_w\": 0.2", "\"lambda_w\": 1"),
+       {"muscles[1].wrinkles.lambda_w", "[0, 1)"}},
+      {"wrinkles count 0", Replace(kValid, "\"count\": 4", "\"count\": 0"),
+       {"muscles[1].wrinkles.count", "integer >= 1"}},
+      {"wrinkles count fractional", Replace(kValid, "\"count\": 4", "\"count\": 2.5"),
+       {"muscles[1].wrinkles.count", "integer >= 1"}},
+      {"wrinkles shape type", Replace(kValid, "\"shape\": 0.5", "\"shape\": \"sharp\""),
+       {"muscles[1].wrinkles.shape", "finite number"}},
+      {"phi_c beyond the zone angle", Replace(kValid, "\"phi_c_deg\": 10", "\"phi_c_deg\": 30"),
+       {"muscles[0].wrinkles.phi_c_deg", "zone_angle_deg = 25"}},
+      {"h_c on a linear muscle", Replace(kValid, "\"phi_c_deg\": 10", "\"h_c\": 0.01"),
+       {"muscles[0].wrinkles.h_c", "sheet muscle"}},
+      {"phi_c on a sheet muscle", Replace(kValid, "\"h_c\": 0.05", "\"phi_c_deg\": 5"),
+       {"muscles[1].wrinkles.phi_c_deg", "linear muscle"}},
+      {"h_c beyond half the width", Replace(kValid, "\"h_c\": 0.05", "\"h_c\": 0.2"),
+       {"muscles[1].wrinkles.h_c", "width/2 = 0.18"}},
+      {"unknown wrinkle key", Replace(kValid, "\"count\": 4,", "\"count\": 4, \"period\": 2,"),
+       {"muscles[1].wrinkles.period", "unknown key"}},
+      // Curve wrinkles.
+      {"curve_wrinkles not an array", Replace(kValid, "\"curve_wrinkles\": [", "\"curve_wrinkles\": 1, \"x\": ["),
+       {"curve_wrinkles", "expected an array of curve wrinkles"}},
+      {"curve control count",
+       Replace(kValid, ", {\"landmarks\": [54], \"offset\": [0.07, -0.04], \"depth\": 0}]", "]"),
+       {"curve_wrinkles[0].control", "array of 4 point objects"}},
+      {"curve control depth", Replace(kValid, "\"offset\": [0.07, -0.04], \"depth\": 0}",
+                                      "\"offset\": [0.07, -0.04], \"depth\": 0.01}"),
+       {"curve_wrinkles[0].control[3].depth", "lies in the skin"}},
+      {"curve control landmark", Replace(kValid, "{\"landmarks\": [35], \"offset\": [0.1, -0.06]}",
+                                         "{\"landmarks\": [99], \"offset\": [0.1, -0.06]}"),
+       {"curve_wrinkles[0].control[1].landmarks[0]", "0..67"}},
+      {"curve missing width", Replace(kValid, "\"width\": 0.05, ", ""),
+       {"curve_wrinkles[0].width", "missing"}},
+      {"curve zero depth", Replace(kValid, "\"depth\": 0.04,", "\"depth\": 0,"),
+       {"curve_wrinkles[0].depth", "> 0"}},
+      {"curve profile", Replace(kValid, "\"modulation\": \"area\"", "\"modulation\": \"area\", \"profile\": \"gauss\""),
+       {"curve_wrinkles[0].profile", "\"bando\", \"yang_zhang\", \"yang_zhang_exact\""}},
+      {"curve modulation", Replace(kValid, "\"modulation\": \"area\"", "\"modulation\": \"strain\""),
+       {"curve_wrinkles[0].modulation", "\"directional\", \"area\""}},
+      {"curve rest amplitude", Replace(kValid, "\"rest_amplitude\": 0.2", "\"rest_amplitude\": 1.5"),
+       {"curve_wrinkles[0].rest_amplitude", "[0, 1]"}},
+      {"curve mirror without suffix", Replace(kValid, "\"name\": \"fold_L\"", "\"name\": \"fold\""),
+       {"curve_wrinkles[0].mirror", "_L or _R"}},
+      {"curve unknown key", Replace(kValid, "\"name\": \"fold_L\",", "\"name\": \"fold_L\", \"colour\": 1,"),
+       {"curve_wrinkles[0].colour", "unknown key in a curve wrinkle"}},
+      {"curve duplicate via mirror",
+       Replace(kValid, "\"curve_wrinkles\": [",
+               "\"curve_wrinkles\": [{\"name\": \"fold_R\", \"control\": [{\"landmarks\": [1]}, "
+               "{\"landmarks\": [2]}, {\"landmarks\": [3]}, {\"landmarks\": [4]}], \"depth\": 0.01, "
+               "\"width\": 0.01},"),
+       {"duplicate curve wrinkle name \"fold_R\""}},
+  };
+  ASSERT_GE(cases.size(), 12u);
+  for (const BadCase& c : cases) {
+    MuscleTemplate t;
+    Diagnostics diag;
+    EXPECT_FALSE(ParseMuscleTemplate(c.text, &t, &diag)) << c.name;
+    EXPECT_TRUE(diag.HasErrors()) << c.name;
+    for (const std::string& e : c.expect) EXPECT_TRUE(diag.Contains(e)) << c.name << ": wanted '" << e << "' in\n" << diag.Format();
+  }
+}
+
+TEST(MuscleTemplate, ReportsEveryProblemNotOnlyTheFirst) {
+  std::string text = Replace(kValid, "\"zone_angle_deg\": 25", "\"zone_angle_deg\": -5");
+  text = Replace(text, "\"width\": 0.36", "\"width\": 0");
+  text = Replace(text, "\"base\": 0.03", "\"base\": -1");
+  MuscleTemplate t;
+  Diagnostics diag;
+  EXPECT_FALSE(ParseMuscleTemplate(text, &t, &diag));
+  EXPECT_EQ(diag.ErrorCount(), 3u) << diag.Format();
+  EXPECT_TRUE(diag.Contains("muscles[0].zone_angle_deg"));
+  EXPECT_TRUE(diag.Contains("muscles[1].width"));
+  EXPECT_TRUE(diag.Contains("thickness.base"));
+}
+
+TEST(MuscleTemplate, LoadReportsMissingFileAndPrefixesTheFileName) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  EXPECT_FALSE(LoadMuscleTemplate("/nonexistent/x.template.json", &t, &diag));
+  EXPECT_TRUE(diag.Contains("cannot open")) << diag.Format();
+}
+
+TEST(MuscleTemplate, DefaultTemplateHasTheZhangAndBandoMusclesOnBothSides) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadMuscleTemplate(test::SourceDir() + "/assets/head/default.template.json", &t, &diag))
+      << diag.Format();
+  EXPECT_TRUE(diag.empty()) << diag.Format();
+  const char* names[] = {"frontalis_inner", "frontalis_major", "frontalis_outer",
+                         "corrugator_supercilii", "procerus", "nasalis",
+                         "levator_labii_alaeque_nasi", "zygomaticus_minor", "zygomaticus_major",
+                         "risorius", "depressor_anguli_oris", "mentalis"};
+  ASSERT_EQ(t.muscles.size(), 24u);
+  for (const char* n : names) {
+    for (const char* side : {"_L", "_R"}) {
+      bool found = false;
+      for (const TemplateMuscle& m : t.muscles) {
+        if (m.name != std::string(n) + side) continue;
+        found = true;
+        const bool sheet = std::string(n).rfind("frontalis", 0) == 0;
+        EXPECT_EQ(m.type, sheet ? MuscleType::kSheet : MuscleType::kLinear) << m.name;
+        EXPECT_GT(m.strength, 0.f) << m.name;
+      }
+      EXPECT_TRUE(found) << n << side;
+    }
+  }
+  // Left-side insertions lie on the subject's left (+x offsets or left landmarks).
+}
+
+TEST(TemplateThickness, NormalisedGaussianBlendKnownAnswers) {
+  TemplateThickness t;
+  t.base = 0.03f;
+  t.front[0] = -1.f;
+  t.front[1] = -0.5f;
+  t.regions.push_back({"a", {0.f, 0.5f}, {0.2f, 0.1f}, 0.01f});
+  const float w0 = std::exp(-2.f);
+  // At the centre, in front: g = 1 -> (w0 * base + v) / (w0 + 1).
+  EXPECT_NEAR(EvaluateTemplateThickness(t, {0.f, 0.5f, 0.f}), (w0 * 0.03f + 0.01f) / (w0 + 1.f), 1e-7f);
+  // One radius away in x: g = exp(-1/2).
+  const float g = std::exp(-0.5f);
+  EXPECT_NEAR(EvaluateTemplateThickness(t, {0.2f, 0.5f, 0.f}), (w0 * 0.03f + g * 0.01f) / (w0 + g), 1e-7f);
+  // Behind the face (z <= front[0]) the region does not apply: base.
+  EXPECT_NEAR(EvaluateTemplateThickness(t, {0.f, 0.5f, -2.f}), 0.03f, 1e-7f);
+  // Halfway through the fade, smoothstep(0.5) = 0.5.
+  EXPECT_NEAR(EvaluateTemplateThickness(t, {0.f, 0.5f, -0.75f}), (w0 * 0.03f + 0.5f * 0.01f) / (w0 + 0.5f), 1e-7f);
+  // Far away: base.
+  EXPECT_NEAR(EvaluateTemplateThickness(t, {5.f, 5.f, 0.f}), 0.03f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace mimetic
