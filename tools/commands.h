@@ -16,5 +16,6 @@ int CmdMakeSurface(const Args& args);  // the procedural test surface
 int CmdMakeHead(const Args& args);     // the sample head (tools/cmd_head.cpp)
 int CmdRender(const Args& args);       // software render to PNG (tools/cmd_render.cpp)
 int CmdFit(const Args& args);          // place a muscle template on a head (tools/cmd_fit.cpp)
+int CmdCompare(const Args& args);      // how close a mesh is to another (tools/cmd_compare.cpp)
 
 }  // namespace mimetic::tools

@@ -21,6 +21,7 @@ const Command kCommands[] = {
     {"make-head", mimetic::tools::CmdMakeHead, "write the procedural sample head and its landmarks"},
     {"render", mimetic::tools::CmdRender, "render a mesh to a PNG image (software, no GPU)"},
     {"fit", mimetic::tools::CmdFit, "place a muscle template on a head from its landmarks"},
+    {"compare", mimetic::tools::CmdCompare, "how close a mesh is to another (surface distance, motion)"},
 };
 
 void PrintHelp(FILE* out) {
