@@ -119,7 +119,7 @@ void EvaluateContext::BuildStrainTables(const Rig& r) {
   wrinkle_offsets_.assign(point_count_, 0.f);
 }
 
-// Every stage job over its full range, validated once; Run() then uses RunUnchecked().
+// Every stage job over its full range, validated once, so that Run() needs no index checks.
 bool EvaluateContext::CheckTables(const Rig& r) {
   const uint32_t points = r.point_count(), tris = r.triangle_count();
   if (r.vertex_points.size() != r.vertex_count()) return false;
