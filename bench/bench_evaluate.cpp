@@ -141,7 +141,7 @@ void FillWeights(std::vector<float>* w, uint32_t frame) {
 
 // An EvaluateJob over its own context and output buffers.
 struct EvaluateSetup {
-  EvaluateSetup(const Rig& rig, EvaluateLayers layers)
+  EvaluateSetup(const Rig& rig, SkinLayers layers)
       : context(rig), activations(rig.muscle_count()), positions(3 * rig.vertex_count()),
         normals(3 * rig.vertex_count()) {
     job.rig = &rig;
@@ -156,7 +156,7 @@ struct EvaluateSetup {
   EvaluateJob job;
 };
 
-void RunEvaluate(benchmark::State& state, bool head, EvaluateLayers layers) {
+void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;
   EvaluateSetup setup(rig, layers);
   const EvaluateJob& job = setup.job;
@@ -208,7 +208,7 @@ void RunReference(benchmark::State& state, bool head) {
 void RunPaired(benchmark::State& state, bool head) {
   const Fixture& f = GetFixture(head, int(state.range(0)));
   const Rig& rig = f.rig;
-  EvaluateSetup setup(rig, EvaluateLayers{});
+  EvaluateSetup setup(rig, SkinLayers{});
   bench::ReferenceContext ref_context(rig);
   std::vector<float> weights(f.reference.shapes.size());
   std::vector<float>& positions = setup.positions;
@@ -241,14 +241,14 @@ void RunPaired(benchmark::State& state, bool head) {
   state.counters["ratio"] = double(evaluate.count()) / double(reference.count());
 }
 
-void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, EvaluateLayers{}); }
+void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}); }
 void BM_EvaluateMusclesOnly(benchmark::State& s) {
-  RunEvaluate(s, false, EvaluateLayers{false, false, false});
+  RunEvaluate(s, false, SkinLayers{false, false, false});
 }
 void BM_Reference(benchmark::State& s) { RunReference(s, false); }
-void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, EvaluateLayers{}); }
+void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}); }
 void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
-  RunEvaluate(s, true, EvaluateLayers{false, false, false});
+  RunEvaluate(s, true, SkinLayers{false, false, false});
 }
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }

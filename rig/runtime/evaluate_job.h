@@ -82,13 +82,6 @@ class EvaluateContext {
   std::vector<float> wrinkle_offsets_;    // #P: their summed wrinkle displacement this frame
 };
 
-// Per-evaluation switches (the viewer toggles them); ANDed with what the rig compiled.
-struct EvaluateLayers {
-  bool thickness = true;
-  bool muscle_wrinkles = true;
-  bool curve_wrinkles = true;
-};
-
 // A caller-supplied parallel loop: must call task(task_data, begin, end) over disjoint ranges
 // that cover [0, count) and return when all have finished. nullptr = run serially.
 using ParallelForFn = void (*)(void* user, uint32_t count,
@@ -113,7 +106,7 @@ struct EvaluateJob {
   span<float> out_normals;            // optional (empty = skip); unit length; same layout rule
   size_t out_normals_stride = 12;     // bytes, >= 12, multiple of 4
 
-  EvaluateLayers layers;              // which skin layers run (default: all the rig has)
+  SkinLayers layers;                  // which skin layers run (default: all the rig has)
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
   void* parallel_for_user = nullptr;

@@ -12,19 +12,12 @@
 
 #include "core/math.h"
 #include "muscles/runtime/muscle_table.h"
+#include "rig/runtime/skin_layers.h"
 #include "wrinkles/runtime/strain_jobs.h"
 #include "wrinkles/runtime/thickness_job.h"
 #include "wrinkles/runtime/wrinkle_jobs.h"
 
 namespace mimetic {
-
-// The skin layers a rig was compiled with (MODEL.md §1 steps 3-4). A layer is on when the
-// rig file enables it and it has something to do (a non-zero thickness, a non-empty region).
-struct RigLayers {
-  bool thickness = false;
-  bool muscle_wrinkles = false;
-  bool curve_wrinkles = false;
-};
 
 // One muscle's wrinkling region (MODEL.md §6), fixed on the rest pose; see MuscleWrinkleJob
 // and EdgeCompressionJob for the meaning of each array (rows = region points).
@@ -79,7 +72,9 @@ struct Rig {
   std::vector<float2> vertex_uvs;        // #V, or empty when the mesh has none
 
   // Skin (MODEL.md §4-8).
-  RigLayers layers;                      // what was compiled
+  // What was compiled: a layer is on when the rig file enables it and it has something to do
+  // (all off until the builder says otherwise).
+  SkinLayers layers{false, false, false};
   std::vector<float> point_thickness;    // #P, mesh units (MODEL.md §4)
   std::vector<float> rest_triangle_areas;  // #T, mesh units^2 (when any skin layer is on)
   float min_area_ratio = kDefaultMinAreaRatio;  // r_min (MODEL.md §4 choice)

@@ -41,7 +41,7 @@ struct Pose {
   std::vector<float3> points, normals;
 };
 
-Pose Evaluate(const Rig& rig, const Activations& set, EvaluateLayers layers) {
+Pose Evaluate(const Rig& rig, const Activations& set, SkinLayers layers) {
   std::vector<float> a(rig.muscle_count(), 0.f);
   for (const auto& [name, value] : set) {
     const int m = rig.FindMuscle(name);
@@ -75,7 +75,7 @@ Pose Evaluate(const Rig& rig, const Activations& set, EvaluateLayers layers) {
 
 // Normal displacement of one layer: (with - without) . n(without), per point.
 std::vector<float> LayerDisplacement(const Rig& rig, const Activations& set, bool muscle_layer) {
-  EvaluateLayers on, off;
+  SkinLayers on, off;
   (muscle_layer ? off.muscle_wrinkles : off.curve_wrinkles) = false;
   const Pose a = Evaluate(rig, set, on), b = Evaluate(rig, set, off);
   std::vector<float> d(a.points.size());

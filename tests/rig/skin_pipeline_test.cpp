@@ -68,7 +68,7 @@ struct Fig3 {
   }
 };
 
-std::vector<float> Evaluate(const Rig& rig, span<const float> act, EvaluateLayers layers,
+std::vector<float> Evaluate(const Rig& rig, span<const float> act, SkinLayers layers,
                             std::vector<float>* normals = nullptr,
                             std::vector<float>* area_ratios = nullptr) {
   EvaluateContext ctx(rig);
