@@ -111,7 +111,7 @@ std::unique_ptr<Fixture> MakeHead(int vertices) {
   // Blendshape regions centred on the face: points in front of the ears, between chin and brows.
   std::vector<uint32_t> face;
   for (uint32_t p = 0; p < f->rig.point_count(); ++p) {
-    const float3 x = f->rig.rest_points[p];
+    const float3 x = f->rig.rest_points()[p];
     if (x.z > 40.f && x.y > -110.f && x.y < 40.f) face.push_back(p);
   }
   f->reference = bench::MakeReferenceRig(f->rig, 52, 0.15f, face);
@@ -172,16 +172,16 @@ void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers) {
   }
   SetCounters(state, rig);
   state.counters["influences_per_vertex"] =
-      double(rig.muscles.entries.size()) / double(rig.point_count());
-  state.counters["active_fraction"] = double(rig.active_point_count) / double(rig.point_count());
+      double(rig.muscles().entries.size()) / double(rig.point_count());
+  state.counters["active_fraction"] = double(rig.active_point_count()) / double(rig.point_count());
   if (layers.muscle_wrinkles) {
     size_t rows = 0;
-    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
+    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles()) rows += w.row_count();
     state.counters["wrinkle_rows_per_vertex"] = double(rows) / double(rig.point_count());
   }
   if (layers.curve_wrinkles)
     state.counters["curve_entries_per_vertex"] =
-        double(rig.curve_wrinkles.entries.size()) / double(rig.point_count());
+        double(rig.curve_wrinkles().entries.size()) / double(rig.point_count());
 }
 
 void RunReference(benchmark::State& state, bool head) {

@@ -285,8 +285,8 @@ TEST(EvaluateJob, PartialCoverageMatchesAFullIndependentComputation) {
   m.linear.falloff_end = 35.f;
   spec.muscles.push_back(m);
   const Rig rig = BuildOrDie(spec, mesh);
-  ASSERT_GT(rig.active_point_count, 0u);
-  ASSERT_LT(rig.normal_point_count, rig.point_count() / 2) << "most of the sheet is static";
+  ASSERT_GT(rig.active_point_count(), 0u);
+  ASSERT_LT(rig.normal_point_count(), rig.point_count() / 2) << "most of the sheet is static";
   EvaluateContext ctx(rig);
   const std::vector<float> act = {0.9f};
   std::vector<float> pos, nrm;
