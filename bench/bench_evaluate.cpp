@@ -204,7 +204,8 @@ void RunReference(benchmark::State& state, bool head) {
 
 // EvaluateJob (every layer) and the reference kernel frame by frame, each timed on its own:
 // the `ratio` counter is their summed times divided, so drift of a shared machine (which moves
-// separate benchmarks by up to 30%) hits both sides of every pair alike.
+// separate benchmarks by up to 30%) hits both sides of every pair alike. `rig_bytes` and
+// `context_bytes` report Rig::ByteSize and EvaluateContext::ByteSize.
 void RunPaired(benchmark::State& state, bool head) {
   const Fixture& f = GetFixture(head, int(state.range(0)));
   const Rig& rig = f.rig;
@@ -239,6 +240,9 @@ void RunPaired(benchmark::State& state, bool head) {
   state.counters["reference_ns_per_vertex"] =
       std::chrono::duration<double, std::nano>(reference).count() / n;
   state.counters["ratio"] = double(evaluate.count()) / double(reference.count());
+  // Memory: one Rig (shared by every instance) and one EvaluateContext (per instance).
+  state.counters["rig_bytes"] = double(rig.ByteSize());
+  state.counters["context_bytes"] = double(setup.context.ByteSize());
 }
 
 void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}); }
