@@ -337,22 +337,49 @@ void ExpectFusedMatchesChainedStageJobs(const Rig& rig, span<const float> act) {
   const uint32_t P = rig.point_count(), T = rig.triangle_count();
   std::vector<float3> x(P), faces(T), n1(P), n3(P);
   std::vector<float> tri_ratio(T), ratio(P);
-  ASSERT_TRUE((MuscleDeformJob{&rig.muscles(), act, rig.rest_points(), x, 0, P}.Run()));
-  FaceNormalsJob fj{x, rig.triangles(), faces, 0, T, rig.rest_triangle_areas(), tri_ratio};
+  ASSERT_TRUE((MuscleDeformJob{.table = &rig.muscles(),
+                               .activations = act,
+                               .rest_points = rig.rest_points(),
+                               .out_points = x,
+                               .begin = 0,
+                               .end = P}.Run()));
+  FaceNormalsJob fj{.points = x,
+                    .triangles = rig.triangles(),
+                    .out_face_normals = faces,
+                    .begin = 0,
+                    .end = T,
+                    .rest_areas = rig.rest_triangle_areas(),
+                    .out_area_ratios = tri_ratio};
   ASSERT_TRUE(fj.Run());
-  PointNormalsJob pj{faces, rig.point_triangle_offsets(), rig.point_triangles(), n1, 0, P,
-                     tri_ratio, ratio};
+  PointNormalsJob pj{.face_normals = faces,
+                     .point_triangle_offsets = rig.point_triangle_offsets(),
+                     .point_triangles = rig.point_triangles(),
+                     .out_normals = n1,
+                     .begin = 0,
+                     .end = P,
+                     .triangle_ratios = tri_ratio,
+                     .out_ratios = ratio};
   ASSERT_TRUE(pj.Run());
   std::vector<std::vector<float>> eps;
   for (const RigMuscleWrinkles& w : rig.muscle_wrinkles()) {
     eps.emplace_back(w.row_count());
-    ASSERT_TRUE((EdgeCompressionJob{x, w.points, w.edge_offsets, w.edge_neighbors,
-                                    w.edge_rest_lengths, w.edge_weights, 0, w.row_count(),
-                                    eps.back()}.Run()));
+    ASSERT_TRUE((EdgeCompressionJob{.positions = x,
+                                    .points = w.points,
+                                    .offsets = w.edge_offsets,
+                                    .neighbors = w.edge_neighbors,
+                                    .rest_lengths = w.edge_rest_lengths,
+                                    .weights = w.edge_weights,
+                                    .begin = 0,
+                                    .end = w.row_count(),
+                                    .out_compression = eps.back()}.Run()));
   }
   const RigCurveWrinkles& c = rig.curve_wrinkles();
   std::vector<float> shrink(c.probes.size());
-  ASSERT_TRUE((DirectionalShrinkageJob{x, c.probes, 0, c.probes.size(), shrink}.Run()));
+  ASSERT_TRUE((DirectionalShrinkageJob{.positions = x,
+                                       .probes = c.probes,
+                                       .begin = 0,
+                                       .end = c.probes.size(),
+                                       .out_shrinkage = shrink}.Run()));
   ThicknessJob th;
   th.positions = x;
   th.normals = n1;
@@ -364,16 +391,48 @@ void ExpectFusedMatchesChainedStageJobs(const Rig& rig, span<const float> act) {
   ASSERT_TRUE(th.Run());
   for (size_t t = 0; t < rig.muscle_wrinkles().size(); ++t) {
     const RigMuscleWrinkles& w = rig.muscle_wrinkles()[t];
-    MuscleWrinkleJob mj{n1, w.points, w.phase, w.attenuation, eps[t], w.half_cycle,
-                        w.furrow_depth, w.shape, 0, w.row_count(), x, {}, {}};
+    MuscleWrinkleJob mj{.normals = n1,
+                        .points = w.points,
+                        .phase = w.phase,
+                        .attenuation = w.attenuation,
+                        .compression = eps[t],
+                        .half_cycle = w.half_cycle,
+                        .furrow_depth = w.furrow_depth,
+                        .shape = w.shape,
+                        .begin = 0,
+                        .end = w.row_count(),
+                        .positions = x,
+                        .out_amplitudes = {},
+                        .profile = {}};
     ASSERT_TRUE(mj.Run());
   }
-  CurveWrinkleJob cj{n1, c.wrinkles, c.points, c.offsets, c.entries, shrink, ratio,
-                     0, c.row_count(), x, {}};
+  CurveWrinkleJob cj{.normals = n1,
+                     .wrinkles = c.wrinkles,
+                     .points = c.points,
+                     .offsets = c.offsets,
+                     .entries = c.entries,
+                     .entry_shrinkage = shrink,
+                     .area_ratios = ratio,
+                     .begin = 0,
+                     .end = c.row_count(),
+                     .positions = x,
+                     .out_amplitudes = {}};
   ASSERT_TRUE(cj.Run());
-  ASSERT_TRUE((FaceNormalsJob{x, rig.triangles(), faces, 0, T, {}, {}}.Run()));
-  ASSERT_TRUE((PointNormalsJob{faces, rig.point_triangle_offsets(), rig.point_triangles(), n3, 0, P,
-                               {}, {}}.Run()));
+  ASSERT_TRUE((FaceNormalsJob{.points = x,
+                              .triangles = rig.triangles(),
+                              .out_face_normals = faces,
+                              .begin = 0,
+                              .end = T,
+                              .rest_areas = {},
+                              .out_area_ratios = {}}.Run()));
+  ASSERT_TRUE((PointNormalsJob{.face_normals = faces,
+                               .point_triangle_offsets = rig.point_triangle_offsets(),
+                               .point_triangles = rig.point_triangles(),
+                               .out_normals = n3,
+                               .begin = 0,
+                               .end = P,
+                               .triangle_ratios = {},
+                               .out_ratios = {}}.Run()));
 
   std::vector<float> nrm, fused_ratios;
   const std::vector<float> pos = Evaluate(rig, act, {}, &nrm, &fused_ratios);
