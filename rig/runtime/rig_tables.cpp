@@ -25,7 +25,7 @@ bool CheckRigData(const RigData& r) {
   if (r.point_triangle_offsets[points] > r.point_triangles.size()) return false;
   for (uint32_t t : r.point_triangles)
     if (t >= tris) return false;
-  // The ordering the per-frame ranges rely on (see Rig::active_point_count).
+  // The ordering the per-frame ranges rely on (see RigActiveRanges).
   const uint32_t n_active = r.active.points, n_normal = r.active.normal_points;
   const uint32_t t_active = r.active.triangles;
   if (n_active > n_normal || n_normal > points || t_active > tris) return false;
