@@ -112,7 +112,7 @@ std::unique_ptr<Fixture> MakeHead(int vertices) {
   // Blendshape regions centred on the face: points in front of the ears, between chin and brows.
   std::vector<uint32_t> face;
   for (uint32_t p = 0; p < f->rig.point_count(); ++p) {
-    const float3 x = f->rig.rest_points[p];
+    const float3 x = f->rig.rest_points()[p];
     if (x.z > 40.f && x.y > -110.f && x.y < 40.f) face.push_back(p);
   }
   f->reference = bench::MakeReferenceRig(f->rig, 52, 0.15f, face);
@@ -142,7 +142,7 @@ void FillWeights(std::vector<float>* w, uint32_t frame) {
 
 // An EvaluateJob over its own context and output buffers.
 struct EvaluateSetup {
-  EvaluateSetup(const Rig& rig, EvaluateLayers layers)
+  EvaluateSetup(const Rig& rig, SkinLayers layers)
       : context(rig), activations(rig.muscle_count()), positions(3 * rig.vertex_count()),
         normals(3 * rig.vertex_count()) {
     job.rig = &rig;
@@ -157,7 +157,7 @@ struct EvaluateSetup {
   EvaluateJob job;
 };
 
-void RunEvaluate(benchmark::State& state, bool head, EvaluateLayers layers) {
+void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;
   EvaluateSetup setup(rig, layers);
   const EvaluateJob& job = setup.job;
@@ -173,16 +173,16 @@ void RunEvaluate(benchmark::State& state, bool head, EvaluateLayers layers) {
   }
   SetCounters(state, rig);
   state.counters["influences_per_vertex"] =
-      double(rig.muscles.entries.size()) / double(rig.point_count());
-  state.counters["active_fraction"] = double(rig.active_point_count) / double(rig.point_count());
+      double(rig.muscles().entries.size()) / double(rig.point_count());
+  state.counters["active_fraction"] = double(rig.active_point_count()) / double(rig.point_count());
   if (layers.muscle_wrinkles) {
     size_t rows = 0;
-    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) rows += w.row_count();
+    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles()) rows += w.row_count();
     state.counters["wrinkle_rows_per_vertex"] = double(rows) / double(rig.point_count());
   }
   if (layers.curve_wrinkles)
     state.counters["curve_entries_per_vertex"] =
-        double(rig.curve_wrinkles.entries.size()) / double(rig.point_count());
+        double(rig.curve_wrinkles().entries.size()) / double(rig.point_count());
 }
 
 void RunReference(benchmark::State& state, bool head) {
@@ -205,11 +205,12 @@ void RunReference(benchmark::State& state, bool head) {
 
 // EvaluateJob (every layer) and the reference kernel frame by frame, each timed on its own:
 // the `ratio` counter is their summed times divided, so drift of a shared machine (which moves
-// separate benchmarks by up to 30%) hits both sides of every pair alike.
+// separate benchmarks by up to 30%) hits both sides of every pair alike. `rig_bytes` and
+// `context_bytes` report Rig::ByteSize and EvaluateContext::ByteSize.
 void RunPaired(benchmark::State& state, bool head) {
   const Fixture& f = GetFixture(head, int(state.range(0)));
   const Rig& rig = f.rig;
-  EvaluateSetup setup(rig, EvaluateLayers{});
+  EvaluateSetup setup(rig, SkinLayers{});
   bench::ReferenceContext ref_context(rig);
   std::vector<float> weights(f.reference.shapes.size());
   std::vector<float>& positions = setup.positions;
@@ -240,16 +241,19 @@ void RunPaired(benchmark::State& state, bool head) {
   state.counters["reference_ns_per_vertex"] =
       std::chrono::duration<double, std::nano>(reference).count() / n;
   state.counters["ratio"] = double(evaluate.count()) / double(reference.count());
+  // Memory: one Rig (shared by every instance) and one EvaluateContext (per instance).
+  state.counters["rig_bytes"] = double(rig.ByteSize());
+  state.counters["context_bytes"] = double(setup.context.ByteSize());
 }
 
-void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, EvaluateLayers{}); }
+void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}); }
 void BM_EvaluateMusclesOnly(benchmark::State& s) {
-  RunEvaluate(s, false, EvaluateLayers{false, false, false});
+  RunEvaluate(s, false, SkinLayers{false, false, false});
 }
 void BM_Reference(benchmark::State& s) { RunReference(s, false); }
-void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, EvaluateLayers{}); }
+void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}); }
 void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
-  RunEvaluate(s, true, EvaluateLayers{false, false, false});
+  RunEvaluate(s, true, SkinLayers{false, false, false});
 }
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }

@@ -81,13 +81,13 @@ int CmdInfo(const Args& args) {
   LoadedRig loaded;
   if (int rc = LoadFromArgs("info", parsed, kInfoUsage, &loaded)) return rc;
   const Rig& rig = loaded.rig;
-  float3 lo = rig.rest_points[0], hi = rig.rest_points[0];
-  for (const float3& p : rig.rest_points) {
+  float3 lo = rig.rest_points()[0], hi = rig.rest_points()[0];
+  for (const float3& p : rig.rest_points()) {
     lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
     hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
   }
-  float hmin = rig.point_thickness[0], hmax = hmin;
-  for (float h : rig.point_thickness) hmin = std::fmin(hmin, h), hmax = std::fmax(hmax, h);
+  float hmin = rig.point_thickness()[0], hmax = hmin;
+  for (float h : rig.point_thickness()) hmin = std::fmin(hmin, h), hmax = std::fmax(hmax, h);
   std::printf("rig:        %s\n", parsed.positional[0].c_str());
   std::printf("mesh:       %s\n", loaded.spec.mesh_path.c_str());
   std::printf("units:      %s\n", loaded.spec.units.c_str());
@@ -103,29 +103,29 @@ int CmdInfo(const Args& args) {
   std::printf("thickness:  %s, %.4g .. %.4g %s\n", ThicknessKind(loaded.spec.thickness.kind), hmin,
               hmax, loaded.spec.units.c_str());
   std::printf("per frame:  %u of %u points can move (%.0f%%), %u more can change normal\n",
-              rig.active_point_count, rig.point_count(),
-              100.0 * rig.active_point_count / std::max(1u, rig.point_count()),
-              rig.normal_point_count - rig.active_point_count);
+              rig.active_point_count(), rig.point_count(),
+              100.0 * rig.active_point_count() / std::max(1u, rig.point_count()),
+              rig.normal_point_count() - rig.active_point_count());
   std::printf("layers:     thickness %s, muscle wrinkles %s, curve wrinkles %s\n",
-              rig.layers.thickness ? "on" : "off", rig.layers.muscle_wrinkles ? "on" : "off",
-              rig.layers.curve_wrinkles ? "on" : "off");
+              rig.layers().thickness ? "on" : "off", rig.layers().muscle_wrinkles ? "on" : "off",
+              rig.layers().curve_wrinkles ? "on" : "off");
   std::printf("muscles:    %u\n", rig.muscle_count());
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     const MuscleSpec& ms = loaded.spec.muscles[m];
     std::printf("  %-28s %-6s strength %-8.4g moves %u points", ms.name.c_str(),
-                MuscleTypeName(ms.type), ms.strength, rig.muscles.CountInfluenced(m));
-    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
+                MuscleTypeName(ms.type), ms.strength, rig.muscles().CountInfluenced(m));
+    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
       if (w.muscle == m)
         std::printf(", wrinkles on %u (half cycle %.3g %s)", w.row_count(), w.half_cycle,
                     loaded.spec.units.c_str());
     std::printf("\n");
   }
-  if (!rig.curve_wrinkles.names.empty()) {
-    std::printf("curve wrinkles: %zu\n", rig.curve_wrinkles.names.size());
-    std::vector<uint32_t> reach(rig.curve_wrinkles.names.size(), 0);
-    for (const CurveWrinkleEntry& e : rig.curve_wrinkles.entries) ++reach[e.wrinkle];
+  if (!rig.curve_wrinkles().names.empty()) {
+    std::printf("curve wrinkles: %zu\n", rig.curve_wrinkles().names.size());
+    std::vector<uint32_t> reach(rig.curve_wrinkles().names.size(), 0);
+    for (const CurveWrinkleEntry& e : rig.curve_wrinkles().entries) ++reach[e.wrinkle];
     for (size_t c = 0; c < reach.size(); ++c)
-      std::printf("  %-28s reaches %u points\n", rig.curve_wrinkles.names[c].c_str(), reach[c]);
+      std::printf("  %-28s reaches %u points\n", rig.curve_wrinkles().names[c].c_str(), reach[c]);
   }
   return 0;
 }
@@ -161,7 +161,7 @@ int CmdEval(const Args& args) {
   Diagnostics diag;
   const auto it = parsed.values.find("set");
   const std::vector<std::string> sets = it == parsed.values.end() ? std::vector<std::string>{} : it->second;
-  if (!BindActivations(rig.muscle_names, sets, &activations, &diag)) {
+  if (!BindActivations(rig.muscle_names(), sets, &activations, &diag)) {
     PrintDiagnostics(diag);
     std::fprintf(stderr, "mimetic eval: %zu error(s) in --set; nothing was written\n",
                  diag.ErrorCount());
@@ -173,8 +173,8 @@ int CmdEval(const Args& args) {
   MeshData posed;
   posed.positions.resize(rig.vertex_count());
   posed.normals.resize(rig.vertex_count());
-  posed.uvs = rig.vertex_uvs;
-  posed.indices = rig.vertex_indices;
+  posed.uvs = rig.vertex_uvs();
+  posed.indices = rig.vertex_indices();
   EvaluateJob job;
   job.rig = &rig;
   job.context = &context;
@@ -206,7 +206,7 @@ int CmdEval(const Args& args) {
   bool any = false;
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     if (activations[m] != 0.f) {
-      std::printf(" %s=%g", rig.muscle_names[m].c_str(), activations[m]);
+      std::printf(" %s=%g", rig.muscle_names()[m].c_str(), activations[m]);
       any = true;
     }
   }
@@ -215,9 +215,9 @@ int CmdEval(const Args& args) {
   const struct {
     bool compiled, enabled;
     const char* name;
-  } layer_list[] = {{rig.layers.thickness, job.layers.thickness, "thickness"},
-                    {rig.layers.muscle_wrinkles, job.layers.muscle_wrinkles, "muscle wrinkles"},
-                    {rig.layers.curve_wrinkles, job.layers.curve_wrinkles, "curve wrinkles"}};
+  } layer_list[] = {{rig.layers().thickness, job.layers.thickness, "thickness"},
+                    {rig.layers().muscle_wrinkles, job.layers.muscle_wrinkles, "muscle wrinkles"},
+                    {rig.layers().curve_wrinkles, job.layers.curve_wrinkles, "curve wrinkles"}};
   for (const auto& l : layer_list) {
     if (l.compiled && l.enabled) std::printf(", %s", l.name);
     else if (l.compiled) std::printf(" (%s switched off)", l.name);

@@ -1,6 +1,5 @@
 #include "rig/offline/rig_builder.h"
 
-#include <atomic>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,8 +14,6 @@
 
 namespace mimetic {
 namespace {
-
-std::atomic<uint64_t> g_next_uid{1};
 
 bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
                       std::vector<float>* out, Diagnostics* diag) {
@@ -74,7 +71,8 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
 
 // MODEL.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
 bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
-                       const std::vector<uint32_t>& file_triangle, Rig* rig, Diagnostics* diag) {
+                       const std::vector<uint32_t>& file_triangle, RigData* rig,
+                       Diagnostics* diag) {
   bool ok = true;
   bool any_thickness = false;
   for (float h : rig->point_thickness) any_thickness |= h > 0.f;
@@ -253,8 +251,9 @@ bool NeedsRefinement(const RigSpec& spec) {
 // is the file triangle of internal triangle t. The output's vertex layout and index buffer
 // stay the file's own.
 bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
-                   const std::vector<uint32_t>& file_triangle, Rig* out, Diagnostics* diag) {
-  Rig rig;
+                   const std::vector<uint32_t>& file_triangle, RigData* out,
+                   Diagnostics* diag) {
+  RigData rig;
   rig.rest_points = welded.points;
   rig.triangles = welded.triangles;
   rig.vertex_points = welded.point_of_vertex;
@@ -288,20 +287,14 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
   return true;
 }
 
-struct ActiveCounts {
-  uint32_t points = 0, normal_points = 0, triangles = 0;
-};
-
-// Orders points so that those whose position can change in a frame come first (the active
-// set A: points a muscle moves, points sharing a triangle with one (their area ratio, hence
-// their thickness displacement, changes), and wrinkle rows), then the points sharing a
-// triangle with A (their normals change), then the rest, which keep their rest position and
-// normal forever. Triangles touching A come first. Exact: nothing outside these ranges can
-// differ from the rest pose.
-ActiveCounts ActiveOrder(const Rig& rig, const WeldedMesh& welded, WeldedMesh* out,
-                         std::vector<uint32_t>* file_triangle) {
+// THE definition of which points a frame can move (every per-frame range, and so every table
+// Rig::Build derives, follows from it): points a muscle moves, points sharing a triangle with
+// one (their area ratio, hence their thickness displacement, changes), and wrinkle rows. A
+// stage that moves points (a jaw) adds its points here. 2 = can move, 0 = not (ActiveOrder
+// adds 1 = normal can change).
+std::vector<uint8_t> MovingPoints(const RigData& rig) {
   const uint32_t points = rig.point_count(), tris = rig.triangle_count();
-  std::vector<uint8_t> moved(points, 0), level(points, 0);  // level: 2 active, 1 normal, 0 static
+  std::vector<uint8_t> moved(points, 0), level(points, 0);
   for (uint32_t p = 0; p < points; ++p)
     moved[p] = rig.muscles.offsets[p + 1] > rig.muscles.offsets[p];
   for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
@@ -311,6 +304,13 @@ ActiveCounts ActiveOrder(const Rig& rig, const WeldedMesh& welded, WeldedMesh* o
     const uint32_t* c = &rig.triangles[3 * t];
     if (moved[c[0]] || moved[c[1]] || moved[c[2]]) level[c[0]] = level[c[1]] = level[c[2]] = 2;
   }
+  return level;
+}
+
+RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, WeldedMesh* out,
+                            std::vector<uint32_t>* file_triangle) {
+  const uint32_t points = rig.point_count(), tris = rig.triangle_count();
+  std::vector<uint8_t> level = MovingPoints(rig);  // 2 active, 1 normal, 0 static
   std::vector<uint8_t> touches_active(tris, 0);
   for (uint32_t t = 0; t < tris; ++t) {
     const uint32_t* c = &rig.triangles[3 * t];
@@ -323,7 +323,7 @@ ActiveCounts ActiveOrder(const Rig& rig, const WeldedMesh& welded, WeldedMesh* o
       if (l == 0) l = 1;
     }
   }
-  ActiveCounts counts;
+  RigActiveRanges counts;
   std::vector<uint32_t> new_index(points);
   std::vector<uint32_t> order;
   order.reserve(points);
@@ -399,21 +399,24 @@ bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOpti
     for (uint32_t t = 0; t < v.size(); ++t) v[t] = t;
     return v;
   }();
-  Rig first;
+  RigData first;
   if (!BuildOnWelded(spec, mesh, welded, identity, &first, diag)) return false;
   WeldedMesh ordered;
   std::vector<uint32_t> file_triangle;
-  Rig rig;
+  RigData data;
   Diagnostics repeat;  // the same diagnostics again: already reported
-  const ActiveCounts counts = ActiveOrder(first, welded, &ordered, &file_triangle);
-  if (!BuildOnWelded(spec, mesh, ordered, file_triangle, &rig, &repeat)) {
+  const RigActiveRanges active = ActiveOrder(first, welded, &ordered, &file_triangle);
+  if (!BuildOnWelded(spec, mesh, ordered, file_triangle, &data, &repeat)) {
     diag->Append(repeat);
     return false;
   }
-  rig.active_point_count = counts.points;
-  rig.normal_point_count = counts.normal_points;
-  rig.active_triangle_count = counts.triangles;
-  rig.uid = g_next_uid.fetch_add(1);
+  data.active = active;
+  // The runtime derives its tables and checks everything once (rig/runtime/rig_tables.h).
+  Rig rig;
+  if (!Rig::Build(std::move(data), &rig)) {
+    diag->Error("rig", "internal error: the compiled tables failed the runtime's check");
+    return false;
+  }
   *out = std::move(rig);
   return true;
 }
@@ -423,9 +426,9 @@ MeshData RestMesh(const Rig& rig) {
   mesh.source = "rig rest pose";
   mesh.positions.resize(rig.vertex_count());
   for (uint32_t v = 0; v < rig.vertex_count(); ++v)
-    mesh.positions[v] = rig.rest_points[rig.vertex_points[v]];
-  mesh.uvs = rig.vertex_uvs;
-  mesh.indices = rig.vertex_indices;
+    mesh.positions[v] = rig.rest_points()[rig.vertex_points()[v]];
+  mesh.uvs = rig.vertex_uvs();
+  mesh.indices = rig.vertex_indices();
   return mesh;
 }
 

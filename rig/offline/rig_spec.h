@@ -9,6 +9,7 @@
 #include "core/diagnostics.h"
 #include "core/image.h"
 #include "muscles/offline/muscle_spec.h"
+#include "rig/runtime/skin_layers.h"
 #include "wrinkles/offline/wrinkle_spec.h"
 
 namespace mimetic {
@@ -24,13 +25,10 @@ struct ThicknessSpec {
   float min = 0.f, max = 0.f;      // kImage: black -> min, white -> max
 };
 
-// Which skin layers a rig evaluates (MODEL.md §1 steps 3-4). Each can also be switched off
-// per evaluation (EvaluateJob::layers); a layer off in the rig is not compiled at all.
-struct LayerSpec {
-  bool thickness = true;        // MODEL.md §4
-  bool muscle_wrinkles = true;  // MODEL.md §6
-  bool curve_wrinkles = true;   // MODEL.md §7-8
-};
+// Which skin layers a rig evaluates (MODEL.md §1 steps 3-4): the runtime's SkinLayers, all on
+// by default. Each can also be switched off per evaluation (EvaluateJob::layers); a layer off
+// in the rig is not compiled at all. (Alias kept for rig_json.cpp and older callers.)
+using LayerSpec = SkinLayers;
 
 // Compile-time refinement (MODEL.md §11): triangles in a wrinkle's support are split until
 // their edges are shorter than `edge_fraction` times the wrinkle's width.

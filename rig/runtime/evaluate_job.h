@@ -1,19 +1,33 @@
 // rig/runtime/evaluate_job.h: the one per-frame entry point.
 //
-// rest mesh + activations -> positions and normals (MODEL.md §1). Stages:
-//   1. muscles (MusclePoints: MuscleDeformJob in SSE)  X1 = X + sum_m a_m U_m  MODEL.md §1-3
-//   2. face normals of X1 with each triangle's area ratio in the same pass; strain of X1 vs
-//      X: lengths of the edges the strain measures read (each edge once)  MODEL.md §4-5
-//   3. per point: N1 and r gathered from its triangles; compression eps of its
-//      wrinkled-muscle rows and shrinkage s of its directional curve-wrinkle entries from the
-//      edge lengths; then X3 = X1 + d N1 with
-//      d = (1/r - 1) h  +  sum of its muscle-wrinkle rows W  +  its curve-wrinkle sum
+// rest mesh + activations -> positions and normals (MODEL.md §1). Run() is a fixed sequence of
+// stages (static functions in evaluate_job.cpp), each reading and writing one per-frame
+// FrameState (the job, the rig, its RigTables, the context's scratch and the layer flags
+// resolved once per frame):
+//   StageMuscles   X1 = base + sum_m a_m U_m over the active points (MusclePoints:
+//                  MuscleDeformJob in SSE); base = the rest pose        MODEL.md §1-3
+//   StageStrain    face normals of X1 with each triangle's area ratio in the same pass; the
+//                  lengths of the edges the strain measures read (each edge once) MODEL.md §4-5
+//   StageDisplace  per point: N1 and r gathered from its triangles; compression eps of its
+//                  wrinkled-muscle rows and shrinkage s of its directional curve-wrinkle
+//                  entries from the edge lengths; then X3 = X1 + d N1 with
+//                  d = (1/r - 1) h  +  sum of its muscle-wrinkle rows W  +  its curve-wrinkle sum
 //                                                                        MODEL.md §4-8
-//   4. face normals of X3
-//   5. output (vertices): positions scattered to the file's vertex layout, normals of X3
-//      gathered per vertex straight into the output, with strides
-// Steps 2-4 run only for the layers both compiled into the rig and enabled in `layers`; with
-// none, N1 is the output normal.
+//   StageNormals   face normals of X3 (only when normals are requested)
+//   StageOutputs   per vertex: positions scattered to the file's vertex layout, normals of X3
+//                  gathered straight into the output, with strides
+// StageStrain and StageDisplace run only for the layers both compiled into the rig and enabled
+// in `layers`; with none, N1 is the output normal. Every stage covers the leading ranges of
+// Rig::active() (points that can move, points whose normal can change, triangles touching a
+// moving point), which the builder decides in ONE place (rig_builder MovingPoints) and every
+// table of RigTables derives from.
+// Where the next features go (each a local change):
+//   - a jaw stage BEFORE the muscles: StageJaw writes the jaw-skinned pose into the context and
+//     points FrameState::base at it, StageMuscles adds onto base; the builder adds the jaw's
+//     points to MovingPoints, and the ranges (hence every later stage) follow.
+//   - per-vertex outputs (e.g. two fine-scale amplitudes): an optional strided span on the job,
+//     its per-point values kept by StageDisplace in a context buffer named in FrameState, and
+//     one more write in StageOutputs' per-vertex loop.
 // The public stage jobs (FaceNormalsJob, PointNormalsJob, EdgeCompressionJob,
 // DirectionalShrinkageJob, ThicknessJob, MuscleWrinkleJob, CurveWrinkleJob) compute the same
 // quantities for engines that run the stages themselves; EvaluateJob fuses them (kernels in
@@ -33,16 +47,17 @@
 
 namespace mimetic {
 
-// Per-instance scratch, sized once for one rig (allocation happens here, never in Run()).
+// Per-instance, per-frame scratch, sized once for one rig (allocation happens here, never in
+// Run()). Everything that depends on the rig only lives in the rig (Rig::tables()).
 class EvaluateContext {
  public:
   EvaluateContext() = default;
   explicit EvaluateContext(const Rig& rig) { Resize(rig); }
   // (Re)sizes every buffer for `rig`. The only allocating call.
   void Resize(const Rig& rig);
-  // True when this context was sized for `rig` and the rig's tables passed the one-time check
-  // Resize makes (every index in range, every CSR well formed), which lets Run() use the
-  // stage jobs without per-frame index checks.
+  // True when this context was sized for `rig` and the rig's tables passed the check
+  // Rig::Build made (every index in range, every CSR well formed), which lets Run() use its
+  // tables without per-frame index checks.
   bool IsFor(const Rig& rig) const;
 
   // Read access to the last frame's intermediate results (for overlays and tests).
@@ -51,42 +66,23 @@ class EvaluateContext {
   // Per-point area ratio r of the last frame (MODEL.md §4); 1 where no skin layer ran.
   span<const float> area_ratios() const { return point_ratios_; }
 
+  // Bytes this context holds: sizeof(EvaluateContext) plus the capacity of every vector.
+  size_t ByteSize() const;
+
  private:
   friend struct EvaluateJob;
-  bool CheckTables(const Rig& rig);
-  void BuildStrainTables(const Rig& rig);
   uint64_t rig_uid_ = 0;
-  bool tables_valid_ = false;
   uint32_t point_count_ = 0, triangle_count_ = 0, muscle_count_ = 0;
-  std::vector<float> activations_;     // #muscles, sanitised
-  std::vector<float3> points_;         // #P deformed, then kPointPadFloats (face_kernels.h)
-  std::vector<float4> faces_;          // #T face normals (xyz) and area ratios (w)
-  std::vector<float3> point_normals_;  // #P, rest normals (points that never change normal)
-  std::vector<float> point_ratios_;    // #P
-  std::vector<float4> point_sums_;     // #P: gathered face slots (Run step 3)
-  // Strain, derived from the rig's wrinkle tables when the context is sized:
-  std::vector<uint32_t> edge_pairs_;     // 2 per edge that a strain measure reads
-  std::vector<float> edge_lengths_;      // per such edge, this frame
-  // Muscle-wrinkle rows of every table, point-major (a point's rows contiguous, in rig order):
-  std::vector<uint32_t> row_offsets_;    // + 1 -> entries
-  std::vector<uint32_t> entry_edges_;    // per entry: its edge
-  std::vector<float> entry_rest_;        // L_ij
-  std::vector<float> entry_coeffs_;      // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
-  std::vector<float> row_profiles_;      // H(w_i) At_i per row
-  std::vector<uint32_t> probe_edges_;    // 4 per curve-wrinkle probe: sides' v1v2, v1v3
-  // Per point that can move: its muscle-wrinkle rows (a range of the rows above) and its
-  // curve-wrinkle rows (CSR).
-  std::vector<uint32_t> point_row_offsets_;
-  std::vector<uint32_t> point_curve_offsets_, point_curve_rows_;
-  std::vector<uint32_t> wrinkle_points_;  // points with any row above, ascending
-  std::vector<float> wrinkle_offsets_;    // #P: their summed wrinkle displacement this frame
-};
-
-// Per-evaluation switches (the viewer toggles them); ANDed with what the rig compiled.
-struct EvaluateLayers {
-  bool thickness = true;
-  bool muscle_wrinkles = true;
-  bool curve_wrinkles = true;
+  std::vector<float> activations_;     // #muscles, sanitised, in [0, 1]
+  std::vector<float3> points_;         // #P deformed (rest where nothing moves), then
+                                       // kPointPadFloats (face_kernels.h); mesh units
+  std::vector<float4> faces_;          // #T face normals (xyz, unnormalised) and area ratios
+                                       // (w); rest normals where nothing moves
+  std::vector<float> point_ratios_;    // #P: area ratio r, >= 0
+  std::vector<float4> point_sums_;     // #P: gathered face slots (StageDisplace)
+  std::vector<float> edge_lengths_;    // RigTables::edge_count(): this frame's, mesh units
+  std::vector<float> wrinkle_offsets_; // #P: summed wrinkle displacement of the points in
+                                       // RigTables::wrinkle_points this frame, mesh units
 };
 
 // A caller-supplied parallel loop: must call task(task_data, begin, end) over disjoint ranges
@@ -113,7 +109,7 @@ struct EvaluateJob {
   span<float> out_normals;            // optional (empty = skip); unit length; same layout rule
   size_t out_normals_stride = 12;     // bytes, >= 12, multiple of 4
 
-  EvaluateLayers layers;              // which skin layers run (default: all the rig has)
+  SkinLayers layers;                  // which skin layers run (default: all the rig has)
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
   void* parallel_for_user = nullptr;

@@ -1,10 +1,18 @@
 // rig/runtime/rig.h: the compiled, immutable rig shared by every instance of a face.
 //
-// Built offline by BuildRig (rig/offline/rig_builder.h). Geometry lives on welded "points"
-// (one per surface position); outputs are written per file "vertex" (the mesh's own layout,
-// split at UV / normal seams), each vertex reading its point, so a posed mesh never cracks.
+// Built offline by BuildRig (rig/offline/rig_builder.h), which fills a RigData and hands it to
+// Rig::Build. Geometry lives on welded "points" (one per surface position); outputs are
+// written per file "vertex" (the mesh's own layout, split at UV / normal seams), each vertex
+// reading its point, so a posed mesh never cracks.
+//
+// Immutability (ozz-style asset): a Rig is move-only and its members are private with const
+// accessors; the only way to fill one is Rig::Build, which derives the per-rig tables
+// (RigTables, rig_tables.cpp), checks everything once and stamps a fresh uid. An edited rig
+// is therefore always a NEW rig (copy data(), edit, Build): it cannot keep the identity, the
+// tables or the check of the one it came from, and contexts sized for the old one refuse it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -12,19 +20,12 @@
 
 #include "core/math.h"
 #include "muscles/runtime/muscle_table.h"
+#include "rig/runtime/skin_layers.h"
 #include "wrinkles/runtime/strain_jobs.h"
 #include "wrinkles/runtime/thickness_job.h"
 #include "wrinkles/runtime/wrinkle_jobs.h"
 
 namespace mimetic {
-
-// The skin layers a rig was compiled with (MODEL.md §1 steps 3-4). A layer is on when the
-// rig file enables it and it has something to do (a non-zero thickness, a non-empty region).
-struct RigLayers {
-  bool thickness = false;
-  bool muscle_wrinkles = false;
-  bool curve_wrinkles = false;
-};
 
 // One muscle's wrinkling region (MODEL.md §6), fixed on the rest pose; see MuscleWrinkleJob
 // and EdgeCompressionJob for the meaning of each array (rows = region points).
@@ -55,23 +56,25 @@ struct RigCurveWrinkles {
   uint32_t row_count() const { return uint32_t(points.size()); }
 };
 
-struct Rig {
-  // Identity used by EvaluateContext to refuse a context sized for another rig. Unique per
-  // built rig, kept across moves.
-  uint64_t uid = 0;
+// The leading ranges a frame touches (points and triangles are ordered so, see rig_builder
+// MovingPoints / ActiveOrder, the one place that decides what can move): [0, points) can move;
+// [0, normal_points) can change normal; the rest stay at their rest position and normal.
+// Triangles [0, triangles) touch a point that can move; the others keep their rest normal.
+// Every per-frame range of EvaluateJob and every per-point table of RigTables derives from it.
+struct RigActiveRanges {
+  uint32_t points = 0;         // active points, <= normal_points
+  uint32_t normal_points = 0;  // points whose normal can change, <= #P
+  uint32_t triangles = 0;      // triangles touching an active point, <= #T
+};
 
+// What the builder authors: plain, copyable, editable. Rig::Build turns it into a Rig.
+struct RigData {
   // Welded surface.
   std::vector<float3> rest_points;              // #P, mesh units
   std::vector<uint32_t> triangles;              // 3 * #T, into points, counter-clockwise
   std::vector<uint32_t> point_triangle_offsets; // #P + 1 (CSR): triangles around each point
   std::vector<uint32_t> point_triangles;        // triangle indices, ascending per point
-  // Points are ordered so that a frame only touches leading ranges (rig_builder ActiveOrder):
-  // [0, active_point_count) can move; [0, normal_point_count) can change normal; the rest
-  // stay at their rest position and normal. Triangles [0, active_triangle_count) touch a
-  // point that can move; the others keep their rest normal.
-  uint32_t active_point_count = 0;
-  uint32_t normal_point_count = 0;
-  uint32_t active_triangle_count = 0;
+  RigActiveRanges active;                       // what a frame touches
 
   // The file's layout.
   std::vector<uint32_t> vertex_points;   // #V: output vertex -> point
@@ -79,7 +82,9 @@ struct Rig {
   std::vector<float2> vertex_uvs;        // #V, or empty when the mesh has none
 
   // Skin (MODEL.md §4-8).
-  RigLayers layers;                      // what was compiled
+  // What was compiled: a layer is on when the rig file enables it and it has something to do
+  // (all off until the builder says otherwise).
+  SkinLayers layers{false, false, false};
   std::vector<float> point_thickness;    // #P, mesh units (MODEL.md §4)
   std::vector<float> rest_triangle_areas;  // #T, mesh units^2 (when any skin layer is on)
   float min_area_ratio = kDefaultMinAreaRatio;  // r_min (MODEL.md §4 choice)
@@ -92,10 +97,113 @@ struct Rig {
 
   uint32_t point_count() const { return uint32_t(rest_points.size()); }
   uint32_t triangle_count() const { return uint32_t(triangles.size() / 3); }
-  uint32_t vertex_count() const { return uint32_t(vertex_points.size()); }
   uint32_t muscle_count() const { return uint32_t(muscle_names.size()); }
+};
+
+// Tables that depend on the rig only, derived once by Rig::Build (rig_tables.cpp) and read by
+// every EvaluateJob on the rig (one copy however many instances).
+struct RigTables {
+  // Rest pose.
+  std::vector<float4> rest_faces;          // #T: rest face normals (xyz, FaceNormals4), w = 0
+  std::vector<float3> rest_point_normals;  // #P: unit rest normals (read for points that never
+                                           // change normal)
+  // Strain: the edges read by the compression rows and the shrinkage probes, each once.
+  std::vector<uint32_t> edge_pairs;        // 2 per edge that a strain measure reads
+  // Muscle-wrinkle rows of every table, point-major (a point's rows contiguous, in rig order):
+  std::vector<uint32_t> row_offsets;       // rows + 1 -> entries
+  std::vector<uint32_t> entry_edges;       // per entry: its edge
+  std::vector<float> entry_rest;           // L_ij, mesh units
+  std::vector<float> entry_coeffs;         // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
+  std::vector<float> row_profiles;         // H(w_i) At_i per row, mesh units
+  std::vector<uint32_t> probe_edges;       // 4 per curve-wrinkle probe: sides' v1v2, v1v3
+  // Per active point: its muscle-wrinkle rows (a range of the rows above) and its
+  // curve-wrinkle rows (CSR into RigCurveWrinkles rows).
+  std::vector<uint32_t> point_row_offsets;    // active points + 1
+  std::vector<uint32_t> point_curve_offsets;  // active points + 1
+  std::vector<uint32_t> point_curve_rows;     // curve-wrinkle rows
+  std::vector<uint32_t> wrinkle_points;       // points with any row above, ascending
+  uint32_t edge_count() const { return uint32_t(edge_pairs.size() / 2); }
+};
+
+class Rig {
+ public:
+  Rig() = default;  // empty: no context accepts it
+  Rig(Rig&&) noexcept = default;
+  Rig& operator=(Rig&&) noexcept = default;
+  Rig(const Rig&) = delete;
+  Rig& operator=(const Rig&) = delete;
+
+  // The one writer: takes `data`, checks every table once (every index in range, every CSR
+  // well formed, the active ranges exact, each stage job's own Validate over its full range),
+  // derives the RigTables when the check passes, and gives the rig a fresh uid. Returns
+  // tables_checked(); *out is replaced either way.
+  static bool Build(RigData data, Rig* out);
+
+  // Identity used by EvaluateContext to refuse a context sized for another rig: unique per
+  // Build (never 0), kept by the rig it is moved to (a moved-from rig gets 0).
+  uint64_t uid() const { return id_.uid; }
+  // True when the tables passed the check Build made (EvaluateJob relies on it instead of
+  // checking indices per frame).
+  bool tables_checked() const { return id_.checked; }
+
+  // What Build was given (copy it to make an edited rig).
+  const RigData& data() const { return data_; }
+  // What Build derived (empty when the check failed).
+  const RigTables& tables() const { return tables_; }
+
+  // Welded surface (see RigData).
+  const std::vector<float3>& rest_points() const { return data_.rest_points; }
+  const std::vector<uint32_t>& triangles() const { return data_.triangles; }
+  const std::vector<uint32_t>& point_triangle_offsets() const { return data_.point_triangle_offsets; }
+  const std::vector<uint32_t>& point_triangles() const { return data_.point_triangles; }
+  const RigActiveRanges& active() const { return data_.active; }
+  uint32_t active_point_count() const { return data_.active.points; }
+  uint32_t normal_point_count() const { return data_.active.normal_points; }
+  uint32_t active_triangle_count() const { return data_.active.triangles; }
+  // The file's layout.
+  const std::vector<uint32_t>& vertex_points() const { return data_.vertex_points; }
+  const std::vector<uint32_t>& vertex_indices() const { return data_.vertex_indices; }
+  const std::vector<float2>& vertex_uvs() const { return data_.vertex_uvs; }
+  // Skin.
+  const SkinLayers& layers() const { return data_.layers; }
+  const std::vector<float>& point_thickness() const { return data_.point_thickness; }
+  const std::vector<float>& rest_triangle_areas() const { return data_.rest_triangle_areas; }
+  float min_area_ratio() const { return data_.min_area_ratio; }
+  const std::vector<RigMuscleWrinkles>& muscle_wrinkles() const { return data_.muscle_wrinkles; }
+  const RigCurveWrinkles& curve_wrinkles() const { return data_.curve_wrinkles; }
+  // Muscles.
+  const std::vector<std::string>& muscle_names() const { return data_.muscle_names; }
+  const MuscleTable& muscles() const { return data_.muscles; }
+
+  uint32_t point_count() const { return data_.point_count(); }
+  uint32_t triangle_count() const { return data_.triangle_count(); }
+  uint32_t vertex_count() const { return uint32_t(data_.vertex_points.size()); }
+  uint32_t muscle_count() const { return data_.muscle_count(); }
   // Index of the muscle called `name`, or -1.
   int FindMuscle(std::string_view name) const;
+
+  // Bytes this rig holds: sizeof(Rig) plus the capacity of every vector it owns, nested ones
+  // included (a name counts its std::string object, not its characters).
+  size_t ByteSize() const;
+
+ private:
+  // uid and check result; moving hands them over and leaves 0 / false behind.
+  struct Identity {
+    uint64_t uid = 0;
+    bool checked = false;
+    Identity() = default;
+    Identity(Identity&& o) noexcept : uid(o.uid), checked(o.checked) { o = Identity(); }
+    Identity& operator=(Identity&& o) noexcept {
+      uid = o.uid;
+      checked = o.checked;
+      o.uid = 0;
+      o.checked = false;
+      return *this;
+    }
+  };
+  RigData data_;
+  RigTables tables_;
+  Identity id_;
 };
 
 }  // namespace mimetic

@@ -479,7 +479,7 @@ TEST(FitTemplate, SampleHeadRigBuildsAndEveryMuscleMovesSkin) {
   Diagnostics diag;
   ASSERT_TRUE(BuildRig(f.spec, Head().mesh, {}, &rig, &diag)) << diag.Format();
   for (uint32_t m = 0; m < rig.muscle_count(); ++m)
-    EXPECT_GT(rig.muscles.CountInfluenced(m), 10u) << rig.muscle_names[m];
+    EXPECT_GT(rig.muscles().CountInfluenced(m), 10u) << rig.muscle_names()[m];
 }
 
 TEST(RasterizeThicknessMap, ConstantValuesGiveAConstantMapAndErrorsAreReported) {
@@ -572,7 +572,7 @@ void CheckAnatomy(const RealHead& head, const std::string& name) {
   ASSERT_TRUE(BuildRig(f.spec, head.mesh, {}, &rig, &diag)) << diag.Format();
   ASSERT_EQ(rig.muscle_count(), 24u);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m)
-    EXPECT_GT(rig.muscles.CountInfluenced(m), 0u) << name << ": " << rig.muscle_names[m];
+    EXPECT_GT(rig.muscles().CountInfluenced(m), 0u) << name << ": " << rig.muscle_names()[m];
   std::vector<float3> lm;
   ASSERT_TRUE(ResolveLandmarks(head.landmarks, head.mesh, &lm, &diag));
   const FaceFrame& fr = f.report.frame;
@@ -647,7 +647,7 @@ TEST(FitRealHeads, IctBrowRaiseIsComparableToTheRealExpression) {
   ASSERT_TRUE(BuildRig(f.spec, head.mesh, {}, &rig, &diag)) << diag.Format();
   std::vector<float> act(rig.muscle_count(), 0.f);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m)
-    if (rig.muscle_names[m].rfind("frontalis_", 0) == 0) act[m] = 1.f;
+    if (rig.muscle_names()[m].rfind("frontalis_", 0) == 0) act[m] = 1.f;
   const std::vector<float3> model = Displacement(rig, head.mesh, act);
   const FaceFrame& fr = f.report.frame;
   // Only the file's own vertices (the first #v of the OBJ; ImportMesh appends UV-seam copies).
@@ -818,7 +818,7 @@ TEST(FitDocs, DocsImagesOnRequest) {
     ASSERT_TRUE(BuildRig(f.spec, head.mesh, {}, &rig, &diag));
     std::vector<float> act(rig.muscle_count(), 0.f);
     for (uint32_t m = 0; m < rig.muscle_count(); ++m)
-      if (rig.muscle_names[m].rfind("frontalis_", 0) == 0) act[m] = 1.f;
+      if (rig.muscle_names()[m].rfind("frontalis_", 0) == 0) act[m] = 1.f;
     const std::vector<float3> d = Displacement(rig, head.mesh, act);
     MeshData posed = head.mesh;
     posed.normals.clear();
@@ -872,7 +872,7 @@ TEST(FitCli, WritesARigThatLoadsAndReportsBadInput) {
   // (RefineResult), and only those have a per-vertex value to compare with.
   ASSERT_GE(loaded.rig.vertex_count(), Head().mesh.vertex_count());
   for (uint32_t v = 0; v < Head().mesh.vertex_count(); ++v)
-    diff.push_back(std::fabs(loaded.rig.point_thickness[loaded.rig.vertex_points[v]] -
+    diff.push_back(std::fabs(loaded.rig.point_thickness()[loaded.rig.vertex_points()[v]] -
                              f.spec.thickness.per_vertex[v]));
   std::nth_element(diff.begin(), diff.begin() + diff.size() / 2, diff.end());
   EXPECT_LT(diff[diff.size() / 2], 0.1f * loaded.spec.thickness.max);

@@ -45,7 +45,7 @@ struct Pose {
   std::vector<float3> points, normals;
 };
 
-Pose Evaluate(const Rig& rig, const Activations& set, EvaluateLayers layers) {
+Pose Evaluate(const Rig& rig, const Activations& set, SkinLayers layers) {
   std::vector<float> a(rig.muscle_count(), 0.f);
   for (const auto& [name, value] : set) {
     const int m = rig.FindMuscle(name);
@@ -66,7 +66,7 @@ Pose Evaluate(const Rig& rig, const Activations& set, EvaluateLayers layers) {
   pose.points.assign(rig.point_count(), {});
   pose.normals.assign(rig.point_count(), {});
   for (uint32_t v = rig.vertex_count(); v-- > 0;) {
-    const uint32_t p = rig.vertex_points[v];
+    const uint32_t p = rig.vertex_points()[v];
     pose.points[p] = {pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
     pose.normals[p] = {nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2]};
   }
@@ -79,7 +79,7 @@ Pose Evaluate(const Rig& rig, const Activations& set, EvaluateLayers layers) {
 
 // Normal displacement of one layer: (with - without) . n(without), per point.
 std::vector<float> LayerDisplacement(const Rig& rig, const Activations& set, bool muscle_layer) {
-  EvaluateLayers on, off;
+  SkinLayers on, off;
   (muscle_layer ? off.muscle_wrinkles : off.curve_wrinkles) = false;
   const Pose a = Evaluate(rig, set, on), b = Evaluate(rig, set, off);
   std::vector<float> d(a.points.size());
@@ -132,9 +132,9 @@ SignProfile CountSignChanges(std::vector<std::pair<float, float>> samples, float
 TEST(HeadWrinkles, EveryLayerCompilesWithTheTemplatesWrinkles) {
   const LoadedRig& head = Head();
   const Rig& rig = head.rig;
-  EXPECT_TRUE(rig.layers.thickness);
-  EXPECT_TRUE(rig.layers.muscle_wrinkles);
-  EXPECT_TRUE(rig.layers.curve_wrinkles);
+  EXPECT_TRUE(rig.layers().thickness);
+  EXPECT_TRUE(rig.layers().muscle_wrinkles);
+  EXPECT_TRUE(rig.layers().curve_wrinkles);
   // The template gives wrinkles to the 6 frontalis sheets and the 2 corrugators, and one
   // mirrored nasolabial curve.
   MuscleTemplate tmpl;
@@ -144,13 +144,13 @@ TEST(HeadWrinkles, EveryLayerCompilesWithTheTemplatesWrinkles) {
   size_t wrinkled = 0;
   for (const TemplateMuscle& m : tmpl.muscles) wrinkled += m.wrinkles.has_value();
   EXPECT_EQ(wrinkled, 8u);
-  EXPECT_EQ(rig.muscle_wrinkles.size(), wrinkled);
-  ASSERT_EQ(rig.curve_wrinkles.names.size(), tmpl.curve_wrinkles.size());
+  EXPECT_EQ(rig.muscle_wrinkles().size(), wrinkled);
+  ASSERT_EQ(rig.curve_wrinkles().names.size(), tmpl.curve_wrinkles.size());
   for (size_t c = 0; c < tmpl.curve_wrinkles.size(); ++c)
-    EXPECT_EQ(rig.curve_wrinkles.names[c], tmpl.curve_wrinkles[c].name);
-  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
-    EXPECT_GT(w.row_count(), 100u) << rig.muscle_names[w.muscle];
-  EXPECT_GT(rig.curve_wrinkles.row_count(), 100u);
+    EXPECT_EQ(rig.curve_wrinkles().names[c], tmpl.curve_wrinkles[c].name);
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
+    EXPECT_GT(w.row_count(), 100u) << rig.muscle_names()[w.muscle];
+  EXPECT_GT(rig.curve_wrinkles().row_count(), 100u);
   // Refinement kept the mesh reasonable (docs/wrinkles.md): more vertices than the file's
   // 33,741, fewer than 150k.
   EXPECT_GT(rig.vertex_count(), head.mesh.vertex_count());
@@ -158,10 +158,10 @@ TEST(HeadWrinkles, EveryLayerCompilesWithTheTemplatesWrinkles) {
   std::printf("sample head rig: %zu file vertices -> %u vertices, %u points, %u triangles\n",
               head.mesh.vertex_count(), rig.vertex_count(), rig.point_count(),
               rig.triangle_count());
-  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
-    std::printf("  %-26s %6u region points, u = %.3g mm\n", rig.muscle_names[w.muscle].c_str(),
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
+    std::printf("  %-26s %6u region points, u = %.3g mm\n", rig.muscle_names()[w.muscle].c_str(),
                 w.row_count(), double(w.half_cycle));
-  std::printf("  curve wrinkles             %6u points\n", rig.curve_wrinkles.row_count());
+  std::printf("  curve wrinkles             %6u points\n", rig.curve_wrinkles().row_count());
 }
 
 TEST(HeadWrinkles, SurpriseFurrowsTheForeheadAsOftenAsTheWrinkleCountSays) {
@@ -186,7 +186,7 @@ TEST(HeadWrinkles, SurpriseFurrowsTheForeheadAsOftenAsTheWrinkleCountSays) {
   std::vector<std::pair<float, float>> line;
   float dmax = 0.f;
   for (uint32_t p = 0; p < head.rig.point_count(); ++p) {
-    const float3 r = head.rig.rest_points[p] - ac;
+    const float3 r = head.rig.rest_points()[p] - ac;
     const float l = Dot(r, f);
     const float h = std::fabs(Dot(r, e));
     if (h > 0.03f * sheet.width || l < w.lambda_w * sheet.length || l > sheet.length) continue;
@@ -235,7 +235,7 @@ TEST(HeadWrinkles, FrownShowsTheCorrugatorWrinklesAtTheGlabella) {
     std::vector<std::pair<float, float>> line;
     float dmax = 0.f;
     for (uint32_t p = 0; p < head.rig.point_count(); ++p) {
-      const float3 r = head.rig.rest_points[p] - lin.attachment;
+      const float3 r = head.rig.rest_points()[p] - lin.attachment;
       const float dist = Length(r);
       if (!(dist > 0.f)) continue;
       const float c = Dot(r, axis) / dist;
@@ -260,7 +260,7 @@ TEST(HeadWrinkles, FrownShowsTheCorrugatorWrinklesAtTheGlabella) {
 TEST(HeadWrinkles, SmileDeepensTheNasolabialFoldWhichIsFaintAtRest) {
   const LoadedRig& head = Head();
   const Rig& rig = head.rig;
-  ASSERT_FALSE(rig.vertex_uvs.empty());
+  ASSERT_FALSE(rig.vertex_uvs().empty());
   for (const NamedCurveWrinkle& c : head.spec.curve_wrinkles) {
     if (c.name.rfind("nasolabial", 0) != 0) continue;
     const std::string side = c.name.substr(c.name.size() - 2);
@@ -272,13 +272,13 @@ TEST(HeadWrinkles, SmileDeepensTheNasolabialFoldWhichIsFaintAtRest) {
                                                            0.5f * (c.spec.control[0].y + c.spec.control[3].y)}).point;
     const float2 c0 = c.spec.control[0], c3 = c.spec.control[3];
     const float reach = std::hypot(c3.x - c0.x, c3.y - c0.y);
-    for (uint32_t t = 0; t < rig.vertex_indices.size() / 3; ++t) {
-      const uint32_t* v = &rig.vertex_indices[3 * t];
-      const float2 a = rig.vertex_uvs[v[0]], b = rig.vertex_uvs[v[1]], e = rig.vertex_uvs[v[2]];
+    for (uint32_t t = 0; t < rig.vertex_indices().size() / 3; ++t) {
+      const uint32_t* v = &rig.vertex_indices()[3 * t];
+      const float2 a = rig.vertex_uvs()[v[0]], b = rig.vertex_uvs()[v[1]], e = rig.vertex_uvs()[v[2]];
       if (std::hypot(a.x - mid.x, a.y - mid.y) > reach) continue;
-      const float3 pa = rig.rest_points[rig.vertex_points[v[0]]];
-      const float3 pb = rig.rest_points[rig.vertex_points[v[1]]];
-      const float3 pe = rig.rest_points[rig.vertex_points[v[2]]];
+      const float3 pa = rig.rest_points()[rig.vertex_points()[v[0]]];
+      const float3 pb = rig.rest_points()[rig.vertex_points()[v[1]]];
+      const float3 pe = rig.rest_points()[rig.vertex_points()[v[2]]];
       area3 += 0.5 * Length(Cross(pb - pa, pe - pa));
       area2 += 0.5 * std::fabs(double(b.x - a.x) * (e.y - a.y) - double(b.y - a.y) * (e.x - a.x));
     }
@@ -286,10 +286,10 @@ TEST(HeadWrinkles, SmileDeepensTheNasolabialFoldWhichIsFaintAtRest) {
     const double scale = std::sqrt(area3 / area2);  // mesh units per texture unit
     size_t count = 0;
     for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
-      const BezierClosest cl = ClosestPointOnBezier(c.spec.control, rig.vertex_uvs[v]);
+      const BezierClosest cl = ClosestPointOnBezier(c.spec.control, rig.vertex_uvs()[v]);
       if (cl.distance * scale < 0.5 * c.spec.width && cl.t > 0.1 && cl.t < 0.9) {
-        count += !near[rig.vertex_points[v]];
-        near[rig.vertex_points[v]] = 1;
+        count += !near[rig.vertex_points()[v]];
+        near[rig.vertex_points()[v]] = 1;
       }
     }
     ASSERT_GT(count, 20u) << c.name;
@@ -334,13 +334,13 @@ TEST(HeadWrinkles, TheTemplatesWrinklesCompileOnTheIctHead) {
   spec.mesh_path = mesh_path;
   Rig rig;
   ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
-  EXPECT_TRUE(rig.layers.thickness);
-  EXPECT_TRUE(rig.layers.muscle_wrinkles);
-  EXPECT_TRUE(rig.layers.curve_wrinkles);
-  EXPECT_EQ(rig.muscle_wrinkles.size(), 8u);
-  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
-    EXPECT_GT(w.row_count(), 0u) << rig.muscle_names[w.muscle];
-  EXPECT_GT(rig.curve_wrinkles.row_count(), 0u);
+  EXPECT_TRUE(rig.layers().thickness);
+  EXPECT_TRUE(rig.layers().muscle_wrinkles);
+  EXPECT_TRUE(rig.layers().curve_wrinkles);
+  EXPECT_EQ(rig.muscle_wrinkles().size(), 8u);
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
+    EXPECT_GT(w.row_count(), 0u) << rig.muscle_names()[w.muscle];
+  EXPECT_GT(rig.curve_wrinkles().row_count(), 0u);
   // And they move the forehead in a surprise.
   const std::vector<float> d = LayerDisplacement(rig, Surprise(), true);
   float dmax = 0.f;

@@ -216,7 +216,12 @@ TEST(MuscleTable, ZeroActivationReturnsRestBitForBit) {
   const MuscleTable table = BuildMuscleTable(muscles, rest);
   const std::vector<float> zero = {0.f, 0.f};
   std::vector<float3> out(rest.size(), float3{9, 9, 9});
-  MuscleDeformJob job{&table, zero, rest, out, 0, uint32_t(rest.size())};
+  MuscleDeformJob job{.table = &table,
+                      .activations = zero,
+                      .rest_points = rest,
+                      .out_points = out,
+                      .begin = 0,
+                      .end = uint32_t(rest.size())};
   ASSERT_TRUE(job.Run());
   EXPECT_EQ(std::memcmp(out.data(), rest.data(), rest.size() * sizeof(float3)), 0);
 }
@@ -228,8 +233,18 @@ TEST(MuscleTable, ActivationsAreClampedAndNaNIsZero) {
   std::vector<float3> a(rest.size()), b(rest.size());
   const std::vector<float> wild = {7.f, std::nanf("")};
   const std::vector<float> tame = {1.f, 0.f};
-  MuscleDeformJob ja{&table, wild, rest, a, 0, uint32_t(rest.size())};
-  MuscleDeformJob jb{&table, tame, rest, b, 0, uint32_t(rest.size())};
+  MuscleDeformJob ja{.table = &table,
+                     .activations = wild,
+                     .rest_points = rest,
+                     .out_points = a,
+                     .begin = 0,
+                     .end = uint32_t(rest.size())};
+  MuscleDeformJob jb{.table = &table,
+                     .activations = tame,
+                     .rest_points = rest,
+                     .out_points = b,
+                     .begin = 0,
+                     .end = uint32_t(rest.size())};
   ASSERT_TRUE(ja.Run());
   ASSERT_TRUE(jb.Run());
   EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float3)), 0);
@@ -242,7 +257,12 @@ TEST(MuscleDeformJob, ValidityTable) {
   const uint32_t n = uint32_t(rest.size());
   std::vector<float> act(2, 0.5f);
   std::vector<float3> out(n);
-  const MuscleDeformJob good{&table, act, rest, out, 0, n};
+  const MuscleDeformJob good{.table = &table,
+                             .activations = act,
+                             .rest_points = rest,
+                             .out_points = out,
+                             .begin = 0,
+                             .end = n};
   EXPECT_TRUE(good.Validate());
   MuscleDeformJob j = good;
   j.table = nullptr;

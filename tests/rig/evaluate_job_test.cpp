@@ -8,6 +8,7 @@
 #include <cstring>
 #include <new>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "muscles/offline/waters.h"
@@ -285,8 +286,8 @@ TEST(EvaluateJob, PartialCoverageMatchesAFullIndependentComputation) {
   m.linear.falloff_end = 35.f;
   spec.muscles.push_back(m);
   const Rig rig = BuildOrDie(spec, mesh);
-  ASSERT_GT(rig.active_point_count, 0u);
-  ASSERT_LT(rig.normal_point_count, rig.point_count() / 2) << "most of the sheet is static";
+  ASSERT_GT(rig.active_point_count(), 0u);
+  ASSERT_LT(rig.normal_point_count(), rig.point_count() / 2) << "most of the sheet is static";
   EvaluateContext ctx(rig);
   const std::vector<float> act = {0.9f};
   std::vector<float> pos, nrm;
@@ -321,6 +322,85 @@ TEST(EvaluateJob, PartialCoverageMatchesAFullIndependentComputation) {
   const std::vector<float> zero = {0.f};
   ASSERT_TRUE(MakeJob(rig, &ctx, zero, &pos, &nrm).Run());
   EXPECT_EQ(std::memcmp(pos.data(), mesh.positions.data(), pos.size() * 4), 0);
+}
+
+template <class T>
+size_t VectorBytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// Rig::ByteSize and EvaluateContext::ByteSize against sums written out here member by member.
+TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
+  const Surface s = MakeSurface(12, 3);
+  const Rig& rig = s.rig;
+  ASSERT_TRUE(rig.tables_checked());
+  size_t expect = sizeof(Rig);
+  const RigData& d = rig.data();
+  expect += VectorBytes(d.rest_points) + VectorBytes(d.triangles) +
+            VectorBytes(d.point_triangle_offsets) + VectorBytes(d.point_triangles) +
+            VectorBytes(d.vertex_points) + VectorBytes(d.vertex_indices) +
+            VectorBytes(d.vertex_uvs) + VectorBytes(d.point_thickness) +
+            VectorBytes(d.rest_triangle_areas) + VectorBytes(d.muscle_names) +
+            VectorBytes(d.muscles.offsets) + VectorBytes(d.muscles.entries) +
+            VectorBytes(d.muscle_wrinkles);
+  for (const RigMuscleWrinkles& w : d.muscle_wrinkles)
+    expect += VectorBytes(w.points) + VectorBytes(w.phase) + VectorBytes(w.attenuation) +
+              VectorBytes(w.profile) + VectorBytes(w.edge_offsets) +
+              VectorBytes(w.edge_neighbors) + VectorBytes(w.edge_rest_lengths) +
+              VectorBytes(w.edge_weights);
+  const RigCurveWrinkles& c = d.curve_wrinkles;
+  expect += VectorBytes(c.names) + VectorBytes(c.wrinkles) + VectorBytes(c.points) +
+            VectorBytes(c.offsets) + VectorBytes(c.entries) + VectorBytes(c.probes);
+  const RigTables& t = rig.tables();
+  expect += VectorBytes(t.rest_faces) + VectorBytes(t.rest_point_normals) +
+            VectorBytes(t.edge_pairs) + VectorBytes(t.row_offsets) + VectorBytes(t.entry_edges) +
+            VectorBytes(t.entry_rest) + VectorBytes(t.entry_coeffs) +
+            VectorBytes(t.row_profiles) + VectorBytes(t.probe_edges) +
+            VectorBytes(t.point_row_offsets) + VectorBytes(t.point_curve_offsets) +
+            VectorBytes(t.point_curve_rows) + VectorBytes(t.wrinkle_points);
+  EXPECT_EQ(rig.ByteSize(), expect);
+  EXPECT_GE(rig.ByteSize(), sizeof(Rig) + 12 * rig.point_count() + 16 * rig.triangle_count());
+
+  // The context: per-frame scratch only, sized from the rig's counts.
+  const EvaluateContext ctx(rig);
+  const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
+  const size_t E = t.edge_count();
+  EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P +
+                                16 * P + 4 * E + 4 * P);
+}
+
+// A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context
+// sized for the original refuses it. Corrupt data fails the check: no context accepts it.
+TEST(EvaluateJob, EditedRigIsANewRig) {
+  static_assert(!std::is_copy_constructible_v<Rig> && !std::is_copy_assignable_v<Rig>);
+  static_assert(std::is_nothrow_move_constructible_v<Rig>);
+  Surface s = MakeSurface(12, 3);
+  const uint64_t uid = s.rig.uid();
+  EXPECT_NE(uid, 0u);
+  EvaluateContext ctx(s.rig);
+  EXPECT_TRUE(ctx.IsFor(s.rig));
+  Rig moved = std::move(s.rig);
+  EXPECT_EQ(moved.uid(), uid) << "the uid moves with the rig";
+  EXPECT_TRUE(ctx.IsFor(moved));
+  EXPECT_FALSE(ctx.IsFor(s.rig)) << "moved-from";
+
+  RigData edited = moved.data();
+  edited.rest_points[0].z += 1.f;
+  Rig again;
+  ASSERT_TRUE(Rig::Build(edited, &again));
+  EXPECT_NE(again.uid(), uid);
+  EXPECT_FALSE(ctx.IsFor(again)) << "a context of the original refuses the edited copy";
+
+  RigData corrupt = moved.data();
+  corrupt.triangles[0] = moved.point_count();  // out of range
+  Rig bad;
+  EXPECT_FALSE(Rig::Build(corrupt, &bad));
+  EXPECT_FALSE(bad.tables_checked());
+  EvaluateContext bad_ctx(bad);
+  EXPECT_FALSE(bad_ctx.IsFor(bad));
+  const std::vector<float> act = SomeActivations(bad);
+  std::vector<float> pos, nrm;
+  EXPECT_FALSE(MakeJob(bad, &bad_ctx, act, &pos, &nrm).Validate());
 }
 
 }  // namespace

@@ -53,7 +53,13 @@ TEST(FaceKernels, FaceNormalsAndRatiosAreTheStageJobsBits) {
   const span<const float3> pts = span<const float3>(s.points).first(s.point_count);
   std::vector<float3> normals(s.triangle_count);
   std::vector<float> ratios(s.triangle_count);
-  ASSERT_TRUE((FaceNormalsJob{pts, s.triangles, normals, 0, s.triangle_count, s.rest, ratios}.Run()));
+  ASSERT_TRUE((FaceNormalsJob{.points = pts,
+                              .triangles = s.triangles,
+                              .out_face_normals = normals,
+                              .begin = 0,
+                              .end = s.triangle_count,
+                              .rest_areas = s.rest,
+                              .out_area_ratios = ratios}.Run()));
   for (const bool with_ratios : {true, false}) {
     for (const uint32_t begin : {0u, 3u}) {
       for (const uint32_t end : {s.triangle_count, s.triangle_count - 2}) {
@@ -100,8 +106,21 @@ TEST(FaceKernels, GatheredNormalsAndRatiosAreThePointNormalsJobsBits) {
   std::vector<float3> faces(T), normals(n);
   std::vector<float> tri_ratios(T), ratios(n);
   const span<const float3> points = span<const float3>(pts).first(n);
-  ASSERT_TRUE((FaceNormalsJob{points, tris, faces, 0, T, rest, tri_ratios}.Run()));
-  ASSERT_TRUE((PointNormalsJob{faces, offsets, items, normals, 0, n, tri_ratios, ratios}.Run()));
+  ASSERT_TRUE((FaceNormalsJob{.points = points,
+                              .triangles = tris,
+                              .out_face_normals = faces,
+                              .begin = 0,
+                              .end = T,
+                              .rest_areas = rest,
+                              .out_area_ratios = tri_ratios}.Run()));
+  ASSERT_TRUE((PointNormalsJob{.face_normals = faces,
+                               .point_triangle_offsets = offsets,
+                               .point_triangles = items,
+                               .out_normals = normals,
+                               .begin = 0,
+                               .end = n,
+                               .triangle_ratios = tri_ratios,
+                               .out_ratios = ratios}.Run()));
   std::vector<float4> slots(T);
   FaceNormals4(pts.data(), tris.data(), 0, T, rest.data(), slots.data());
   for (uint32_t p = 0; p < n; ++p) {
@@ -161,7 +180,12 @@ TEST(FaceKernels, MusclePointsAreTheMuscleDeformJobsBits) {
   act[2] = 0.f;
   act[5] = 1.f;
   std::vector<float3> expect(n);
-  ASSERT_TRUE((MuscleDeformJob{&table, act, rest, expect, 0, n}.Run()));
+  ASSERT_TRUE((MuscleDeformJob{.table = &table,
+                               .activations = act,
+                               .rest_points = rest,
+                               .out_points = expect,
+                               .begin = 0,
+                               .end = n}.Run()));
   for (const bool simd : {true, false}) {
     std::vector<float3> out(n + 1, float3{-7.f, -7.f, -7.f});  // padded
     const uint32_t cuts[] = {0, 1, 2, 64, 65, 150, n - 1, n};

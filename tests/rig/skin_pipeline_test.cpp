@@ -68,7 +68,7 @@ struct Fig3 {
   }
 };
 
-std::vector<float> Evaluate(const Rig& rig, span<const float> act, EvaluateLayers layers,
+std::vector<float> Evaluate(const Rig& rig, span<const float> act, SkinLayers layers,
                             std::vector<float>* normals = nullptr,
                             std::vector<float>* area_ratios = nullptr) {
   EvaluateContext ctx(rig);
@@ -88,8 +88,8 @@ std::vector<float> Evaluate(const Rig& rig, span<const float> act, EvaluateLayer
 
 TEST(SkinPipeline, Bando2003Fig3WrinkleMatchesSTimesC) {
   const Fig3 f;
-  ASSERT_TRUE(f.rig.layers.thickness);
-  ASSERT_TRUE(f.rig.layers.curve_wrinkles);
+  ASSERT_TRUE(f.rig.layers().thickness);
+  ASSERT_TRUE(f.rig.layers().curve_wrinkles);
   const std::vector<float> act = {1.f};
   // X1 (muscles only) gives the strain; the wrinkle is the difference of the runs with and
   // without the curve-wrinkle layer: S(l) C(r) N1 (MODEL.md §7, 002 eq. 4-6).
@@ -170,7 +170,7 @@ TEST(SkinPipeline, NoNaNOrInfinityEvenWhenTrianglesCollapse) {
   Rig rig;
   Diagnostics diag;
   ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
-  ASSERT_TRUE(rig.layers.thickness && rig.layers.muscle_wrinkles && rig.layers.curve_wrinkles);
+  ASSERT_TRUE(rig.layers().thickness && rig.layers().muscle_wrinkles && rig.layers().curve_wrinkles);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0.f, 1.f);
   std::vector<float> act(rig.muscle_count());
@@ -206,7 +206,7 @@ Rig WrinkledSurface() {
   Rig rig;
   Diagnostics diag;
   EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
-  EXPECT_TRUE(rig.layers.thickness && rig.layers.muscle_wrinkles && rig.layers.curve_wrinkles);
+  EXPECT_TRUE(rig.layers().thickness && rig.layers().muscle_wrinkles && rig.layers().curve_wrinkles);
   return rig;
 }
 
@@ -296,7 +296,7 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
   ASSERT_GT(rig.vertex_count(), mesh.vertex_count());
   // The first #V output vertices are the file's, unchanged.
   for (size_t v = 0; v < mesh.vertex_count(); ++v)
-    ASSERT_EQ(rig.rest_points[rig.vertex_points[v]], mesh.positions[v]);
+    ASSERT_EQ(rig.rest_points()[rig.vertex_points()[v]], mesh.positions[v]);
   size_t near = 0, far_kept = 0, far = 0;
   const MeshData rest = RestMesh(rig);  // the output layout: file order
   for (uint32_t t = 0; t < rig.triangle_count(); ++t) {
@@ -313,9 +313,9 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
     // for the bisection's closure: the file's 5 mm triangles, untouched.
     if (std::fabs(centroid.y) > 16.f + 3 * 7.08f) {
       ++far;
-      far_kept += rig.vertex_indices[3 * t] < mesh.vertex_count() &&
-                  rig.vertex_indices[3 * t + 1] < mesh.vertex_count() &&
-                  rig.vertex_indices[3 * t + 2] < mesh.vertex_count() && longest > 5.f;
+      far_kept += rig.vertex_indices()[3 * t] < mesh.vertex_count() &&
+                  rig.vertex_indices()[3 * t + 1] < mesh.vertex_count() &&
+                  rig.vertex_indices()[3 * t + 2] < mesh.vertex_count() && longest > 5.f;
     }
   }
   EXPECT_GT(near, 1000u);
@@ -326,7 +326,7 @@ TEST(SkinPipeline, BuildRigRefinesOnlyInsideWrinkleSupports) {
   Rig plain;
   ASSERT_TRUE(BuildRig(spec, mesh, {}, &plain, &diag)) << diag.Format();
   EXPECT_EQ(plain.vertex_count(), mesh.vertex_count());
-  EXPECT_EQ(plain.vertex_indices, mesh.indices);
+  EXPECT_EQ(plain.vertex_indices(), mesh.indices);
 }
 
 // EvaluateJob fuses the stages (face_kernels.h, edge lengths once per edge, one displacement
@@ -337,56 +337,115 @@ void ExpectFusedMatchesChainedStageJobs(const Rig& rig, span<const float> act) {
   const uint32_t P = rig.point_count(), T = rig.triangle_count();
   std::vector<float3> x(P), faces(T), n1(P), n3(P);
   std::vector<float> tri_ratio(T), ratio(P);
-  ASSERT_TRUE((MuscleDeformJob{&rig.muscles, act, rig.rest_points, x, 0, P}.Run()));
-  FaceNormalsJob fj{x, rig.triangles, faces, 0, T, rig.rest_triangle_areas, tri_ratio};
+  ASSERT_TRUE((MuscleDeformJob{.table = &rig.muscles(),
+                               .activations = act,
+                               .rest_points = rig.rest_points(),
+                               .out_points = x,
+                               .begin = 0,
+                               .end = P}.Run()));
+  FaceNormalsJob fj{.points = x,
+                    .triangles = rig.triangles(),
+                    .out_face_normals = faces,
+                    .begin = 0,
+                    .end = T,
+                    .rest_areas = rig.rest_triangle_areas(),
+                    .out_area_ratios = tri_ratio};
   ASSERT_TRUE(fj.Run());
-  PointNormalsJob pj{faces, rig.point_triangle_offsets, rig.point_triangles, n1, 0, P,
-                     tri_ratio, ratio};
+  PointNormalsJob pj{.face_normals = faces,
+                     .point_triangle_offsets = rig.point_triangle_offsets(),
+                     .point_triangles = rig.point_triangles(),
+                     .out_normals = n1,
+                     .begin = 0,
+                     .end = P,
+                     .triangle_ratios = tri_ratio,
+                     .out_ratios = ratio};
   ASSERT_TRUE(pj.Run());
   std::vector<std::vector<float>> eps;
-  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles) {
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles()) {
     eps.emplace_back(w.row_count());
-    ASSERT_TRUE((EdgeCompressionJob{x, w.points, w.edge_offsets, w.edge_neighbors,
-                                    w.edge_rest_lengths, w.edge_weights, 0, w.row_count(),
-                                    eps.back()}.Run()));
+    ASSERT_TRUE((EdgeCompressionJob{.positions = x,
+                                    .points = w.points,
+                                    .offsets = w.edge_offsets,
+                                    .neighbors = w.edge_neighbors,
+                                    .rest_lengths = w.edge_rest_lengths,
+                                    .weights = w.edge_weights,
+                                    .begin = 0,
+                                    .end = w.row_count(),
+                                    .out_compression = eps.back()}.Run()));
   }
-  const RigCurveWrinkles& c = rig.curve_wrinkles;
+  const RigCurveWrinkles& c = rig.curve_wrinkles();
   std::vector<float> shrink(c.probes.size());
-  ASSERT_TRUE((DirectionalShrinkageJob{x, c.probes, 0, c.probes.size(), shrink}.Run()));
+  ASSERT_TRUE((DirectionalShrinkageJob{.positions = x,
+                                       .probes = c.probes,
+                                       .begin = 0,
+                                       .end = c.probes.size(),
+                                       .out_shrinkage = shrink}.Run()));
   ThicknessJob th;
   th.positions = x;
   th.normals = n1;
   th.area_ratios = ratio;
-  th.thickness = rig.point_thickness;
-  th.min_area_ratio = rig.min_area_ratio;
+  th.thickness = rig.point_thickness();
+  th.min_area_ratio = rig.min_area_ratio();
   th.end = P;
   th.out_positions = x;
   ASSERT_TRUE(th.Run());
-  for (size_t t = 0; t < rig.muscle_wrinkles.size(); ++t) {
-    const RigMuscleWrinkles& w = rig.muscle_wrinkles[t];
-    MuscleWrinkleJob mj{n1, w.points, w.phase, w.attenuation, eps[t], w.half_cycle,
-                        w.furrow_depth, w.shape, 0, w.row_count(), x, {}, {}};
+  for (size_t t = 0; t < rig.muscle_wrinkles().size(); ++t) {
+    const RigMuscleWrinkles& w = rig.muscle_wrinkles()[t];
+    MuscleWrinkleJob mj{.normals = n1,
+                        .points = w.points,
+                        .phase = w.phase,
+                        .attenuation = w.attenuation,
+                        .compression = eps[t],
+                        .half_cycle = w.half_cycle,
+                        .furrow_depth = w.furrow_depth,
+                        .shape = w.shape,
+                        .begin = 0,
+                        .end = w.row_count(),
+                        .positions = x,
+                        .out_amplitudes = {},
+                        .profile = {}};
     ASSERT_TRUE(mj.Run());
   }
-  CurveWrinkleJob cj{n1, c.wrinkles, c.points, c.offsets, c.entries, shrink, ratio,
-                     0, c.row_count(), x, {}};
+  CurveWrinkleJob cj{.normals = n1,
+                     .wrinkles = c.wrinkles,
+                     .points = c.points,
+                     .offsets = c.offsets,
+                     .entries = c.entries,
+                     .entry_shrinkage = shrink,
+                     .area_ratios = ratio,
+                     .begin = 0,
+                     .end = c.row_count(),
+                     .positions = x,
+                     .out_amplitudes = {}};
   ASSERT_TRUE(cj.Run());
-  ASSERT_TRUE((FaceNormalsJob{x, rig.triangles, faces, 0, T, {}, {}}.Run()));
-  ASSERT_TRUE((PointNormalsJob{faces, rig.point_triangle_offsets, rig.point_triangles, n3, 0, P,
-                               {}, {}}.Run()));
+  ASSERT_TRUE((FaceNormalsJob{.points = x,
+                              .triangles = rig.triangles(),
+                              .out_face_normals = faces,
+                              .begin = 0,
+                              .end = T,
+                              .rest_areas = {},
+                              .out_area_ratios = {}}.Run()));
+  ASSERT_TRUE((PointNormalsJob{.face_normals = faces,
+                               .point_triangle_offsets = rig.point_triangle_offsets(),
+                               .point_triangles = rig.point_triangles(),
+                               .out_normals = n3,
+                               .begin = 0,
+                               .end = P,
+                               .triangle_ratios = {},
+                               .out_ratios = {}}.Run()));
 
   std::vector<float> nrm, fused_ratios;
   const std::vector<float> pos = Evaluate(rig, act, {}, &nrm, &fused_ratios);
   double moved = 0.0;
   for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
-    const uint32_t p = rig.vertex_points[v];
+    const uint32_t p = rig.vertex_points()[v];
     ASSERT_EQ(fused_ratios[p], ratio[p]) << "point " << p;
     for (int d = 0; d < 3; ++d) {
       ASSERT_NEAR(pos[3 * v + d], (&x[p].x)[d], 2e-5f * (1.f + std::fabs((&x[p].x)[d])))
           << "vertex " << v;
       ASSERT_NEAR(nrm[3 * v + d], (&n3[p].x)[d], 1e-5f) << "vertex " << v;
     }
-    moved = std::max(moved, double(Length(x[p] - rig.rest_points[p])));
+    moved = std::max(moved, double(Length(x[p] - rig.rest_points()[p])));
   }
   EXPECT_GT(moved, 0.1);  // the comparison saw real displacement
 }

@@ -78,9 +78,19 @@ TEST(Thickness, UniformCompressionKeepsVolume) {  // accept b, 002 eq. 3
   const std::vector<float> rest_area = ComputeTriangleAreas(g.points, g.triangles);
   const CsrTable pt = BuildPointTriangles(g.triangles, n);
   std::vector<float> tri_ratio(rest_area.size()), r(n);
-  TriangleAreaRatioJob tj{cur, g.triangles, rest_area, 0, rest_area.size(), tri_ratio};
+  TriangleAreaRatioJob tj{.positions = cur,
+                          .triangles = g.triangles,
+                          .rest_areas = rest_area,
+                          .begin = 0,
+                          .end = rest_area.size(),
+                          .out_ratios = tri_ratio};
   ASSERT_TRUE(tj.Run());
-  PointAreaRatioJob pj{tri_ratio, pt.offsets, pt.items, 0, n, r};
+  PointAreaRatioJob pj{.triangle_ratios = tri_ratio,
+                       .offsets = pt.offsets,
+                       .point_triangles = pt.items,
+                       .begin = 0,
+                       .end = n,
+                       .out_ratios = r};
   ASSERT_TRUE(pj.Run());
   for (float v : r) EXPECT_NEAR(v, 0.8, 1e-5);
   std::vector<float> h(n);
@@ -143,7 +153,11 @@ TEST(DirectionalShrinkage, TriangleScaledByKnownFactors) {  // 000 eq. 4
   // By hand: the ray (1, 0.5) k meets the edge (1,-1)-(0.5,0.5) where 1 - 0.5 g = k and
   // -1 + 1.5 g = 0.5 k: g = 6/7, k = 4/7, so L'/L = 4/7 and s = 3/7; the other side s = 0.
   std::vector<float> s(1);
-  DirectionalShrinkageJob job{cur, probes, 0, 1, s};
+  DirectionalShrinkageJob job{.positions = cur,
+                              .probes = probes,
+                              .begin = 0,
+                              .end = 1,
+                              .out_shrinkage = s};
   ASSERT_TRUE(job.Run());
   EXPECT_NEAR(s[0], (3.0 / 7.0 + 0.0) / 2.0, 1e-6);
   // Uniform scaling by 0.6 about the centre: s = 1 - 0.6 on both sides.
@@ -199,7 +213,15 @@ TEST(EdgeCompression, HandBuiltStar) {  // 001 eq. 9-10 with |cos|
   cur[3] = {-1.2f, 0, 0};      // tau = -0.2
   cur[4] = {0.5f, 0.5f, 0};    // tau = 0.5
   std::vector<float> eps(1);
-  EdgeCompressionJob job{cur, rows, offsets, nbr, L, w, 0, 1, eps};
+  EdgeCompressionJob job{.positions = cur,
+                         .points = rows,
+                         .offsets = offsets,
+                         .neighbors = nbr,
+                         .rest_lengths = L,
+                         .weights = w,
+                         .begin = 0,
+                         .end = 1,
+                         .out_compression = eps};
   ASSERT_TRUE(job.Run());
   const double c = std::sqrt(0.5);
   EXPECT_NEAR(eps[0], (0.3 - 0.2 + c * 0.5) / (1.0 + 1.0 + c), 1e-6);
@@ -213,7 +235,19 @@ TEST(MuscleWrinkle, KnownAnswerAlongTheNormal) {  // 001 eq. 4
   const std::vector<uint32_t> pts = {1};
   const std::vector<float> phase = {0.5f}, at = {0.6f}, eps = {0.5f};
   std::vector<float> amp(1);
-  MuscleWrinkleJob job{nrm, pts, phase, at, eps, 1.f, 2.f, 1.f, 0, 1, pos, amp, {}};
+  MuscleWrinkleJob job{.normals = nrm,
+                       .points = pts,
+                       .phase = phase,
+                       .attenuation = at,
+                       .compression = eps,
+                       .half_cycle = 1.f,
+                       .furrow_depth = 2.f,
+                       .shape = 1.f,
+                       .begin = 0,
+                       .end = 1,
+                       .positions = pos,
+                       .out_amplitudes = amp,
+                       .profile = {}};
   ASSERT_TRUE(job.Run());
   // H(0.5) with u = 1, k0 = 2, alpha = 1: t = -0.5, d = 2 (4 - 1)/4 = 1.5; H = 2(1.25)(-0.5) + 1.5.
   const double H = 2.0 * 1.25 * -0.5 + 1.5;
@@ -271,7 +305,11 @@ TEST(CurveWrinkle, StraightFurrowKeepsVolume) {  // accept c, 000 eq. 3
   Diagnostics diag;
   ASSERT_TRUE(BuildCurveWrinkleTable({&spec, 1}, g.points, g.triangles, g.corner_uvs, "w", &table, &diag));
   std::vector<float> s(table.probes.size());
-  DirectionalShrinkageJob sj{g.points, table.probes, 0, table.probes.size(), s};
+  DirectionalShrinkageJob sj{.positions = g.points,
+                             .probes = table.probes,
+                             .begin = 0,
+                             .end = table.probes.size(),
+                             .out_shrinkage = s};
   ASSERT_TRUE(sj.Run());
   for (float v : s) ASSERT_NEAR(v, 0.f, 1e-6f);
   const std::vector<float3> nrm(n, float3{0, 0, 1});
@@ -359,12 +397,33 @@ TEST(Degenerate, AllOutputsFinite) {
     x[40] = x[41];
     if (frame == 0) x.assign(n, float3{0.3f, 0.3f, 0.3f});  // everything collapsed
     std::vector<float> tr(rest_area.size()), r(n), eps(mt.points.size()), s(ct.probes.size());
-    ASSERT_TRUE((TriangleAreaRatioJob{x, g.triangles, rest_area, 0, rest_area.size(), tr}.Run()));
-    ASSERT_TRUE((PointAreaRatioJob{tr, pt.offsets, pt.items, 0, n, r}.Run()));
-    ASSERT_TRUE((EdgeCompressionJob{x, mt.points, mt.edge_offsets, mt.edge_neighbors,
-                                    mt.edge_rest_lengths, mt.edge_weights, 0, mt.points.size(), eps}
+    ASSERT_TRUE((TriangleAreaRatioJob{.positions = x,
+                                      .triangles = g.triangles,
+                                      .rest_areas = rest_area,
+                                      .begin = 0,
+                                      .end = rest_area.size(),
+                                      .out_ratios = tr}.Run()));
+    ASSERT_TRUE((PointAreaRatioJob{.triangle_ratios = tr,
+                                   .offsets = pt.offsets,
+                                   .point_triangles = pt.items,
+                                   .begin = 0,
+                                   .end = n,
+                                   .out_ratios = r}.Run()));
+    ASSERT_TRUE((EdgeCompressionJob{.positions = x,
+                                    .points = mt.points,
+                                    .offsets = mt.edge_offsets,
+                                    .neighbors = mt.edge_neighbors,
+                                    .rest_lengths = mt.edge_rest_lengths,
+                                    .weights = mt.edge_weights,
+                                    .begin = 0,
+                                    .end = mt.points.size(),
+                                    .out_compression = eps}
                      .Run()));
-    ASSERT_TRUE((DirectionalShrinkageJob{x, ct.probes, 0, ct.probes.size(), s}.Run()));
+    ASSERT_TRUE((DirectionalShrinkageJob{.positions = x,
+                                         .probes = ct.probes,
+                                         .begin = 0,
+                                         .end = ct.probes.size(),
+                                         .out_shrinkage = s}.Run()));
     std::vector<float3> nrm(n);
     for (size_t p = 0; p < n; ++p) {  // random normals, some zero
       nrm[p] = NormalizeOr(float3{unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f}, {});
@@ -379,8 +438,19 @@ TEST(Degenerate, AllOutputsFinite) {
     th.end = n;
     th.out_positions = out;
     ASSERT_TRUE(th.Run());
-    MuscleWrinkleJob mj{nrm, mt.points, mt.phase, mt.attenuation, eps, mt.half_cycle,
-                        mt.furrow_depth, mt.shape, 0, mt.points.size(), out, {}, {}};
+    MuscleWrinkleJob mj{.normals = nrm,
+                        .points = mt.points,
+                        .phase = mt.phase,
+                        .attenuation = mt.attenuation,
+                        .compression = eps,
+                        .half_cycle = mt.half_cycle,
+                        .furrow_depth = mt.furrow_depth,
+                        .shape = mt.shape,
+                        .begin = 0,
+                        .end = mt.points.size(),
+                        .positions = out,
+                        .out_amplitudes = {},
+                        .profile = {}};
     ASSERT_TRUE(mj.Run());
     CurveWrinkleJob cj;
     cj.normals = nrm;
@@ -420,7 +490,12 @@ TEST(Validity, EverySpanOneShortIsRefused) {
   std::vector<float3> out(n);
   const std::vector<float3> nrm(n, float3{0, 0, 1});
 
-  TriangleAreaRatioJob tj{g.points, g.triangles, ra, 0, nt, tr};
+  TriangleAreaRatioJob tj{.positions = g.points,
+                          .triangles = g.triangles,
+                          .rest_areas = ra,
+                          .begin = 0,
+                          .end = nt,
+                          .out_ratios = tr};
   EXPECT_TRUE(tj.Validate());
   { auto j = tj; j.positions = Short(j.positions); EXPECT_FALSE(j.Validate()); }
   { auto j = tj; j.triangles = Short(j.triangles); EXPECT_FALSE(j.Validate()); }
@@ -428,7 +503,12 @@ TEST(Validity, EverySpanOneShortIsRefused) {
   { auto j = tj; j.out_ratios = Short(j.out_ratios); EXPECT_FALSE(j.Validate()); }
   { auto j = tj; j.begin = 3; j.end = 2; EXPECT_FALSE(j.Validate()); }
 
-  PointAreaRatioJob pj{tr, pt.offsets, pt.items, 0, n, r};
+  PointAreaRatioJob pj{.triangle_ratios = tr,
+                       .offsets = pt.offsets,
+                       .point_triangles = pt.items,
+                       .begin = 0,
+                       .end = n,
+                       .out_ratios = r};
   EXPECT_TRUE(pj.Validate());
   { auto j = pj; j.triangle_ratios = Short(j.triangle_ratios); EXPECT_FALSE(j.Validate()); }
   { auto j = pj; j.offsets = Short(j.offsets); EXPECT_FALSE(j.Validate()); }
@@ -440,7 +520,15 @@ TEST(Validity, EverySpanOneShortIsRefused) {
   std::vector<float3> dirs(n, float3{1, 0, 0});
   std::vector<float> L, w, eps(n);
   ComputeCompressionWeights(g.points, rows, dirs, nb.offsets, nb.items, &L, &w);
-  EdgeCompressionJob ej{g.points, rows, nb.offsets, nb.items, L, w, 0, n, eps};
+  EdgeCompressionJob ej{.positions = g.points,
+                        .points = rows,
+                        .offsets = nb.offsets,
+                        .neighbors = nb.items,
+                        .rest_lengths = L,
+                        .weights = w,
+                        .begin = 0,
+                        .end = n,
+                        .out_compression = eps};
   EXPECT_TRUE(ej.Validate());
   { auto j = ej; j.positions = Short(j.positions); EXPECT_FALSE(j.Validate()); }
   { auto j = ej; j.points = Short(j.points); EXPECT_FALSE(j.Validate()); }
@@ -458,7 +546,11 @@ TEST(Validity, EverySpanOneShortIsRefused) {
     probes.push_back(BuildShrinkageProbe(p, {0, 1}, g.points, g.triangles, g.corner_uvs, pt));
   }
   std::vector<float> s(n);
-  DirectionalShrinkageJob sj{g.points, probes, 0, n, s};
+  DirectionalShrinkageJob sj{.positions = g.points,
+                             .probes = probes,
+                             .begin = 0,
+                             .end = n,
+                             .out_shrinkage = s};
   EXPECT_TRUE(sj.Validate());
   { auto j = sj; j.positions = Short(j.positions); EXPECT_FALSE(j.Validate()); }
   { auto j = sj; j.probes = Short(j.probes); EXPECT_FALSE(j.Validate()); }
@@ -482,7 +574,19 @@ TEST(Validity, EverySpanOneShortIsRefused) {
 
   // Muscle wrinkles over every point (row i = point i; the last row uses the last point).
   std::vector<float> ph(n, 0.1f), at(n, 1.f), amp(n);
-  MuscleWrinkleJob mj{nrm, rows, ph, at, eps, 1.f, 0.1f, 1.f, 0, n, out, amp, {}};
+  MuscleWrinkleJob mj{.normals = nrm,
+                      .points = rows,
+                      .phase = ph,
+                      .attenuation = at,
+                      .compression = eps,
+                      .half_cycle = 1.f,
+                      .furrow_depth = 0.1f,
+                      .shape = 1.f,
+                      .begin = 0,
+                      .end = n,
+                      .positions = out,
+                      .out_amplitudes = amp,
+                      .profile = {}};
   EXPECT_TRUE(mj.Validate());
   { auto j = mj; j.normals = Short(j.normals); EXPECT_FALSE(j.Validate()); }
   { auto j = mj; j.points = Short(j.points); EXPECT_FALSE(j.Validate()); }
@@ -503,7 +607,17 @@ TEST(Validity, EverySpanOneShortIsRefused) {
     off[p + 1] = uint32_t(p + 1);
     ent[p] = {uint32_t(p % 2), 0.01f * p};
   }
-  CurveWrinkleJob cj{nrm, wr, rows, off, ent, s, r, 0, n, out, amp};
+  CurveWrinkleJob cj{.normals = nrm,
+                     .wrinkles = wr,
+                     .points = rows,
+                     .offsets = off,
+                     .entries = ent,
+                     .entry_shrinkage = s,
+                     .area_ratios = r,
+                     .begin = 0,
+                     .end = n,
+                     .positions = out,
+                     .out_amplitudes = amp};
   EXPECT_TRUE(cj.Validate());
   { auto j = cj; j.normals = Short(j.normals); EXPECT_FALSE(j.Validate()); }
   { auto j = cj; j.wrinkles = Short(j.wrinkles); EXPECT_FALSE(j.Validate()); }
@@ -566,15 +680,41 @@ TEST(RangeSplit, BitIdentical) {
       return f(size_t(0), k) && f(k, total);
     };
     EXPECT_TRUE(ranges(nt, [&](size_t b, size_t e) {
-      return TriangleAreaRatioJob{x, g.triangles, ra, b, e, tr}.Run(); }));
+      return TriangleAreaRatioJob{.positions = x,
+                                  .triangles = g.triangles,
+                                  .rest_areas = ra,
+                                  .begin = b,
+                                  .end = e,
+                                  .out_ratios = tr}.Run(); }));
     EXPECT_TRUE(ranges(n, [&](size_t b, size_t e) {
-      return PointAreaRatioJob{tr, pt.offsets, pt.items, b, e, r}.Run(); }));
+      return PointAreaRatioJob{.triangle_ratios = tr,
+                               .offsets = pt.offsets,
+                               .point_triangles = pt.items,
+                               .begin = b,
+                               .end = e,
+                               .out_ratios = r}.Run(); }));
     EXPECT_TRUE(ranges(n, [&](size_t b, size_t e) {
-      return EdgeCompressionJob{x, rows, nb.offsets, nb.items, L, w, b, e, eps}.Run(); }));
+      return EdgeCompressionJob{.positions = x,
+                                .points = rows,
+                                .offsets = nb.offsets,
+                                .neighbors = nb.items,
+                                .rest_lengths = L,
+                                .weights = w,
+                                .begin = b,
+                                .end = e,
+                                .out_compression = eps}.Run(); }));
     EXPECT_TRUE(ranges(n, [&](size_t b, size_t e) {
-      return DirectionalShrinkageJob{x, probes, b, e, s}.Run(); }));
+      return DirectionalShrinkageJob{.positions = x,
+                                     .probes = probes,
+                                     .begin = b,
+                                     .end = e,
+                                     .out_shrinkage = s}.Run(); }));
     EXPECT_TRUE(ranges(ct.probes.size(), [&](size_t b, size_t e) {
-      return DirectionalShrinkageJob{x, ct.probes, b, e, cs}.Run(); }));
+      return DirectionalShrinkageJob{.positions = x,
+                                     .probes = ct.probes,
+                                     .begin = b,
+                                     .end = e,
+                                     .out_shrinkage = cs}.Run(); }));
     result->assign(n, float3{});
     EXPECT_TRUE(ranges(n, [&](size_t b, size_t e) {
       ThicknessJob th;
@@ -584,9 +724,31 @@ TEST(RangeSplit, BitIdentical) {
     std::vector<float> ph(n), at(n, 0.7f);
     for (size_t p = 0; p < n; ++p) ph[p] = 0.017f * p;
     EXPECT_TRUE(ranges(n, [&](size_t b, size_t e) {
-      return MuscleWrinkleJob{nrm, rows, ph, at, eps, 0.5f, 0.02f, 0.7f, b, e, *result, {}, {}}.Run(); }));
+      return MuscleWrinkleJob{.normals = nrm,
+                              .points = rows,
+                              .phase = ph,
+                              .attenuation = at,
+                              .compression = eps,
+                              .half_cycle = 0.5f,
+                              .furrow_depth = 0.02f,
+                              .shape = 0.7f,
+                              .begin = b,
+                              .end = e,
+                              .positions = *result,
+                              .out_amplitudes = {},
+                              .profile = {}}.Run(); }));
     EXPECT_TRUE(ranges(ct.points.size(), [&](size_t b, size_t e) {
-      CurveWrinkleJob cj{nrm, ct.wrinkles, ct.points, ct.offsets, ct.entries, cs, r, b, e, *result, {}};
+      CurveWrinkleJob cj{.normals = nrm,
+                         .wrinkles = ct.wrinkles,
+                         .points = ct.points,
+                         .offsets = ct.offsets,
+                         .entries = ct.entries,
+                         .entry_shrinkage = cs,
+                         .area_ratios = r,
+                         .begin = b,
+                         .end = e,
+                         .positions = *result,
+                         .out_amplitudes = {}};
       return cj.Run(); }));
     // Strain outputs are part of the comparison too.
     for (size_t p = 0; p < n; ++p) result->push_back({r[p], eps[p], s[p]});
@@ -621,8 +783,32 @@ TEST(MuscleWrinkle, PrecomputedProfileMatchesTheGeneralPath) {
     eps[i] = -0.2f + 0.03f * float(i);
     profile[i] = MuscleWrinkleProfile(ph[i], 1.f, 0.3f, 0.7f, at[i]);
   }
-  MuscleWrinkleJob general{nrm, rows, ph, at, eps, 1.f, 0.3f, 0.7f, 0, n, a, {}, {}};
-  MuscleWrinkleJob fast{nrm, rows, {}, {}, eps, 0.f, 0.f, 0.f, 0, n, b, {}, profile};
+  MuscleWrinkleJob general{.normals = nrm,
+                           .points = rows,
+                           .phase = ph,
+                           .attenuation = at,
+                           .compression = eps,
+                           .half_cycle = 1.f,
+                           .furrow_depth = 0.3f,
+                           .shape = 0.7f,
+                           .begin = 0,
+                           .end = n,
+                           .positions = a,
+                           .out_amplitudes = {},
+                           .profile = {}};
+  MuscleWrinkleJob fast{.normals = nrm,
+                        .points = rows,
+                        .phase = {},
+                        .attenuation = {},
+                        .compression = eps,
+                        .half_cycle = 0.f,
+                        .furrow_depth = 0.f,
+                        .shape = 0.f,
+                        .begin = 0,
+                        .end = n,
+                        .positions = b,
+                        .out_amplitudes = {},
+                        .profile = profile};
   ASSERT_TRUE(general.Run());
   ASSERT_TRUE(fast.Run());
   for (size_t i = 0; i < n; ++i) EXPECT_EQ(a[i].z, b[i].z) << i;
@@ -657,8 +843,28 @@ TEST(CurveWrinkle, PrecomputedBandoProfileMatchesTheGeneralPath) {
     pre[i].profile = CurveProfile(pre[i].distance, wr[i % 2].depth, wr[i % 2].width);
     pre[i].has_profile = 1;
   }
-  CurveWrinkleJob ja{nrm, wr, rows, off, plain, s, r, 0, n, a, {}};
-  CurveWrinkleJob jb{nrm, wr, rows, off, pre, s, r, 0, n, b, {}};
+  CurveWrinkleJob ja{.normals = nrm,
+                     .wrinkles = wr,
+                     .points = rows,
+                     .offsets = off,
+                     .entries = plain,
+                     .entry_shrinkage = s,
+                     .area_ratios = r,
+                     .begin = 0,
+                     .end = n,
+                     .positions = a,
+                     .out_amplitudes = {}};
+  CurveWrinkleJob jb{.normals = nrm,
+                     .wrinkles = wr,
+                     .points = rows,
+                     .offsets = off,
+                     .entries = pre,
+                     .entry_shrinkage = s,
+                     .area_ratios = r,
+                     .begin = 0,
+                     .end = n,
+                     .positions = b,
+                     .out_amplitudes = {}};
   ASSERT_TRUE(ja.Run());
   ASSERT_TRUE(jb.Run());
   for (size_t i = 0; i < n; ++i) EXPECT_EQ(a[i].z, b[i].z) << i;

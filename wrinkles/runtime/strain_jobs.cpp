@@ -18,11 +18,6 @@ bool TriangleAreaRatioJob::Validate() const {
 
 bool TriangleAreaRatioJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void TriangleAreaRatioJob::RunUnchecked() const {
   for (size_t t = begin; t < end; ++t) {
     const float3 a = positions[triangles[3 * t]];
     const float3 b = positions[triangles[3 * t + 1]];
@@ -31,6 +26,7 @@ void TriangleAreaRatioJob::RunUnchecked() const {
     const float rest = rest_areas[t];
     out_ratios[t] = rest > 0.f ? area / rest : 1.f;
   }
+  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -46,11 +42,6 @@ bool PointAreaRatioJob::Validate() const {
 
 bool PointAreaRatioJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void PointAreaRatioJob::RunUnchecked() const {
   for (size_t p = begin; p < end; ++p) {
     const uint32_t first = offsets[p], last = offsets[p + 1];
     if (first == last) {
@@ -61,6 +52,7 @@ void PointAreaRatioJob::RunUnchecked() const {
     for (uint32_t k = first; k < last; ++k) sum += triangle_ratios[point_triangles[k]];
     out_ratios[p] = sum / static_cast<float>(last - first);  // MODEL.md §4: mean over I_j
   }
+  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -78,11 +70,6 @@ bool EdgeCompressionJob::Validate() const {
 
 bool EdgeCompressionJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void EdgeCompressionJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     const float3 xi = positions[points[i]];
     float num = 0.f, den = 0.f;
@@ -97,6 +84,7 @@ void EdgeCompressionJob::RunUnchecked() const {
     // 001 eq. 10 with |cos| weights (MODEL.md §5 choice).
     out_compression[i] = den > 0.f ? num / den : 0.f;
   }
+  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -115,11 +103,6 @@ bool DirectionalShrinkageJob::Validate() const {
 
 bool DirectionalShrinkageJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void DirectionalShrinkageJob::RunUnchecked() const {
   for (size_t k = begin; k < end; ++k) {
     const ShrinkageProbe& probe = probes[k];
     const float3 x1 = positions[probe.point];
@@ -128,6 +111,7 @@ void DirectionalShrinkageJob::RunUnchecked() const {
       return Length(positions[which == 0 ? side.v2 : side.v3] - x1);
     });
   }
+  return true;
 }
 
 }  // namespace mimetic

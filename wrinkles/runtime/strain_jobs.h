@@ -26,9 +26,6 @@ namespace mimetic {
 struct TriangleAreaRatioJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float3> positions;     // current points, mesh units; every index used must exist
   span<const uint32_t> triangles;   // 3 point indices per triangle; >= 3 * end
@@ -46,9 +43,6 @@ struct TriangleAreaRatioJob {
 struct PointAreaRatioJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float> triangle_ratios;       // from TriangleAreaRatioJob, one per triangle
   span<const uint32_t> offsets;            // point -> triangle CSR offsets, >= end + 1,
@@ -71,9 +65,6 @@ struct PointAreaRatioJob {
 struct EdgeCompressionJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float3> positions;         // current points, mesh units; every index used must exist
   span<const uint32_t> points;          // point of each row; >= end
@@ -115,9 +106,6 @@ struct ShrinkageProbe {
 struct DirectionalShrinkageJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float3> positions;          // current points, mesh units; every index used must exist
   span<const ShrinkageProbe> probes;     // >= end

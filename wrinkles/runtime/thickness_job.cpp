@@ -14,16 +14,12 @@ bool ThicknessJob::Validate() const {
 
 bool ThicknessJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void ThicknessJob::RunUnchecked() const {
   const bool per_point = !thickness.empty();
   for (size_t p = begin; p < end; ++p) {
     const float h = per_point ? thickness[p] : constant_thickness;
     out_positions[p] = positions[p] + normals[p] * ThicknessOffset(area_ratios[p], h, min_area_ratio);
   }
+  return true;
 }
 
 }  // namespace mimetic

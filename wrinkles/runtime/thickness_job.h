@@ -28,9 +28,6 @@ inline float ThicknessOffset(float r, float h, float min_area_ratio) {
 struct ThicknessJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float3> positions;        // X1, current points, mesh units; >= end
   span<const float3> normals;          // N1, unit normals of X1 (a zero normal gives no

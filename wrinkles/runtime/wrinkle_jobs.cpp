@@ -29,11 +29,6 @@ bool MuscleWrinkleJob::Validate() const {
 
 bool MuscleWrinkleJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void MuscleWrinkleJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6); no activation factor (see header).
     const float h_at = profile.empty()
@@ -45,6 +40,7 @@ void MuscleWrinkleJob::RunUnchecked() const {
     positions[p] += normals[p] * w;
     if (!out_amplitudes.empty()) out_amplitudes[i] = w;
   }
+  return true;
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -102,11 +98,6 @@ bool CurveWrinkleJob::Validate() const {
 
 bool CurveWrinkleJob::Run() const {
   if (!Validate()) return false;
-  RunUnchecked();
-  return true;
-}
-
-void CurveWrinkleJob::RunUnchecked() const {
   for (size_t i = begin; i < end; ++i) {
     const uint32_t p = points[i];
     // area_ratios may be short when every wrinkle is directional (then r is not used).
@@ -116,6 +107,7 @@ void CurveWrinkleJob::RunUnchecked() const {
     positions[p] += normals[p] * sum;  // MODEL.md §7: x' = x + S(l) M N
     if (!out_amplitudes.empty()) out_amplitudes[i] = sum;
   }
+  return true;
 }
 
 }  // namespace mimetic

@@ -27,9 +27,6 @@ namespace mimetic {
 struct MuscleWrinkleJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float3> normals;        // N1, unit normals per point; every index used must exist
   span<const uint32_t> points;       // region point of each row; >= end
@@ -102,9 +99,6 @@ struct CurveWrinkleEntry {
 struct CurveWrinkleJob {
   bool Validate() const;
   bool Run() const;
-  // Run() without Validate(), for callers that validated once for many frames (EvaluateJob
-  // validates a rig's tables when its context is sized). Undefined on invalid input.
-  void RunUnchecked() const;
 
   span<const float3> normals;                 // N1 per point; every index used must exist
   span<const CurveWrinkleParams> wrinkles;    // every entry's wrinkle index must exist

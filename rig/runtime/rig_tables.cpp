@@ -1,0 +1,225 @@
+// rig/runtime/rig_tables.cpp: the one-time check and the derived tables of a rig (see
+// rig_tables.h); Rig::Build runs both.
+#include "rig/runtime/rig_tables.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "rig/runtime/face_kernels.h"
+#include "wrinkles/runtime/profiles.h"
+#include "wrinkles/runtime/strain_jobs.h"
+#include "wrinkles/runtime/thickness_job.h"
+#include "wrinkles/runtime/wrinkle_jobs.h"
+
+namespace mimetic {
+
+bool CheckRigData(const RigData& r) {
+  const uint32_t points = r.point_count(), tris = r.triangle_count();
+  for (uint32_t p : r.vertex_points)
+    if (p >= points) return false;
+  for (uint32_t i : r.triangles)
+    if (i >= points) return false;
+  if (r.point_triangle_offsets.size() != size_t(points) + 1) return false;
+  for (uint32_t p = 0; p < points; ++p)
+    if (r.point_triangle_offsets[p] > r.point_triangle_offsets[p + 1]) return false;
+  if (r.point_triangle_offsets[points] > r.point_triangles.size()) return false;
+  for (uint32_t t : r.point_triangles)
+    if (t >= tris) return false;
+  // The ordering the per-frame ranges rely on (see RigActiveRanges).
+  const uint32_t n_active = r.active.points, n_normal = r.active.normal_points;
+  const uint32_t t_active = r.active.triangles;
+  if (n_active > n_normal || n_normal > points || t_active > tris) return false;
+  for (uint32_t p = n_active; p < points; ++p)  // muscles move active points only
+    if (r.muscles.offsets.size() == size_t(points) + 1 &&
+        r.muscles.offsets[p + 1] != r.muscles.offsets[p])
+      return false;
+  for (uint32_t t = 0; t < tris; ++t) {
+    const uint32_t* c = &r.triangles[3 * t];
+    const bool active = c[0] < n_active || c[1] < n_active || c[2] < n_active;
+    if (active && t >= t_active) return false;  // its normal would be missed
+  }
+  for (uint32_t p = n_normal; p < points; ++p)  // static points see static triangles only
+    for (uint32_t k = r.point_triangle_offsets[p]; k < r.point_triangle_offsets[p + 1]; ++k)
+      if (r.point_triangles[k] < t_active) return false;
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
+    for (uint32_t p : w.points)
+      if (p >= n_active) return false;
+  for (uint32_t p : r.curve_wrinkles.points)
+    if (p >= n_active) return false;
+  {
+    const std::vector<float> activations(r.muscle_count(), 0.f);
+    std::vector<float3> moved(size_t(points) + 1);  // EvaluateContext's padded point buffer
+    const MuscleDeformJob muscles{.table = &r.muscles,
+                                  .activations = activations,
+                                  .rest_points = r.rest_points,
+                                  .out_points = moved,
+                                  .begin = 0,
+                                  .end = points};
+    if (!muscles.Validate()) return false;
+  }
+  for (const MuscleInfluence& e : r.muscles.entries)
+    if (e.muscle >= r.muscle_count()) return false;
+  const bool skin = r.layers.thickness || r.layers.muscle_wrinkles || r.layers.curve_wrinkles;
+  if (!skin) return true;
+  if (r.rest_triangle_areas.size() < tris || r.point_thickness.size() < points) return false;
+  // The stage jobs' own checks over full ranges (scratch outputs; positions and normals need
+  // only the point count).
+  const span<const float3> any_points = r.rest_points;
+  std::vector<float3> scratch_points(points);
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
+    std::vector<float> eps(w.row_count());
+    const EdgeCompressionJob compression{.positions = any_points,
+                                         .points = w.points,
+                                         .offsets = w.edge_offsets,
+                                         .neighbors = w.edge_neighbors,
+                                         .rest_lengths = w.edge_rest_lengths,
+                                         .weights = w.edge_weights,
+                                         .end = w.row_count(),
+                                         .out_compression = eps};
+    const MuscleWrinkleJob wrinkle{.normals = any_points,
+                                   .points = w.points,
+                                   .phase = w.phase,
+                                   .attenuation = w.attenuation,
+                                   .compression = eps,
+                                   .half_cycle = w.half_cycle,
+                                   .furrow_depth = w.furrow_depth,
+                                   .shape = w.shape,
+                                   .end = w.row_count(),
+                                   .positions = scratch_points,
+                                   .out_amplitudes = {},
+                                   .profile = w.profile};
+    if (!compression.Validate() || !wrinkle.Validate()) return false;
+  }
+  const RigCurveWrinkles& c = r.curve_wrinkles;
+  if (!c.entries.empty() || c.row_count() > 0) {
+    std::vector<float> s(c.probes.size()), ratios(points, 1.f);
+    const DirectionalShrinkageJob shrinkage{.positions = any_points,
+                                            .probes = c.probes,
+                                            .end = c.probes.size(),
+                                            .out_shrinkage = s};
+    const CurveWrinkleJob curves{.normals = any_points,
+                                 .wrinkles = c.wrinkles,
+                                 .points = c.points,
+                                 .offsets = c.offsets,
+                                 .entries = c.entries,
+                                 .entry_shrinkage = s,
+                                 .area_ratios = ratios,
+                                 .end = c.row_count(),
+                                 .positions = scratch_points,
+                                 .out_amplitudes = {}};
+    if (!shrinkage.Validate() || !curves.Validate() || c.probes.size() != c.entries.size())
+      return false;
+  }
+  return true;
+}
+
+namespace {
+
+// The fused strain and displacement tables (see RigTables): edges read by the compression rows
+// and the shrinkage probes, each once; per-row coefficients; per-point row lists.
+void BuildStrainTables(const RigData& r, RigTables* out) {
+  RigTables& t = *out;
+  std::unordered_map<uint64_t, uint32_t> edge_ids;
+  t.edge_pairs.clear();
+  auto edge = [&](uint32_t a, uint32_t b) {
+    if (a > b) std::swap(a, b);
+    const uint64_t key = (uint64_t(a) << 32) | b;
+    auto [it, added] = edge_ids.emplace(key, uint32_t(t.edge_pairs.size() / 2));
+    if (added) {
+      t.edge_pairs.push_back(a);
+      t.edge_pairs.push_back(b);
+    }
+    return it->second;
+  };
+  // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
+  // themselves, so its sum adds them in the order MuscleWrinkleJob would), and so are their
+  // entries.
+  const uint32_t active = r.active.points;
+  struct RowRef {
+    const RigMuscleWrinkles* table;
+    uint32_t index;
+  };
+  std::vector<std::vector<RowRef>> rows_of(active);
+  std::vector<std::vector<uint32_t>> curves_of(active);
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
+    for (uint32_t i = 0; i < w.row_count(); ++i) rows_of[w.points[i]].push_back({&w, i});
+  t.row_offsets.assign(1, 0u);
+  t.entry_edges.clear();
+  t.entry_rest.clear();
+  t.entry_coeffs.clear();
+  t.row_profiles.clear();
+  t.point_row_offsets.assign(1, 0u);
+  for (uint32_t p = 0; p < active; ++p) {
+    for (const RowRef& ref : rows_of[p]) {
+      const RigMuscleWrinkles& w = *ref.table;
+      const uint32_t i = ref.index;
+      t.row_profiles.push_back(w.profile.empty()
+                                  ? MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth,
+                                                         w.shape, w.attenuation[i])
+                                  : w.profile[i]);
+      float weight_sum = 0.f;
+      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k)
+        weight_sum += w.edge_weights[k];
+      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k) {
+        const float rest = w.edge_rest_lengths[k];
+        t.entry_edges.push_back(edge(p, w.edge_neighbors[k]));
+        t.entry_rest.push_back(rest);
+        // 001 eq. 9-10: eps = sum_j w_j (L_j - l_j) / L_j / sum_j w_j, as sum_j c_j (L_j - l_j)
+        // (no division per frame; L_j - l_j is exactly 0 at rest, so is eps).
+        t.entry_coeffs.push_back(rest > 0.f && weight_sum > 0.f
+                                    ? w.edge_weights[k] / (rest * weight_sum)
+                                    : 0.f);
+      }
+      t.row_offsets.push_back(uint32_t(t.entry_edges.size()));
+    }
+    t.point_row_offsets.push_back(uint32_t(t.row_profiles.size()));
+  }
+  const RigCurveWrinkles& c = r.curve_wrinkles;
+  t.probe_edges.assign(4 * c.probes.size(), 0u);
+  for (size_t k = 0; k < c.probes.size(); ++k) {
+    const ShrinkageProbe& probe = c.probes[k];
+    for (uint32_t s = 0; s < probe.side_count; ++s) {
+      t.probe_edges[4 * k + 2 * s] = edge(probe.point, probe.sides[s].v2);
+      t.probe_edges[4 * k + 2 * s + 1] = edge(probe.point, probe.sides[s].v3);
+    }
+  }
+  for (uint32_t i = 0; i < c.row_count(); ++i) curves_of[c.points[i]].push_back(i);
+  t.point_curve_offsets.assign(1, 0u);
+  t.point_curve_rows.clear();
+  for (const std::vector<uint32_t>& l : curves_of) {
+    t.point_curve_rows.insert(t.point_curve_rows.end(), l.begin(), l.end());
+    t.point_curve_offsets.push_back(uint32_t(t.point_curve_rows.size()));
+  }
+  t.wrinkle_points.clear();
+  for (uint32_t p = 0; p < active; ++p)
+    if (!rows_of[p].empty() || !curves_of[p].empty()) t.wrinkle_points.push_back(p);
+}
+
+}  // namespace
+
+void BuildRigTables(const RigData& r, RigTables* out) {
+  RigTables& t = *out;
+  // Rest face and point normals with the kernels (and the padded point buffer) EvaluateJob
+  // uses, so that a point that never changes normal reads the bits a gather would give.
+  const uint32_t points = r.point_count(), tris = r.triangle_count();
+  static_assert(kPointPadFloats <= 3, "pad the rest points by more than one float3");
+  std::vector<float3> padded(size_t(points) + 1, float3{});
+  std::copy(r.rest_points.begin(), r.rest_points.end(), padded.begin());
+  t.rest_faces.assign(tris, float4{});
+  FaceNormals4(padded.data(), r.triangles.data(), 0, tris, nullptr, t.rest_faces.data());
+  t.rest_point_normals.assign(points, float3{});
+  for (uint32_t p = 0; p < points; ++p)
+    t.rest_point_normals[p] = UnitNormal(GatherFaces4(r.point_triangle_offsets.data(),
+                                                      r.point_triangles.data(),
+                                                      t.rest_faces.data(), p));
+  BuildStrainTables(r, out);
+  // Built by push_back: give back the slack.
+  for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
+                                   &t.point_row_offsets, &t.point_curve_offsets,
+                                   &t.point_curve_rows, &t.wrinkle_points})
+    v->shrink_to_fit();
+  for (std::vector<float>* v : {&t.entry_rest, &t.entry_coeffs, &t.row_profiles})
+    v->shrink_to_fit();
+}
+
+}  // namespace mimetic

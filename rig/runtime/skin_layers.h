@@ -1,0 +1,16 @@
+// rig/runtime/skin_layers.h: the one switch set for the skin layers (MODEL.md §1 steps 3-4).
+#pragma once
+
+namespace mimetic {
+
+// Which skin layers are on. The same type says what a rig file asks for (RigSpec::layers, alias
+// LayerSpec), what a rig compiled (Rig::layers: a layer is on when the file enables it and it
+// has something to do: a non-zero thickness, a non-empty region) and what one evaluation runs
+// (EvaluateJob::layers, ANDed with the rig's; the viewer toggles them). Default: all on.
+struct SkinLayers {
+  bool thickness = true;        // MODEL.md §4
+  bool muscle_wrinkles = true;  // MODEL.md §6
+  bool curve_wrinkles = true;   // MODEL.md §7-8
+};
+
+}  // namespace mimetic
