@@ -17,5 +17,6 @@ int CmdMakeHead(const Args& args);     // the sample head (tools/cmd_head.cpp)
 int CmdRender(const Args& args);       // software render to PNG (tools/cmd_render.cpp)
 int CmdFit(const Args& args);          // place a muscle template on a head (tools/cmd_fit.cpp)
 int CmdCompare(const Args& args);      // how close a mesh is to another (tools/cmd_compare.cpp)
+int CmdSolve(const Args& args);        // activations closest to a target shape (tools/cmd_solve.cpp)
 
 }  // namespace mimetic::tools

@@ -22,6 +22,7 @@ const Command kCommands[] = {
     {"render", mimetic::tools::CmdRender, "render a mesh to a PNG image (software, no GPU)"},
     {"fit", mimetic::tools::CmdFit, "place a muscle template on a head from its landmarks"},
     {"compare", mimetic::tools::CmdCompare, "how close a mesh is to another (surface distance, motion)"},
+    {"solve", mimetic::tools::CmdSolve, "the muscle activations closest to a target shape"},
 };
 
 void PrintHelp(FILE* out) {

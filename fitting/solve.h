@@ -1,0 +1,59 @@
+// fitting/solve.h: the muscle activations that make a rig's output closest to a target
+// shape of the rig's own input topology (`mimetic solve`).
+//
+// Method (docs/model.md §13). The muscles alone move each point by sum_m a_m U_m (§1-3):
+// linear in the activations a in [0, 1]. So the first step is a bounded linear least-squares
+// solve (fitting/box_least_squares.h) on the muscle basis U (one rig evaluation per muscle at
+// a = 1, skin layers off), over the target's vertices weighted 1 where the target moves more
+// than `region_threshold` from the rig's rest shape and `outside_weight` elsewhere (so the
+// solve does not buy the region's fit by moving still skin). The skin layers (§4-8) are not
+// linear; `refine_steps` Gauss-Newton steps with every layer the rig has then correct for
+// them: a Jacobian by forward differences (one evaluation per unknown), a bounded step, and a
+// step halved up to four times until the weighted residual drops.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "geometry/mesh.h"
+#include "rig/runtime/rig.h"
+
+namespace mimetic {
+
+struct SolveOptions {
+  // Muscles to solve for (indices, rig order); empty = all. The others stay at 0.
+  std::vector<uint32_t> muscles;
+  // Tie each NAME_L / NAME_R pair (both solved) to one value; other muscles stay single.
+  bool mirror = false;
+  // Mesh units; < 0: 2% of the target's largest displacement from the rest shape.
+  float region_threshold = -1.f;
+  float outside_weight = 0.25f;  // in [0, 1]
+  int refine_steps = 3;          // >= 0; 0 = the linear solve only
+  double ridge = 1e-9;           // Tikhonov weight, relative to the largest basis column norm^2
+};
+
+struct SolveResult {
+  std::vector<float> activations;  // one per muscle, rig order, in [0, 1]
+  uint32_t unknowns = 0;           // after mirroring
+  uint32_t region_count = 0;       // target vertices in the region
+  float region_threshold = 0.f;    // the threshold used, mesh units
+  double neutral_residual = 0.0;   // weighted sum of squared distances at a = 0
+  double linear_residual = 0.0;    // after the linear solve, with every layer on
+  double residual = 0.0;           // final, with every layer on
+  int refine_steps_taken = 0;      // steps that lowered the residual
+  std::vector<float3> posed;       // the rig's output at `activations`, the target's vertices
+};
+
+// `neutral` is the rig's input mesh (LoadedRig::mesh); `target` must share its topology (the
+// same vertex count and triangles), and the rig's first #V output vertices must be the input
+// vertices (they are: refinement appends its new vertices). Returns false and records why
+// for: a target of another topology, a rig whose output does not start with the neutral's
+// vertices, no muscle to solve for, a muscle index out of range, a pair under `mirror` with
+// only one side selected, options out of range, a target that does not move at all.
+// Deterministic.
+bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& target,
+                      const SolveOptions& options, SolveResult* out, Diagnostics* diag);
+
+}  // namespace mimetic

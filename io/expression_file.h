@@ -1,0 +1,33 @@
+// io/expression_file.h: an expression, a named set of muscle activations (JSON,
+// "format": "mimetic-expression"). Written by `mimetic solve`; the expression library and the
+// clip formats of the playback work read the same file.
+//
+//   {"format": "mimetic-expression", "version": 1, "name": "mouthSmile_L",
+//    "activations": {"zygomatic_major_L": 0.82, ...},      (every muscle of the rig, rig order)
+//    "solve": {"rig": "...", "target": "...", ...}}         (optional: how it was made)
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/diagnostics.h"
+
+namespace mimetic {
+
+struct Expression {
+  std::string name;
+  std::vector<std::pair<std::string, float>> activations;  // muscle name -> [0, 1]
+  // Optional provenance, written as the "solve" object: key -> number or string.
+  std::vector<std::pair<std::string, double>> solve_numbers;
+  std::vector<std::pair<std::string, std::string>> solve_strings;
+};
+
+// The JSON text of `expression` (keys in the order given).
+std::string ExpressionToJson(const Expression& expression);
+
+// Writes the file atomically. Refuses (false, with a message naming the entry) an empty name,
+// an empty or repeated muscle name, an activation outside [0, 1] or not finite.
+bool SaveExpression(const std::string& path, const Expression& expression, Diagnostics* diag);
+
+}  // namespace mimetic
