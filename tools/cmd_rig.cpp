@@ -22,7 +22,8 @@ namespace {
 const char* kInfoUsage =
     "usage: mimetic info RIG\n\n"
     "Loads RIG (a .rig.json file, docs/rig-format.md) and its mesh and prints the mesh size,\n"
-    "units, skin thickness and every muscle with the number of vertices it moves.\n";
+    "units, skin thickness and every muscle with the number of vertices it moves; warns\n"
+    "about a muscle that moves fewer than 50 of the mesh file's vertices.\n";
 
 const char* kValidateUsage =
     "usage: mimetic validate RIG\n\n"
@@ -33,10 +34,12 @@ const char* kEvalUsage =
     "usage: mimetic eval RIG [--set MUSCLE=VALUE]... --out FILE [--no-thickness]\n"
     "                    [--no-muscle-wrinkles] [--no-curve-wrinkles]\n\n"
     "Poses RIG with the given muscle activations (each in [0, 1]; unset muscles are 0) and\n"
-    "writes the deformed mesh, in the rig's vertex layout (the mesh file's own, refined where\n"
-    "wrinkles act), with normals and UVs.\n\n"
+    "writes the deformed mesh with normals and UVs, in the rig's vertex layout: the mesh\n"
+    "file's vertices first, in the file's order, then the vertices refinement adds where\n"
+    "wrinkles act (docs/rig-format.md).\n\n"
     "options:\n"
-    "  --set MUSCLE=VALUE      activation of one muscle (repeatable)\n"
+    "  --set MUSCLE=VALUE      activation of one muscle (repeatable); a NAME without a muscle\n"
+    "                          of its own sets NAME_L and NAME_R together\n"
     "  --out FILE              output mesh: .obj or .glb\n"
     "  --no-thickness          skip the volume-preserving thickness layer (MODEL.md §4)\n"
     "  --no-muscle-wrinkles    skip muscle-derived wrinkles (MODEL.md §6)\n"
@@ -62,6 +65,9 @@ int LoadFromArgs(const std::string& command, const ParsedArgs& parsed, const cha
   }
   return 0;
 }
+
+// `info` warns about a muscle that moves fewer of the mesh file's vertices than this.
+constexpr uint32_t kFewVertices = 50;
 
 const char* ThicknessKind(ThicknessSpec::Kind k) {
   switch (k) {
@@ -119,6 +125,26 @@ int CmdInfo(const Args& args) {
         std::printf(", wrinkles on %u (half cycle %.3g %s)", w.row_count(), w.half_cycle,
                     loaded.spec.units.c_str());
     std::printf("\n");
+  }
+  // A muscle that moves almost none of the mesh's own vertices is usually misplaced for this
+  // head (its zone or insertion off the face); say so.
+  {
+    const uint32_t nv = uint32_t(loaded.mesh.vertex_count());
+    std::vector<uint32_t> reach(rig.muscle_count(), 0);
+    std::vector<uint8_t> seen(rig.point_count(), 0);
+    const MuscleTable& table = rig.muscles();
+    for (uint32_t v = 0; v < nv && v < rig.vertex_count(); ++v) {
+      const uint32_t p = rig.vertex_points()[v];
+      if (seen[p] || p + 1 >= table.offsets.size()) continue;
+      seen[p] = 1;
+      for (uint32_t k = table.offsets[p]; k < table.offsets[p + 1]; ++k)
+        ++reach[table.entries[k].muscle];
+    }
+    for (uint32_t m = 0; m < rig.muscle_count(); ++m)
+      if (reach[m] < kFewVertices)
+        std::printf("warning: muscle '%s' moves only %u of the mesh's %u vertices: check its "
+                    "placement (attachment, insertion, zone) on this mesh\n",
+                    rig.muscle_names()[m].c_str(), reach[m], nv);
   }
   if (!rig.curve_wrinkles().names.empty()) {
     std::printf("curve wrinkles: %zu\n", rig.curve_wrinkles().names.size());

@@ -53,8 +53,18 @@ bool BindActivations(const std::vector<std::string>& muscle_names,
       continue;
     }
     const std::string name = a.substr(0, eq), value = a.substr(eq + 1);
+    // NAME sets NAME_L and NAME_R together when the rig has no muscle NAME but has both.
+    std::vector<size_t> targets;
     const auto it = std::find(muscle_names.begin(), muscle_names.end(), name);
-    if (it == muscle_names.end()) {
+    if (it != muscle_names.end()) {
+      targets.push_back(size_t(it - muscle_names.begin()));
+    } else {
+      const auto l = std::find(muscle_names.begin(), muscle_names.end(), name + "_L");
+      const auto r = std::find(muscle_names.begin(), muscle_names.end(), name + "_R");
+      if (l != muscle_names.end() && r != muscle_names.end())
+        targets = {size_t(l - muscle_names.begin()), size_t(r - muscle_names.begin())};
+    }
+    if (targets.empty()) {
       diag->Error(where, "unknown muscle '" + name + "'" +
                              (muscle_names.empty() ? std::string(" (the rig has no muscles)")
                                                    : "; closest: " + Suggest(muscle_names, name)));
@@ -72,13 +82,14 @@ bool BindActivations(const std::vector<std::string>& muscle_names,
                                             "full contraction)");
       continue;
     }
-    const size_t index = size_t(it - muscle_names.begin());
-    if (seen[index]) {
-      diag->Error(where, "muscle '" + name + "' is set more than once");
-      continue;
+    for (size_t index : targets) {
+      if (seen[index]) {
+        diag->Error(where, "muscle '" + muscle_names[index] + "' is set more than once");
+        continue;
+      }
+      seen[index] = true;
+      (*out)[index] = float(v);
     }
-    seen[index] = true;
-    (*out)[index] = float(v);
   }
   return diag->ErrorCount() == errors_before;
 }

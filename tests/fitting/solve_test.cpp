@@ -46,6 +46,20 @@ const LoadedRig& SampleHeadRig() {
   return *rig;
 }
 
+TEST(RigLayout, OutputStartsWithTheFileVerticesInOrder) {
+  // The documented output order (docs/rig-format.md): the file's vertices first, then the
+  // ones refinement adds. The default head rig refines, so there are more of the latter.
+  const LoadedRig& loaded = SampleHeadRig();
+  const MeshData rest = RestMesh(loaded.rig);
+  ASSERT_GT(rest.vertex_count(), loaded.mesh.vertex_count());
+  for (size_t v = 0; v < loaded.mesh.vertex_count(); ++v) {
+    ASSERT_EQ(rest.positions[v].x, loaded.mesh.positions[v].x) << v;
+    ASSERT_EQ(rest.positions[v].y, loaded.mesh.positions[v].y) << v;
+    ASSERT_EQ(rest.positions[v].z, loaded.mesh.positions[v].z) << v;
+    ASSERT_EQ(rest.uvs[v].x, loaded.mesh.uvs[v].x) << v;
+  }
+}
+
 TEST(Solve, RecoversSurfaceActivationsExactlyWhenLinear) {
   // Six muscles on the test surface, no skin layer: the target is in the muscle basis's span.
   const MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 8.f);

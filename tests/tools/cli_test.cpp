@@ -73,6 +73,65 @@ TEST(Cli, InfoReportsTheSurfaceRig) {
       << "expected " << count << "\n" << r.output;
 }
 
+TEST(Cli, InfoWarnsAboutAMuscleThatMovesAlmostNothing) {
+  // The surface rig plus a linear muscle with a 6 mm zone: it moves a handful of the grid's
+  // vertices (counted here from Waters' formula directly), fewer than the 50 `info` asks for.
+  RigSpec spec;
+  MeshData mesh;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadRigSpec(SurfaceRig(), &spec, &diag)) << diag.Format();
+  ASSERT_TRUE(ImportMesh(spec.mesh_path, "", &mesh, &diag)) << diag.Format();
+  MuscleSpec tiny = spec.muscles[0];
+  ASSERT_EQ(tiny.type, MuscleType::kLinear);
+  tiny.name = "tiny";
+  float3 p0 = mesh.positions[0];  // the grid vertex nearest (10, 10): the zone's centre
+  for (const float3& p : mesh.positions)
+    if (std::hypot(p.x - 10.f, p.y - 10.f) < std::hypot(p0.x - 10.f, p0.y - 10.f)) p0 = p;
+  tiny.linear.attachment = p0 + float3{3.f, 3.f, -1.f};
+  tiny.linear.insertion = p0 + float3{-3.f, -3.f, 1.f};
+  tiny.linear.falloff_start = 3.f;
+  tiny.linear.falloff_end = 6.f;
+  spec.muscles.push_back(tiny);
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  const std::string dir = test::TempDir();
+  spec.file = dir + "/tiny.rig.json";
+  ASSERT_TRUE(SaveRigSpec(spec.file, spec, &diag)) << diag.Format();
+  size_t count = 0;
+  for (const float3& p : mesh.positions) count += MuscleDisplacement(tiny, p, tiny.strength) != float3{};
+  ASSERT_GT(count, 0u);
+  ASSERT_LT(count, 50u);
+  const auto r = RunTool({"info", spec.file});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, "warning: muscle 'tiny' moves only " + std::to_string(count) +
+                                     " of the mesh's 1681 vertices"))
+      << "expected " << count << "\n" << r.output;
+  EXPECT_FALSE(Contains(r.output, "muscle 'zygomatic' moves only")) << r.output;
+  EXPECT_FALSE(Contains(r.output, "muscle 'frontalis' moves only")) << r.output;
+}
+
+TEST(Cli, EvalSetsBothSidesFromOneName) {
+  // A rig with frontalis_L and frontalis_R: --set frontalis=0.5 equals setting both.
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadRigSpec(SurfaceRig(), &spec, &diag)) << diag.Format();
+  spec.muscles[0].name = "pull_L";
+  spec.muscles[1].name = "pull_R";
+  const std::string dir = test::TempDir();
+  spec.file = dir + "/pair.rig.json";
+  ASSERT_TRUE(SaveRigSpec(spec.file, spec, &diag)) << diag.Format();
+  auto r = RunTool({"eval", spec.file, "--set", "pull=0.5", "--out", dir + "/one.obj"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunTool({"eval", spec.file, "--set", "pull_L=0.5", "--set", "pull_R=0.5", "--out",
+               dir + "/two.obj"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  MeshData one, two, rest;
+  ASSERT_TRUE(ImportMesh(dir + "/one.obj", "", &one, &diag)) << diag.Format();
+  ASSERT_TRUE(ImportMesh(dir + "/two.obj", "", &two, &diag)) << diag.Format();
+  ASSERT_TRUE(ImportMesh(spec.mesh_path, "", &rest, &diag)) << diag.Format();
+  EXPECT_EQ(one.positions, two.positions);
+  EXPECT_NE(one.positions, rest.positions);
+}
+
 TEST(Cli, ValidateAcceptsGoodAndRejectsBadRigs) {
   const auto ok = RunTool({"validate", SurfaceRig()});
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
