@@ -215,22 +215,23 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
                       "non-finite values)");
     return false;
   }
+  const bool layers = options.skin_layers;
   std::fill(activations.begin(), activations.end(), 0.f);
-  eval.Run(activations, true, &layered);
+  eval.Run(activations, layers, &layered);
   out->neutral_residual = Residual(layered, target, weight);
   set_activations(x);
-  eval.Run(activations, true, &layered);
+  eval.Run(activations, layers, &layered);
   double current = out->linear_residual = Residual(layered, target, weight);
 
   // 2. Gauss-Newton steps with every layer on.
   const double h = 1e-3;
-  for (int step = 0; step < options.refine_steps; ++step) {
+  for (int step = 0; layers && step < options.refine_steps; ++step) {
     for (size_t k = 0; k < nu; ++k) {
       std::vector<double> xp = x;
       const double dk = x[k] + h <= 1.0 ? h : -h;
       xp[k] += dk;
       set_activations(xp);
-      eval.Run(activations, true, &posed);
+      eval.Run(activations, layers, &posed);
       columns[k].resize(nv);
       for (uint32_t v = 0; v < nv; ++v) columns[k][v] = (posed[v] - layered[v]) * float(1.0 / dk);
     }
@@ -246,7 +247,7 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
       std::vector<double> xt = x;
       for (size_t k = 0; k < nu; ++k) xt[k] = std::clamp(x[k] + s * delta[k], 0.0, 1.0);
       set_activations(xt);
-      eval.Run(activations, true, &posed);
+      eval.Run(activations, layers, &posed);
       const double r = Residual(posed, target, weight);
       if (r < current) {
         x = xt;

@@ -31,6 +31,9 @@ struct SolveOptions {
   float region_threshold = -1.f;
   float outside_weight = 0.25f;  // in [0, 1]
   int refine_steps = 3;          // >= 0; 0 = the linear solve only
+  // Evaluate with every skin layer the rig has (true), or the muscles alone (false: the
+  // linear solve is then exact and no refinement step runs).
+  bool skin_layers = true;
   double ridge = 1e-9;           // Tikhonov weight, relative to the largest basis column norm^2
 };
 
@@ -40,8 +43,8 @@ struct SolveResult {
   uint32_t region_count = 0;       // target vertices in the region
   float region_threshold = 0.f;    // the threshold used, mesh units
   double neutral_residual = 0.0;   // weighted sum of squared distances at a = 0
-  double linear_residual = 0.0;    // after the linear solve, with every layer on
-  double residual = 0.0;           // final, with every layer on
+  double linear_residual = 0.0;    // after the linear solve (layers as `skin_layers`)
+  double residual = 0.0;           // final (layers as `skin_layers`)
   int refine_steps_taken = 0;      // steps that lowered the residual
   std::vector<float3> posed;       // the rig's output at `activations`, the target's vertices
 };

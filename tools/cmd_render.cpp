@@ -10,6 +10,7 @@
 #include "io/mesh_io.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/render/close_up.h"
 #include "tools/render/render.h"
 
 namespace mimetic::tools {
@@ -94,23 +95,10 @@ int CmdRender(const Args& args) {
     return 1;
   }
   RenderOptions options;
-  options.width = options.height = full;
   options.yaw_deg = static_cast<float>(yaw);
   options.pitch_deg = static_cast<float>(pitch);
   options.wireframe = parsed.flags.count("wireframe") > 0;
-  Image image = RenderMesh(mesh, options);
-  if (full > n) {
-    // The close-up: the n x n window around the focus, kept inside the full view.
-    const int x0 = std::clamp(static_cast<int>(std::lround(focus_x * full)) - n / 2, 0, full - n);
-    const int y0 = std::clamp(static_cast<int>(std::lround(focus_y * full)) - n / 2, 0, full - n);
-    Image crop;
-    crop.width = crop.height = n;
-    crop.rgb.resize(static_cast<size_t>(n) * n * 3);
-    for (int y = 0; y < n; ++y)
-      std::copy_n(&image.rgb[(static_cast<size_t>(y0 + y) * full + x0) * 3], static_cast<size_t>(n) * 3,
-                  &crop.rgb[static_cast<size_t>(y) * n * 3]);
-    image = std::move(crop);
-  }
+  const Image image = RenderCloseUp(mesh, options, n, zoom, focus_x, focus_y);
   if (!SavePng(out, image, &diag)) {
     std::fputs(diag.Format().c_str(), stderr);
     return 1;

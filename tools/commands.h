@@ -18,5 +18,6 @@ int CmdRender(const Args& args);       // software render to PNG (tools/cmd_rend
 int CmdFit(const Args& args);          // place a muscle template on a head (tools/cmd_fit.cpp)
 int CmdCompare(const Args& args);      // how close a mesh is to another (tools/cmd_compare.cpp)
 int CmdSolve(const Args& args);        // activations closest to a target shape (tools/cmd_solve.cpp)
+int CmdFidelity(const Args& args);     // the fidelity report on ICT-FaceKit (tools/cmd_fidelity.cpp)
 
 }  // namespace mimetic::tools

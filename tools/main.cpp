@@ -23,6 +23,7 @@ const Command kCommands[] = {
     {"fit", mimetic::tools::CmdFit, "place a muscle template on a head from its landmarks"},
     {"compare", mimetic::tools::CmdCompare, "how close a mesh is to another (surface distance, motion)"},
     {"solve", mimetic::tools::CmdSolve, "the muscle activations closest to a target shape"},
+    {"fidelity", mimetic::tools::CmdFidelity, "the fidelity report: the rig against ICT-FaceKit's real shapes"},
 };
 
 void PrintHelp(FILE* out) {

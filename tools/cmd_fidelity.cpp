@@ -1,0 +1,396 @@
+// tools/cmd_fidelity.cpp: `mimetic fidelity`, the reproducible fidelity report: fit the muscle
+// template to ICT-FaceKit's neutral, solve every real expression shape the rig claims it can
+// make (fitting/solve.h), measure it (fitting/compare.h) with every skin layer and with the
+// muscles alone, render real | rig | distance, and write docs/fidelity.md.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/file_util.h"
+#include "fitting/compare.h"
+#include "fitting/fit.h"
+#include "fitting/solve.h"
+#include "geometry/mesh.h"
+#include "io/image.h"
+#include "io/landmarks_file.h"
+#include "io/mesh_io.h"
+#include "io/template_file.h"
+#include "rig/offline/rig_builder.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+#include "tools/render/close_up.h"
+#include "tools/render/heat_map.h"
+
+namespace mimetic::tools {
+namespace {
+
+const char* kFidelityUsage =
+    "usage: mimetic fidelity [--data DIR] [--template FILE] [--landmarks FILE]\n"
+    "                        [--report FILE.md] [--images DIR] [--only A,B,...] [--meshes DIR]\n"
+    "                        [--size N]\n\n"
+    "The fidelity report: fits the muscle template (default assets/head/default.template.json)\n"
+    "to ICT-FaceKit's neutral head (DIR/ict-facekit/ict_skin_neutral.obj, DIR default\n"
+    "../shared/data; landmarks default tests/data/landmarks/ict_facekit.landmarks.json), then\n"
+    "for every real expression shape the rig claims it can make solves the activations\n"
+    "(`mimetic solve`, every skin layer on, and again with the muscles alone) and measures the\n"
+    "result (`mimetic compare`, over the vertices the real shape moves more than 2% of its\n"
+    "largest motion). Writes the table to --report (default docs/fidelity.md) and one picture\n"
+    "per shape, real | rig | distance (blue 0, red = half the shape's largest motion), to\n"
+    "--images (default docs/images/fidelity), N pixels a panel (--size, default 240).\n"
+    "--only solves just the named shapes (the report then lists only them); --meshes writes\n"
+    "each posed rig (the input mesh's vertices) as DIR/SHAPE.obj. Run from the repository root.\n";
+
+struct Shape {
+  const char* name;
+  const char* file;  // under the data directory
+  const char* why_not;  // nullptr: claimed; else why linear and sheet muscles cannot make it
+};
+
+// ICT-FaceKit's shapes (ARKit names, ict-facekit/arkit/README.md) and the brow raise.
+constexpr const char* kSphincterOris =
+    "orbicularis oris, a sphincter (the rig has linear and sheet muscles only)";
+constexpr const char* kSphincterOculi =
+    "orbicularis oculi, a sphincter, and the eyelids (the rig has neither)";
+constexpr const char* kJaw = "the jaw turns (no jaw stage yet: the jaw issue adds it)";
+constexpr const char* kEyes = "the eyeballs turn; the lids follow (no eyes or lids in the rig)";
+const Shape kShapes[] = {
+    {"browRaise (AU1+2)", "ict-facekit/ict_skin_browRaise_AU1+AU2.obj", nullptr},
+    {"browInnerUp_L", "ict-facekit/arkit/browInnerUp_L.obj", nullptr},
+    {"browInnerUp_R", "ict-facekit/arkit/browInnerUp_R.obj", nullptr},
+    {"browOuterUp_L", "ict-facekit/arkit/browOuterUp_L.obj", nullptr},
+    {"browOuterUp_R", "ict-facekit/arkit/browOuterUp_R.obj", nullptr},
+    {"browDown_L", "ict-facekit/arkit/browDown_L.obj", nullptr},
+    {"browDown_R", "ict-facekit/arkit/browDown_R.obj", nullptr},
+    {"mouthSmile_L", "ict-facekit/arkit/mouthSmile_L.obj", nullptr},
+    {"mouthSmile_R", "ict-facekit/arkit/mouthSmile_R.obj", nullptr},
+    {"mouthDimple_L", "ict-facekit/arkit/mouthDimple_L.obj", nullptr},
+    {"mouthDimple_R", "ict-facekit/arkit/mouthDimple_R.obj", nullptr},
+    {"mouthStretch_L", "ict-facekit/arkit/mouthStretch_L.obj", nullptr},
+    {"mouthStretch_R", "ict-facekit/arkit/mouthStretch_R.obj", nullptr},
+    {"mouthUpperUp_L", "ict-facekit/arkit/mouthUpperUp_L.obj", nullptr},
+    {"mouthUpperUp_R", "ict-facekit/arkit/mouthUpperUp_R.obj", nullptr},
+    {"mouthLowerDown_L", "ict-facekit/arkit/mouthLowerDown_L.obj", nullptr},
+    {"mouthLowerDown_R", "ict-facekit/arkit/mouthLowerDown_R.obj", nullptr},
+    {"mouthShrugUpper", "ict-facekit/arkit/mouthShrugUpper.obj", nullptr},
+    {"mouthLeft", "ict-facekit/arkit/mouthLeft.obj", nullptr},
+    {"mouthRight", "ict-facekit/arkit/mouthRight.obj", nullptr},
+    {"cheekPuff_L", "ict-facekit/arkit/cheekPuff_L.obj",
+     "air pressure pushes the cheek out; no muscle pulls it there"},
+    {"cheekPuff_R", "ict-facekit/arkit/cheekPuff_R.obj",
+     "air pressure pushes the cheek out; no muscle pulls it there"},
+    {"cheekRaiser_L", "ict-facekit/arkit/cheekRaiser_L.obj", kSphincterOculi},
+    {"cheekRaiser_R", "ict-facekit/arkit/cheekRaiser_R.obj", kSphincterOculi},
+    {"cheekSquint_L", "ict-facekit/arkit/cheekSquint_L.obj", kSphincterOculi},
+    {"cheekSquint_R", "ict-facekit/arkit/cheekSquint_R.obj", kSphincterOculi},
+    {"eyeSquint_L", "ict-facekit/arkit/eyeSquint_L.obj", kSphincterOculi},
+    {"eyeSquint_R", "ict-facekit/arkit/eyeSquint_R.obj", kSphincterOculi},
+    {"eyeBlink_L", "ict-facekit/arkit/eyeBlink_L.obj", kSphincterOculi},
+    {"eyeBlink_R", "ict-facekit/arkit/eyeBlink_R.obj", kSphincterOculi},
+    {"eyeWide_L", "ict-facekit/arkit/eyeWide_L.obj",
+     "levator palpebrae lifts the upper lid (no lids in the rig)"},
+    {"eyeWide_R", "ict-facekit/arkit/eyeWide_R.obj",
+     "levator palpebrae lifts the upper lid (no lids in the rig)"},
+    {"eyeLookDown_L", "ict-facekit/arkit/eyeLookDown_L.obj", kEyes},
+    {"eyeLookDown_R", "ict-facekit/arkit/eyeLookDown_R.obj", kEyes},
+    {"eyeLookIn_L", "ict-facekit/arkit/eyeLookIn_L.obj", kEyes},
+    {"eyeLookIn_R", "ict-facekit/arkit/eyeLookIn_R.obj", kEyes},
+    {"eyeLookOut_L", "ict-facekit/arkit/eyeLookOut_L.obj", kEyes},
+    {"eyeLookOut_R", "ict-facekit/arkit/eyeLookOut_R.obj", kEyes},
+    {"eyeLookUp_L", "ict-facekit/arkit/eyeLookUp_L.obj", kEyes},
+    {"eyeLookUp_R", "ict-facekit/arkit/eyeLookUp_R.obj", kEyes},
+    {"jawOpen", "ict-facekit/arkit/jawOpen.obj", kJaw},
+    {"jawForward", "ict-facekit/arkit/jawForward.obj", kJaw},
+    {"jawLeft", "ict-facekit/arkit/jawLeft.obj", kJaw},
+    {"jawRight", "ict-facekit/arkit/jawRight.obj", kJaw},
+    {"mouthClose", "ict-facekit/arkit/mouthClose.obj", kJaw},
+    {"mouthFunnel", "ict-facekit/arkit/mouthFunnel.obj", kSphincterOris},
+    {"mouthPucker", "ict-facekit/arkit/mouthPucker.obj", kSphincterOris},
+    {"mouthPress_L", "ict-facekit/arkit/mouthPress_L.obj", kSphincterOris},
+    {"mouthPress_R", "ict-facekit/arkit/mouthPress_R.obj", kSphincterOris},
+    {"mouthRollLower", "ict-facekit/arkit/mouthRollLower.obj", kSphincterOris},
+    {"mouthRollUpper", "ict-facekit/arkit/mouthRollUpper.obj", kSphincterOris},
+};
+
+struct Row {
+  const Shape* shape = nullptr;
+  CompareResult on, off;     // every skin layer / muscles alone
+  std::string top_muscles;   // the largest activations, layers on
+  double solve_seconds = 0;
+  std::string image;         // relative to the report
+};
+
+int Fail(const Diagnostics& diag, const std::string& what) {
+  if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
+  std::fprintf(stderr, "mimetic fidelity: %s\n", what.c_str());
+  return 1;
+}
+
+std::string Fixed(double v, int digits) {
+  if (!std::isfinite(v)) return "inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+// Relative path from directory `from` to `to` (both as given, made absolute).
+std::string Relative(const std::string& to, const std::string& from) {
+  std::error_code ec;
+  const auto rel = std::filesystem::relative(std::filesystem::absolute(to),
+                                             std::filesystem::absolute(from), ec);
+  return ec ? to : rel.string();
+}
+
+}  // namespace
+
+int CmdFidelity(const Args& args) {
+  const ParsedArgs parsed = ParseArgs(
+      args, {"data", "template", "landmarks", "report", "images", "only", "meshes", "size"}, {});
+  if (parsed.help) return std::fputs(kFidelityUsage, stdout), 0;
+  if (!parsed.error.empty()) return UsageError("fidelity", parsed.error, kFidelityUsage);
+  if (!parsed.positional.empty())
+    return UsageError("fidelity", "takes no positional arguments", kFidelityUsage);
+  const std::string data = parsed.Get("data", "../shared/data");
+  const std::string template_path = parsed.Get("template", "assets/head/default.template.json");
+  const std::string landmarks_path =
+      parsed.Get("landmarks", "tests/data/landmarks/ict_facekit.landmarks.json");
+  const std::string report_path = parsed.Get("report", "docs/fidelity.md");
+  const std::string images_dir = parsed.Get("images", "docs/images/fidelity");
+  const std::string meshes_dir = parsed.Get("meshes");
+  int size = 240;
+  if (parsed.Has("size")) {
+    char* end = nullptr;
+    const long v = std::strtol(parsed.Get("size").c_str(), &end, 10);
+    if (*end != '\0' || v < 64 || v > 2048)
+      return UsageError("fidelity", "--size '" + parsed.Get("size") +
+                                        "': expected a whole number of pixels in [64, 2048]",
+                        kFidelityUsage);
+    size = int(v);
+  }
+  std::vector<const Shape*> shapes;
+  if (parsed.Has("only")) {
+    std::stringstream list(parsed.Get("only"));
+    std::string name;
+    while (std::getline(list, name, ',')) {
+      const Shape* found = nullptr;
+      for (const Shape& s : kShapes)
+        if (name == s.name) found = &s;
+      if (!found) {
+        std::string known;
+        for (const Shape& s : kShapes) known += (known.empty() ? "" : ", ") + std::string(s.name);
+        return UsageError("fidelity", "--only: unknown shape '" + name + "'; known: " + known,
+                          kFidelityUsage);
+      }
+      shapes.push_back(found);
+    }
+  } else {
+    for (const Shape& s : kShapes) shapes.push_back(&s);
+  }
+
+  // The rig: the template fitted to the ICT neutral.
+  const auto start = std::chrono::steady_clock::now();
+  Diagnostics diag;
+  MuscleTemplate tmpl;
+  MeshData neutral;
+  Landmarks landmarks;
+  const std::string neutral_path = data + "/ict-facekit/ict_skin_neutral.obj";
+  Diagnostics local;
+  const bool tmpl_ok = LoadMuscleTemplate(template_path, &tmpl, &diag);
+  const bool mesh_ok = ImportMesh(neutral_path, "", &neutral, &local);
+  diag.Append(local, neutral_path);
+  const bool lm_ok = LoadLandmarks(landmarks_path, &landmarks, &diag);
+  if (!tmpl_ok || !mesh_ok || !lm_ok)
+    return Fail(diag, "cannot read the inputs (is --data the folder that holds ict-facekit/?)");
+  std::vector<float3> points;
+  FaceFrame frame;
+  local.Clear();
+  if (!ResolveLandmarks(landmarks, neutral, &points, &local) ||
+      !ComputeFaceFrame(points, &frame, &local)) {
+    diag.Append(local, landmarks_path);
+    return Fail(diag, "the landmarks do not fit the ICT neutral");
+  }
+  const std::string units = GuessUnits(frame.scale);
+  RigSpec spec;
+  local.Clear();
+  if (!FitTemplate(tmpl, neutral, landmarks, units, &spec, &local)) {
+    diag.Append(local, template_path);
+    return Fail(diag, "the template does not fit the ICT neutral");
+  }
+  Rig rig;
+  local.Clear();
+  if (!BuildRig(spec, neutral, {}, &rig, &local)) {
+    diag.Append(local, template_path);
+    return Fail(diag, "the fitted rig does not build");
+  }
+  std::printf("fidelity: %s fitted to %s (%u muscles, %u output vertices) in %.1f s\n",
+              template_path.c_str(), neutral_path.c_str(), rig.muscle_count(), rig.vertex_count(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+
+  std::error_code ec;
+  std::filesystem::create_directories(images_dir, ec);
+  if (!meshes_dir.empty()) std::filesystem::create_directories(meshes_dir, ec);
+  const std::string report_dir = std::filesystem::path(report_path).parent_path().string();
+  std::vector<Row> rows;
+  std::vector<const Shape*> not_claimed, missing;
+  size_t done = 0;
+  const size_t claimed_count = size_t(std::count_if(shapes.begin(), shapes.end(),
+                                                    [](const Shape* s) { return !s->why_not; }));
+  for (const Shape* shape : shapes) {
+    if (shape->why_not) {
+      not_claimed.push_back(shape);
+      continue;
+    }
+    const std::string path = data + "/" + shape->file;
+    MeshData target;
+    local.Clear();
+    if (!ImportMesh(path, "", &target, &local)) {
+      missing.push_back(shape);
+      continue;
+    }
+    Row row;
+    row.shape = shape;
+    const auto t0 = std::chrono::steady_clock::now();
+    MeshData posed[2] = {neutral, neutral};
+    for (int layers = 1; layers >= 0; --layers) {
+      SolveOptions options;
+      options.skin_layers = layers == 1;
+      SolveResult result;
+      local.Clear();
+      if (!SolveActivations(rig, neutral, target, options, &result, &local)) {
+        diag.Append(local, path);
+        return Fail(diag, std::string("cannot solve ") + shape->name);
+      }
+      posed[layers].positions = result.posed;
+      CompareOptions co;
+      co.neutral = &neutral;
+      co.region.kind = CompareRegion::Kind::kMoved;
+      co.region.threshold = result.region_threshold;
+      local.Clear();
+      if (!CompareMeshes(posed[layers], target, co, layers ? &row.on : &row.off, &local)) {
+        diag.Append(local, path);
+        return Fail(diag, std::string("cannot measure ") + shape->name);
+      }
+      if (layers) {
+        std::vector<uint32_t> order(rig.muscle_count());
+        for (uint32_t m = 0; m < rig.muscle_count(); ++m) order[m] = m;
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+          return result.activations[a] > result.activations[b];
+        });
+        for (size_t i = 0; i < 3 && i < order.size() && result.activations[order[i]] >= 0.05f; ++i)
+          row.top_muscles += (i ? ", " : "") + rig.muscle_names()[order[i]] + " " +
+                             Fixed(result.activations[order[i]], 2);
+      }
+    }
+    row.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!meshes_dir.empty()) {
+      MeshData out = posed[1];
+      out.normals.clear();
+      local.Clear();
+      if (!ExportMesh(meshes_dir + "/" + shape->name + ".obj", out, &local)) {
+        diag.Append(local);
+        return Fail(diag, "cannot write the posed mesh");
+      }
+    }
+    // real | rig | distance of the real shape to the rig's surface.
+    RenderOptions ro;
+    ro.supersample = 2;
+    MeshData real = target, rig_mesh = posed[1];
+    real.normals.clear();
+    rig_mesh.normals.clear();
+    const double zoom = 2.5, fx = 0.5, fy = 0.44;  // the face of the ICT head and shoulders
+    double largest = 0.0;
+    for (size_t v = 0; v < target.vertex_count(); ++v)
+      largest = std::max(largest, double(Length(target.positions[v] - neutral.positions[v])));
+    std::vector<float3> colors = HeatColors(row.on.b_distance, float(0.5 * largest));
+    for (size_t v = 0; v < colors.size(); ++v)
+      if (!row.on.in_region[v]) colors[v] = {0.72f, 0.72f, 0.72f};
+    RenderOptions heat = ro;
+    heat.vertex_colors = &colors;
+    Image panels = SideBySide({RenderCloseUp(real, ro, size, zoom, fx, fy),
+                               RenderCloseUp(rig_mesh, ro, size, zoom, fx, fy),
+                               RenderCloseUp(real, heat, size, zoom, fx, fy)},
+                              4, {1.f, 1.f, 1.f});
+    std::string file = shape->name;
+    for (char& c : file)
+      if (c == ' ' || c == '(' || c == ')' || c == '+') c = '_';
+    const std::string image_path = images_dir + "/" + file + ".png";
+    local.Clear();
+    if (!SavePng(image_path, panels, &local)) {
+      diag.Append(local);
+      return Fail(diag, "cannot write the picture");
+    }
+    row.image = Relative(image_path, report_dir.empty() ? "." : report_dir);
+    ++done;
+    std::printf("  [%zu/%zu] %-18s ratio %s (muscles alone %s), cosine %s, magnitude %s  %.1f s\n",
+                done, claimed_count, shape->name, Fixed(row.on.ratio, 2).c_str(),
+                Fixed(row.off.ratio, 2).c_str(), Fixed(row.on.direction_cosine, 2).c_str(),
+                Fixed(row.on.magnitude_ratio, 2).c_str(), row.solve_seconds);
+    std::fflush(stdout);
+    rows.push_back(std::move(row));
+  }
+
+  // The report.
+  std::string md;
+  md += "# Fidelity: the rig against real expression shapes\n\n";
+  md += "Made by `./build/mimetic fidelity` (run from the repository root with ICT-FaceKit in "
+        "`../shared/data`; `--help` lists the options). Do not edit by hand: rerun it.\n\n";
+  md += "The default template (`" + template_path + "`) is fitted to ICT-FaceKit's neutral head "
+        "(" + std::to_string(neutral.vertex_count()) + " vertices, " + units + "; " +
+        std::to_string(rig.muscle_count()) + " muscles). For each real shape, `mimetic solve` "
+        "finds the activations in [0, 1] closest to it, once with every skin layer on and once "
+        "with the muscles alone, and `mimetic compare` measures the result over the vertices "
+        "the real shape moves more than 2% of its largest motion (docs/model.md §13):\n\n";
+  md += "- **rig** / **neutral**: mean distance from those vertices of the real shape to the "
+        "rig's surface / to the neutral's (" + units + ");\n"
+        "- **ratio** = rig / neutral (target: at most 0.5); **off**: the same with the skin "
+        "layers off (the layers must never make it worse);\n"
+        "- **cosine**: displacement-weighted direction cosine of the rig's motion against the "
+        "real one (target: at least 0.8); **magnitude**: the rig's motion over the real one "
+        "(target: 0.75 to 1.25).\n\n";
+  size_t met = 0, layers_ok = 0;
+  md += "| shape | rig | neutral | ratio | off | cosine | magnitude | largest activations |\n";
+  md += "|---|---|---|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    const bool ok = r.on.ratio <= 0.5 && r.on.direction_cosine >= 0.8 &&
+                    std::fabs(r.on.magnitude_ratio - 1.0) <= 0.25;
+    met += ok;
+    layers_ok += r.on.ratio <= r.off.ratio + 1e-9;
+    md += "| " + std::string(r.shape->name) + " | " + Fixed(r.on.b_to_a.mean, 3) + " | " +
+          Fixed(r.on.b_to_neutral.mean, 3) + " | " + Fixed(r.on.ratio, 2) + " | " +
+          Fixed(r.off.ratio, 2) + " | " + Fixed(r.on.direction_cosine, 2) + " | " +
+          Fixed(r.on.magnitude_ratio, 2) + " | " + r.top_muscles + " |\n";
+  }
+  md += "\nAll three targets met on " + std::to_string(met) + " of " + std::to_string(rows.size()) +
+        " shapes; the skin layers keep or improve the ratio on " + std::to_string(layers_ok) +
+        " of " + std::to_string(rows.size()) + ".\n\n";
+  if (!not_claimed.empty()) {
+    md += "## Shapes the rig does not claim\n\n| shape | why |\n|---|---|\n";
+    for (const Shape* s : not_claimed) md += "| " + std::string(s->name) + " | " + s->why_not + " |\n";
+    md += "\n";
+  }
+  if (!missing.empty()) {
+    md += "Not in the data set here: ";
+    for (size_t i = 0; i < missing.size(); ++i) md += (i ? ", " : "") + std::string(missing[i]->name);
+    md += ".\n\n";
+  }
+  md += "## Pictures: real | rig (every layer) | distance of the real shape to the rig\n\n"
+        "Distance from blue (0) to red (half the shape's largest motion); grey outside the measured "
+        "region.\n\n";
+  for (const Row& r : rows) md += "**" + std::string(r.shape->name) + "**\n\n![" + r.shape->name + "](" + r.image + ")\n\n";
+  local.Clear();
+  if (!report_dir.empty()) std::filesystem::create_directories(report_dir, ec);
+  if (!WriteFileAtomic(report_path, md, &local)) {
+    diag.Append(local);
+    return Fail(diag, "cannot write the report");
+  }
+  std::printf("wrote %s: %zu shapes solved, targets met on %zu; %zu not claimed\n",
+              report_path.c_str(), rows.size(), met, not_claimed.size());
+  return 0;
+}
+
+}  // namespace mimetic::tools
