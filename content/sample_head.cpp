@@ -18,6 +18,9 @@
 #include <array>
 #include <cmath>
 
+#include "geometry/closest_point.h"
+#include "geometry/normals.h"
+
 namespace mimetic {
 namespace {
 
@@ -272,28 +275,6 @@ std::vector<double> Quantiles(F density, double a, double b, int count) {
   return out;
 }
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5).
-V3 ClosestOnTriangle(V3 p, V3 a, V3 b, V3 c) {
-  const V3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const V3 bp = p - b;
-  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const V3 cp = p - c;
-  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
 V3 ToV3(float3 v) { return {v.x, v.y, v.z}; }
 float3 ToF3(V3 v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
@@ -494,24 +475,12 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
   }
 
   if (options.normals) {
-    std::vector<V3> acc(mesh.positions.size());
-    for (size_t t = 0; t < mesh.indices.size(); t += 3) {
-      const V3 a = ToV3(mesh.positions[mesh.indices[t]]);
-      const V3 b = ToV3(mesh.positions[mesh.indices[t + 1]]);
-      const V3 c = ToV3(mesh.positions[mesh.indices[t + 2]]);
-      const V3 u = b - a, w = c - a;
-      const V3 n{u.y * w.z - u.z * w.y, u.z * w.x - u.x * w.z, u.x * w.y - u.y * w.x};
-      for (int k = 0; k < 3; ++k) acc[mesh.indices[t + k]] = acc[mesh.indices[t + k]] + n;
-    }
-    for (int i = 1; i <= M; ++i) {
-      const V3 s = acc[vid(i, 0)] + acc[vid(i, N)];
-      acc[vid(i, 0)] = acc[vid(i, N)] = s;
-    }
-    mesh.normals.resize(mesh.positions.size());
-    for (size_t k = 0; k < acc.size(); ++k) {
-      const double l = Len(acc[k]);
-      mesh.normals[k] = l > 0 ? ToF3(acc[k] * (1.0 / l)) : float3{0.f, 1.f, 0.f};
-    }
+    // Area-weighted; the seam's two columns (the only vertices that share a position) get
+    // one normal, so the seam does not show.
+    VertexNormalOptions normal_options;
+    normal_options.share_by_position = true;
+    normal_options.fallback = {0.f, 1.f, 0.f};
+    mesh.normals = ComputeVertexNormals(mesh, normal_options);
   }
 
   // Landmarks: project each target onto the field's surface, then onto the nearest mesh
@@ -526,8 +495,12 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     for (size_t t = 0; t < mesh.indices.size(); t += 3) {
       const V3 a = ToV3(mesh.positions[mesh.indices[t]]);
       if (Dot(a - s, a - s) > 400.0) continue;  // far triangles (edges are < 20 mm here)
-      const V3 c = ClosestOnTriangle(s, a, ToV3(mesh.positions[mesh.indices[t + 1]]),
-                                     ToV3(mesh.positions[mesh.indices[t + 2]]));
+      const V3 b = ToV3(mesh.positions[mesh.indices[t + 1]]);
+      const V3 e = ToV3(mesh.positions[mesh.indices[t + 2]]);
+      const double sp[3] = {s.x, s.y, s.z}, ap[3] = {a.x, a.y, a.z}, bp[3] = {b.x, b.y, b.z},
+                   ep[3] = {e.x, e.y, e.z};
+      const TrianglePoint q = ClosestPointOnTriangle(sp, ap, bp, ep);
+      const V3 c{q.point[0], q.point[1], q.point[2]};
       const double d2 = Dot(c - s, c - s);
       if (d2 < best_d2) {
         best_d2 = d2;

@@ -4,82 +4,22 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <string>
-#include <tuple>
 #include <vector>
+
+#include "geometry/bounds.h"
 
 namespace mimetic {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-float3 Min3(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-float3 Max3(float3 a, float3 b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
 float Comp(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
 std::string Vec(float3 v) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", double(v.x), double(v.y), double(v.z));
   return buf;
-}
-
-// Ericson, Real-Time Collision Detection §5.1.5: closest point on triangle abc to p, with
-// barycentric weights.
-float3 ClosestOnTriangle(float3 p, float3 a, float3 b, float3 c, float3* bary) {
-  const float3 ab = b - a, ac = c - a, ap = p - a;
-  const float d1 = Dot(ab, ap), d2 = Dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return *bary = {1, 0, 0}, a;
-  const float3 bp = p - b;
-  const float d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return *bary = {0, 1, 0}, b;
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const float v = d1 / (d1 - d3);
-    return *bary = {1 - v, v, 0}, a + ab * v;
-  }
-  const float3 cp = p - c;
-  const float d5 = Dot(ab, cp), d6 = Dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return *bary = {0, 0, 1}, c;
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const float w = d2 / (d2 - d6);
-    return *bary = {1 - w, 0, w}, a + ac * w;
-  }
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return *bary = {0, 1 - w, w}, b + (c - b) * w;
-  }
-  const float denom = 1.f / (va + vb + vc);
-  const float v = vb * denom, w = vc * denom;
-  *bary = {1 - v - w, v, w};
-  return a + ab * v + ac * w;
-}
-
-float BoxDistance2(float3 p, float3 lo, float3 hi) {
-  const float dx = std::fmax(std::fmax(lo.x - p.x, 0.f), p.x - hi.x);
-  const float dy = std::fmax(std::fmax(lo.y - p.y, 0.f), p.y - hi.y);
-  const float dz = std::fmax(std::fmax(lo.z - p.z, 0.f), p.z - hi.z);
-  return dx * dx + dy * dy + dz * dz;
-}
-
-// Slab test: entry distance of the ray into the box, or +inf.
-float RayBox(float3 o, float3 inv, float3 lo, float3 hi, float tmax) {
-  float t0 = 0.f, t1 = tmax;
-  for (int a = 0; a < 3; ++a) {
-    float ta = (Comp(lo, a) - Comp(o, a)) * Comp(inv, a);
-    float tb = (Comp(hi, a) - Comp(o, a)) * Comp(inv, a);
-    if (std::isnan(ta) || std::isnan(tb)) {  // 0 * inf: origin on the slab plane
-      if (Comp(o, a) < Comp(lo, a) || Comp(o, a) > Comp(hi, a)) return kInf;
-      continue;
-    }
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::fmax(t0, ta);
-    t1 = std::fmin(t1, tb);
-    if (t0 > t1) return kInf;
-  }
-  return t0;
 }
 
 const std::vector<std::pair<std::string, double>>& UnitsInMm() {
@@ -120,9 +60,8 @@ bool ComputeFaceFrame(const std::vector<float3>& lm, FaceFrame* out, Diagnostics
   const float3 up = lm[27] - lm[8];
   const float up_len = Length(up);
   // Scale-free degeneracy thresholds: relative to the landmarks' extent.
-  float3 lo = lm[0], hi = lm[0];
-  for (const float3& p : lm) lo = Min3(lo, p), hi = Max3(hi, p);
-  const float extent = Length(hi - lo);
+  const BoundingBox box = ComputeBounds(lm);
+  const float extent = Length(box.Hi() - box.Lo());
   if (!(s > 1e-6f * extent) || !(s > 0.f)) {
     diag->Error("landmarks[36], landmarks[45]",
                 "the outer eye corners coincide (distance " + std::to_string(s) +
@@ -191,169 +130,6 @@ bool ResolveLandmarks(const Landmarks& landmarks, const MeshData& head, std::vec
   }
   *out = landmarks.points;
   return true;
-}
-
-// ---------------------------------------------------------------------------------------------
-// SurfaceQuery
-
-SurfaceQuery::SurfaceQuery(const MeshData& mesh) : mesh_(mesh) {
-  const size_t nv = mesh.vertex_count(), nt = mesh.triangle_count();
-  // Area-weighted vertex normals, shared by vertices at the same position (UV seams).
-  std::map<std::tuple<float, float, float>, float3> by_position;
-  std::vector<float3> acc(nv);
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1], c = mesh.indices[3 * t + 2];
-    const float3 n = Cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
-    acc[a] += n, acc[b] += n, acc[c] += n;
-  }
-  for (size_t v = 0; v < nv; ++v) {
-    const float3 p = mesh.positions[v];
-    by_position[{p.x, p.y, p.z}] += acc[v];
-  }
-  vertex_normals_.resize(nv);
-  for (size_t v = 0; v < nv; ++v) {
-    const float3 p = mesh.positions[v];
-    vertex_normals_[v] = NormalizeOr(by_position[{p.x, p.y, p.z}], {0, 0, 0});
-  }
-  order_.resize(nt);
-  centroids_.resize(nt);
-  for (uint32_t t = 0; t < nt; ++t) {
-    order_[t] = t;
-    centroids_[t] = (mesh.positions[mesh.indices[3 * t]] + mesh.positions[mesh.indices[3 * t + 1]] +
-                     mesh.positions[mesh.indices[3 * t + 2]]) / 3.f;
-  }
-  nodes_.reserve(nt / 2 + 2);
-  if (nt > 0) Build(0, uint32_t(nt), 0);
-}
-
-uint32_t SurfaceQuery::Build(uint32_t first, uint32_t count, int depth) {
-  const uint32_t index = uint32_t(nodes_.size());
-  nodes_.push_back({});
-  float3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf}, clo = lo, chi = hi;
-  for (uint32_t i = first; i < first + count; ++i) {
-    const uint32_t t = order_[i];
-    for (int k = 0; k < 3; ++k) {
-      const float3 p = mesh_.positions[mesh_.indices[3 * t + k]];
-      lo = Min3(lo, p), hi = Max3(hi, p);
-    }
-    clo = Min3(clo, centroids_[t]), chi = Max3(chi, centroids_[t]);
-  }
-  nodes_[index].lo = lo;
-  nodes_[index].hi = hi;
-  const float3 ext = chi - clo;
-  if (count <= 4 || depth > 60 || (ext.x <= 0 && ext.y <= 0 && ext.z <= 0)) {
-    nodes_[index].first = first;
-    nodes_[index].count = count;
-    return index;
-  }
-  const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-  const uint32_t half = count / 2;
-  std::nth_element(order_.begin() + first, order_.begin() + first + half,
-                   order_.begin() + first + count, [&](uint32_t a, uint32_t b) {
-                     return Comp(centroids_[a], axis) < Comp(centroids_[b], axis);
-                   });
-  const uint32_t left = Build(first, half, depth + 1);
-  const uint32_t right = Build(first + half, count - half, depth + 1);
-  nodes_[index].left = left;
-  nodes_[index].right = right;
-  return index;
-}
-
-float3 SurfaceQuery::NormalAt(uint32_t tri, float3 p) const {
-  const uint32_t a = mesh_.indices[3 * tri], b = mesh_.indices[3 * tri + 1], c = mesh_.indices[3 * tri + 2];
-  const float3 pa = mesh_.positions[a], pb = mesh_.positions[b], pc = mesh_.positions[c];
-  const float3 face = NormalizeOr(Cross(pb - pa, pc - pa), {0, 0, 1});
-  float3 bary;
-  ClosestOnTriangle(p, pa, pb, pc, &bary);
-  float3 n = vertex_normals_[a] * bary.x + vertex_normals_[b] * bary.y + vertex_normals_[c] * bary.z;
-  n = NormalizeOr(n, face);
-  if (Dot(n, face) < 0.f) n = face;  // inconsistent winding around the vertex: trust the face
-  return n;
-}
-
-SurfaceQuery::Hit SurfaceQuery::Raycast(float3 o, float3 dir) const {
-  Hit hit;
-  const float len = Length(dir);
-  if (nodes_.empty() || !(len > 0.f)) return hit;
-  const float3 d = dir / len;
-  const float3 inv{1.f / d.x, 1.f / d.y, 1.f / d.z};
-  float best = kInf;
-  uint32_t best_tri = 0;
-  std::vector<uint32_t> stack{0};
-  while (!stack.empty()) {
-    const Node& n = nodes_[stack.back()];
-    stack.pop_back();
-    if (RayBox(o, inv, n.lo, n.hi, best) == kInf) continue;
-    if (n.count == 0) {
-      stack.push_back(n.left);
-      stack.push_back(n.right);
-      continue;
-    }
-    for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-      const uint32_t t = order_[i];
-      // Moller-Trumbore, both sides.
-      const float3 a = mesh_.positions[mesh_.indices[3 * t]];
-      const float3 e1 = mesh_.positions[mesh_.indices[3 * t + 1]] - a;
-      const float3 e2 = mesh_.positions[mesh_.indices[3 * t + 2]] - a;
-      const float3 pv = Cross(d, e2);
-      const float det = Dot(e1, pv);
-      if (std::fabs(det) < 1e-20f) continue;
-      const float inv_det = 1.f / det;
-      const float3 tv = o - a;
-      const float u = Dot(tv, pv) * inv_det;
-      if (u < 0.f || u > 1.f) continue;
-      const float3 qv = Cross(tv, e1);
-      const float v = Dot(d, qv) * inv_det;
-      if (v < 0.f || u + v > 1.f) continue;
-      const float tt = Dot(e2, qv) * inv_det;
-      if (tt > 0.f && tt < best) best = tt, best_tri = t;
-    }
-  }
-  if (best == kInf) return hit;
-  hit.found = true;
-  hit.t = best;
-  hit.point = o + d * best;
-  hit.triangle = best_tri;
-  hit.normal = NormalAt(best_tri, hit.point);
-  if (Dot(hit.normal, d) > 0.f) hit.normal = -hit.normal;  // face the ray's origin
-  return hit;
-}
-
-SurfaceQuery::Hit SurfaceQuery::Nearest(float3 p) const {
-  Hit hit;
-  if (nodes_.empty()) return hit;
-  float best2 = kInf;
-  float3 best_point;
-  uint32_t best_tri = 0;
-  std::vector<uint32_t> stack{0};
-  while (!stack.empty()) {
-    const Node& n = nodes_[stack.back()];
-    stack.pop_back();
-    if (BoxDistance2(p, n.lo, n.hi) >= best2) continue;
-    if (n.count == 0) {
-      // Visit the nearer child first (pushed last).
-      const float dl = BoxDistance2(p, nodes_[n.left].lo, nodes_[n.left].hi);
-      const float dr = BoxDistance2(p, nodes_[n.right].lo, nodes_[n.right].hi);
-      if (dl < dr) stack.push_back(n.right), stack.push_back(n.left);
-      else stack.push_back(n.left), stack.push_back(n.right);
-      continue;
-    }
-    for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-      const uint32_t t = order_[i];
-      float3 bary;
-      const float3 q = ClosestOnTriangle(p, mesh_.positions[mesh_.indices[3 * t]],
-                                         mesh_.positions[mesh_.indices[3 * t + 1]],
-                                         mesh_.positions[mesh_.indices[3 * t + 2]], &bary);
-      const float d2 = LengthSquared(q - p);
-      if (d2 < best2) best2 = d2, best_point = q, best_tri = t;
-    }
-  }
-  hit.found = true;
-  hit.t = std::sqrt(best2);
-  hit.point = best_point;
-  hit.triangle = best_tri;
-  hit.normal = NormalAt(best_tri, best_point);
-  return hit;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -427,11 +203,10 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
   FaceFrame frame;
   if (!ComputeFaceFrame(lm, &frame, diag)) return false;
 
-  float3 lo = head.positions[0], hi = lo;
-  for (const float3& p : head.positions) lo = Min3(lo, p), hi = Max3(hi, p);
+  const BoundingBox box = ComputeBounds(head.positions);
   const SurfaceQuery query(head);
   FitReport local_report;
-  Placer placer{frame, lm, query, 2.f * Length(hi - lo) + 4.f * frame.scale, diag,
+  Placer placer{frame, lm, query, 2.f * Length(box.Hi() - box.Lo()) + 4.f * frame.scale, diag,
                 report ? &local_report : nullptr};
   local_report.frame = frame;
   local_report.units = units;
@@ -521,9 +296,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
       // The uv of the hit: barycentric in the hit triangle (its own corners' uvs, so a point
       // next to a seam takes one side's chart).
       const uint32_t* tri = &head.indices[3 * size_t(hit.triangle)];
-      float3 bary;
-      ClosestOnTriangle(hit.point, head.positions[tri[0]], head.positions[tri[1]],
-                        head.positions[tri[2]], &bary);
+      const float3 bary = hit.bary;
       const float2 ua = head.uvs[tri[0]], ub = head.uvs[tri[1]], uc = head.uvs[tri[2]];
       c.spec.control[k] = {ua.x * bary.x + ub.x * bary.y + uc.x * bary.z,
                            ua.y * bary.x + ub.y * bary.y + uc.y * bary.z};
@@ -703,8 +476,8 @@ struct MidlineFeatures {
 // point; nasion = its deepest point between 5% and 30% of the mesh height above the tip.
 MidlineFeatures FindMidlineFeatures(const MeshData& m) {
   MidlineFeatures f;
-  float3 lo = m.positions[0], hi = lo;
-  for (const float3& p : m.positions) lo = Min3(lo, p), hi = Max3(hi, p);
+  const BoundingBox box = ComputeBounds(m.positions);
+  const float3 lo = box.Lo(), hi = box.Hi();
   const float width = hi.x - lo.x, height = hi.y - lo.y;
   const float cx = 0.5f * (lo.x + hi.x);
   const int bins = 200;

@@ -15,8 +15,9 @@
 #include "core/diagnostics.h"
 #include "core/math.h"
 #include "fitting/landmarks.h"
-#include "geometry/mesh.h"
 #include "fitting/muscle_template.h"
+#include "geometry/mesh.h"
+#include "geometry/surface_query.h"
 #include "rig/offline/rig_spec.h"
 
 namespace mimetic {
@@ -45,38 +46,8 @@ bool ComputeFaceFrame(const std::vector<float3>& landmarks, FaceFrame* out, Diag
 bool ResolveLandmarks(const Landmarks& landmarks, const MeshData& head,
                       std::vector<float3>* out, Diagnostics* diag);
 
-// Ray casting and nearest-point queries over a triangle mesh: a bounding-volume hierarchy
-// (binary, median split on the longest axis of the centroid bounds, 4 triangles per leaf),
-// built in O(T log T); a query visits O(log T) nodes on typical meshes.
-class SurfaceQuery {
- public:
-  explicit SurfaceQuery(const MeshData& mesh);
-  struct Hit {
-    bool found = false;
-    float t = 0.f;          // ray parameter (distance along the unit direction)
-    float3 point;           // mesh units
-    float3 normal;          // unit, interpolated vertex normal (area-weighted, from positions)
-    uint32_t triangle = 0;
-  };
-  // First hit of the ray origin + t * dir, t > 0 (`dir` need not be unit).
-  Hit Raycast(float3 origin, float3 dir) const;
-  // Closest surface point to `p` (found = false only for an empty mesh); t = distance.
-  Hit Nearest(float3 p) const;
-
- private:
-  struct Node {
-    float3 lo, hi;
-    uint32_t first = 0, count = 0;  // leaf: triangles [first, first + count) of order_
-    uint32_t left = 0, right = 0;   // inner: children (count == 0)
-  };
-  uint32_t Build(uint32_t first, uint32_t count, int depth);
-  float3 NormalAt(uint32_t tri, float3 p) const;
-  const MeshData& mesh_;
-  std::vector<float3> vertex_normals_;
-  std::vector<uint32_t> order_;
-  std::vector<float3> centroids_;
-  std::vector<Node> nodes_;
-};
+// The ray casts and nearest-point queries that place points on the head: SurfaceQuery,
+// geometry/surface_query.h (included above).
 
 // What the fit did with one template point (for `mimetic fit` and tests).
 struct PlacedPoint {

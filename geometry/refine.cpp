@@ -18,6 +18,12 @@
 //
 // Only triangles created in the previous pass (or still violating) are evaluated again: a
 // triangle kept unchanged met its targets, and its edges have not changed since.
+//
+// OpenMesh's subdividers (OpenMesh/Tools/Subdivider: Loop, sqrt3, midpoint, LongestEdgeT) are
+// not used: they split by a fixed rule or one global edge length, on one vertex per position,
+// so they keep neither our UV/normal seams (split file vertices with their own uvs), nor the
+// edge-length field sampled at centroids and midpoints, nor the parents and triangle origins
+// CarryAttribute and the rig builder read; the results would not be the same bytes.
 #include "geometry/refine.h"
 
 #include <algorithm>
@@ -29,6 +35,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "geometry/bounds.h"
+#include "geometry/topology.h"
 #include "geometry/weld.h"
 
 namespace mimetic {
@@ -44,10 +52,6 @@ std::string G(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.6g", v);
   return buf;
-}
-
-uint64_t EdgeKey(uint32_t a, uint32_t b) {
-  return (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
 }
 
 float3 Midpoint(float3 a, float3 b) {
@@ -68,36 +72,284 @@ double Distance(float3 a, float3 b) {
   return std::sqrt(x * x + y * y + z * z);
 }
 
-// Point-edges of the current triangles: ids in ascending key order, per-corner edge ids
-// (corner 3t+k is edge (k, k+1) of triangle t), and the corners of each edge (CSR).
-struct EdgeTable {
-  std::vector<uint64_t> keys;       // #E, ascending
-  std::vector<uint32_t> tri_edge;   // 3 per triangle
-  std::vector<uint32_t> start;      // #E + 1
-  std::vector<uint32_t> corners;    // 3 per triangle, grouped by edge, ascending within one
+// The refinement so far: the output mesh (file-vertex layout, vertices only appended) and the
+// welded points it lies on, with each vertex's parents and each triangle's input triangle.
+struct State {
+  MeshData& mesh;
+  std::vector<uint32_t>& pov;  // vertex -> point
+  std::vector<float3>& points;
+  std::vector<std::pair<uint32_t, uint32_t>>& parents;
+  std::vector<uint32_t>& origin;
+  std::vector<uint8_t> dirty;  // per triangle: its targets must be sampled (again)
+  bool has_uv = false, has_normal = false;
+
+  float2 uv_of(uint32_t v) const { return has_uv ? mesh.uvs[v] : float2{}; }
 };
 
-void BuildEdges(const std::vector<uint32_t>& tri_points, EdgeTable* et) {
-  const size_t n = tri_points.size();
-  std::vector<std::pair<uint64_t, uint32_t>> uses(n);
-  for (size_t c = 0; c < n; ++c) {
-    const size_t t = c / 3, k = c % 3;
-    uses[c] = {EdgeKey(tri_points[c], tri_points[3 * t + (k + 1) % 3]), static_cast<uint32_t>(c)};
-  }
-  std::sort(uses.begin(), uses.end());
-  et->keys.clear();
-  et->start.clear();
-  et->tri_edge.assign(n, kNone);
-  et->corners.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    if (i == 0 || uses[i].first != uses[i - 1].first) {
-      et->keys.push_back(uses[i].first);
-      et->start.push_back(static_cast<uint32_t>(i));
+// One pass's view of the current triangles: point-edges, their lengths, targets and marks.
+struct Pass {
+  std::vector<uint32_t> tri_points;  // 3 per triangle
+  EdgeTable et;
+  std::vector<double> length, target;
+  std::vector<uint8_t> evaluated, marked;
+};
+
+// The edge-length field as refinement reads it: NaN counts (and reads as no constraint), +inf
+// and <= 0 are no constraint.
+struct FieldSampler {
+  const EdgeLengthField& field;
+  size_t nan_count = 0;
+  float3 nan_at{};
+  double operator()(float3 p, float2 uv) {
+    const float v = field(p, uv);
+    if (std::isnan(v)) {
+      if (nan_count++ == 0) nan_at = p;
+      return kInf;
     }
-    et->tri_edge[uses[i].second] = static_cast<uint32_t>(et->keys.size() - 1);
-    et->corners[i] = uses[i].second;
+    return v > 0 ? static_cast<double>(v) : kInf;
   }
-  et->start.push_back(static_cast<uint32_t>(n));
+};
+
+// Edges that miss their target: how many can split, how many are too short to, the worst.
+struct Misses {
+  size_t splittable = 0, too_short = 0;
+  double worst_ratio = 1, worst_length = 0, worst_target = 0;
+};
+
+// Counts of normals and uvs, the field, a finite weld tolerance. Records every problem.
+bool CheckInput(const MeshData& in, const EdgeLengthField& max_edge, const RefineOptions& options,
+                const std::string& where, Diagnostics* diag) {
+  const size_t errors_before = diag->ErrorCount();
+  const size_t nv = in.positions.size();
+  if (!max_edge) {
+    diag->Error(where, "no edge-length field given (expected a function of position and uv)");
+  }
+  if (!in.normals.empty() && in.normals.size() != nv) {
+    diag->Error(where, "has " + std::to_string(in.normals.size()) + " normals for " +
+                           std::to_string(nv) + " vertices (expected none or one per vertex)");
+  }
+  if (!in.uvs.empty() && in.uvs.size() != nv) {
+    diag->Error(where, "has " + std::to_string(in.uvs.size()) + " uvs for " +
+                           std::to_string(nv) + " vertices (expected none or one per vertex)");
+  }
+  if (!std::isfinite(options.weld_tolerance)) {
+    diag->Error(where, "weld tolerance " + G(options.weld_tolerance) +
+                           " is not finite (expected a positive number, or <= 0 for the "
+                           "default)");
+  }
+  return diag->ErrorCount() == errors_before;
+}
+
+// The input as it is, every vertex its own parent (nothing to refine).
+void InitResult(const MeshData& in, RefineResult* out) {
+  out->mesh = in;
+  out->input_vertex_count = in.positions.size();
+  out->parents.resize(in.positions.size());
+  for (size_t v = 0; v < in.positions.size(); ++v) out->parents[v] = {uint32_t(v), uint32_t(v)};
+  out->triangle_origin.resize(in.triangle_count());
+  for (size_t t = 0; t < in.triangle_count(); ++t) out->triangle_origin[t] = uint32_t(t);
+}
+
+// The point-edges of the current triangles and their lengths.
+void BuildPassEdges(const State& s, Pass* pass) {
+  const size_t nt = s.mesh.indices.size() / 3;
+  pass->tri_points.resize(nt * 3);
+  for (size_t i = 0; i < nt * 3; ++i) pass->tri_points[i] = s.pov[s.mesh.indices[i]];
+  BuildEdgeTable(pass->tri_points, &pass->et);
+  const size_t ne = pass->et.edge_count();
+  pass->length.resize(ne);
+  for (size_t e = 0; e < ne; ++e) {
+    const uint64_t key = pass->et.keys[e];
+    pass->length[e] = Distance(s.points[EdgeKeyLow(key)], s.points[EdgeKeyHigh(key)]);
+  }
+}
+
+// Targets for the edges of dirty triangles: the field at the triangle's centroid and at the
+// edge's midpoint (positions on points, uvs from the triangle's own file vertices).
+void SampleTargets(const State& s, FieldSampler* field, Pass* pass) {
+  const size_t nt = s.mesh.indices.size() / 3, ne = pass->et.edge_count();
+  pass->target.assign(ne, kInf);
+  pass->evaluated.assign(ne, 0);
+  for (size_t t = 0; t < nt; ++t) {
+    if (!s.dirty[t]) continue;
+    const uint32_t* v = &s.mesh.indices[3 * t];
+    const float3 a = s.points[s.pov[v[0]]], b = s.points[s.pov[v[1]]], c = s.points[s.pov[v[2]]];
+    const float3 centroid{static_cast<float>((static_cast<double>(a.x) + b.x + c.x) / 3.0),
+                          static_cast<float>((static_cast<double>(a.y) + b.y + c.y) / 3.0),
+                          static_cast<float>((static_cast<double>(a.z) + b.z + c.z) / 3.0)};
+    const float2 ua = s.uv_of(v[0]), ub = s.uv_of(v[1]), uc = s.uv_of(v[2]);
+    const float2 uv_centroid{static_cast<float>((static_cast<double>(ua.x) + ub.x + uc.x) / 3.0),
+                             static_cast<float>((static_cast<double>(ua.y) + ub.y + uc.y) / 3.0)};
+    const double at_centroid = (*field)(centroid, uv_centroid);
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t e = pass->et.tri_edge[3 * t + k];
+      pass->target[e] = std::min(pass->target[e], at_centroid);
+      if (!pass->evaluated[e]) {
+        pass->evaluated[e] = 1;
+        const uint32_t va = v[k], vb = v[(k + 1) % 3];
+        pass->target[e] =
+            std::min(pass->target[e], (*field)(Midpoint(s.points[s.pov[va]], s.points[s.pov[vb]]),
+                                               Midpoint(s.uv_of(va), s.uv_of(vb))));
+      }
+    }
+  }
+}
+
+// Marks the edges longer than their target and at least `min_split` long; counts the rest.
+Misses MarkLongEdges(double min_split, Pass* pass) {
+  const size_t ne = pass->et.edge_count();
+  pass->marked.assign(ne, 0);
+  Misses m;
+  for (size_t e = 0; e < ne; ++e) {
+    if (!(pass->length[e] > pass->target[e])) continue;
+    const double ratio = pass->length[e] / pass->target[e];
+    if (ratio > m.worst_ratio) {
+      m.worst_ratio = ratio;
+      m.worst_length = pass->length[e];
+      m.worst_target = pass->target[e];
+    }
+    if (pass->length[e] >= min_split) {
+      pass->marked[e] = 1;
+      ++m.splittable;
+    } else {
+      ++m.too_short;
+    }
+  }
+  return m;
+}
+
+// The warning for a refinement that stopped before every edge met its target.
+void WarnStopped(const std::string& where, const std::string& why, size_t passes, size_t nt,
+                 const Misses& m, RefineResult* out, Diagnostics* diag) {
+  out->bound_met = false;
+  diag->Warning(where, "adaptive refinement (MODEL.md §11) " + why + " after " +
+                           std::to_string(passes) + " passes with " + std::to_string(nt) +
+                           " triangles: " + std::to_string(m.splittable + m.too_short) +
+                           " edges are still longer than their target, the worst by a factor " +
+                           G(m.worst_ratio) + " (length " + G(m.worst_length) + ", target " +
+                           G(m.worst_target) +
+                           "); expected every edge in a wrinkle support within its target");
+}
+
+// Corner k of triangle t whose edge is the triangle's longest (ties: the lower edge id).
+int LongestCorner(const Pass& pass, size_t t) {
+  int best = 0;
+  for (int k = 1; k < 3; ++k) {
+    const uint32_t e = pass.et.tri_edge[3 * t + k], b = pass.et.tri_edge[3 * t + best];
+    if (pass.length[e] > pass.length[b] || (pass.length[e] == pass.length[b] && e < b)) best = k;
+  }
+  return best;
+}
+
+bool HasMark(const Pass& pass, size_t t) {
+  return pass.marked[pass.et.tri_edge[3 * t]] || pass.marked[pass.et.tri_edge[3 * t + 1]] ||
+         pass.marked[pass.et.tri_edge[3 * t + 2]];
+}
+
+// Closure: every triangle with a marked edge gets its longest edge marked (a least fixed
+// point, so the visiting order does not matter).
+void CloseMarks(size_t nt, Pass* pass) {
+  std::deque<uint32_t> queue;
+  for (size_t t = 0; t < nt; ++t) {
+    if (HasMark(*pass, t)) queue.push_back(static_cast<uint32_t>(t));
+  }
+  while (!queue.empty()) {
+    const uint32_t t = queue.front();
+    queue.pop_front();
+    const uint32_t e = pass->et.tri_edge[3 * t + LongestCorner(*pass, t)];
+    if (pass->marked[e]) continue;
+    pass->marked[e] = 1;
+    for (uint32_t i = pass->et.start[e]; i < pass->et.start[e + 1]; ++i)
+      queue.push_back(pass->et.corners[i] / 3);
+  }
+}
+
+// The triangle count after splitting: 1 + the marked edges, per triangle.
+size_t CountAfterSplit(size_t nt, const Pass& pass) {
+  size_t n = 0;
+  for (size_t t = 0; t < nt; ++t) {
+    n += 1 + pass.marked[pass.et.tri_edge[3 * t]] + pass.marked[pass.et.tri_edge[3 * t + 1]] +
+         pass.marked[pass.et.tri_edge[3 * t + 2]];
+  }
+  return n;
+}
+
+// Bisects the marked edges: new points in edge order, new file vertices in order of first use
+// (uv the midpoint, normal the normalised sum), each split triangle into 2, 3 or 4.
+void SplitMarked(const Pass& pass, size_t new_count, State* s) {
+  const size_t nt = s->mesh.indices.size() / 3, ne = pass.et.edge_count();
+  MeshData& mesh = s->mesh;
+  std::vector<uint32_t> mid_point(ne, kNone);
+  for (size_t e = 0; e < ne; ++e) {
+    if (!pass.marked[e]) continue;
+    mid_point[e] = static_cast<uint32_t>(s->points.size());
+    const uint64_t key = pass.et.keys[e];
+    s->points.push_back(Midpoint(s->points[EdgeKeyLow(key)], s->points[EdgeKeyHigh(key)]));
+  }
+  std::unordered_map<uint64_t, uint32_t> mid_vertex;
+  mid_vertex.reserve(2 * (new_count - nt));
+  auto midpoint_vertex = [&](uint32_t va, uint32_t vb, uint32_t e) {
+    const uint64_t key = EdgeKey(va, vb);
+    const auto [it, inserted] =
+        mid_vertex.try_emplace(key, static_cast<uint32_t>(mesh.positions.size()));
+    if (!inserted) return it->second;
+    const uint32_t a = std::min(va, vb), b = std::max(va, vb);
+    mesh.positions.push_back(s->points[mid_point[e]]);
+    if (s->has_normal) {
+      const float3 na = mesh.normals[a], nb = mesh.normals[b];
+      mesh.normals.push_back(NormalizeOr(na + nb, na));
+    }
+    if (s->has_uv) mesh.uvs.push_back(Midpoint(mesh.uvs[a], mesh.uvs[b]));
+    s->pov.push_back(mid_point[e]);
+    s->parents.push_back({a, b});
+    return it->second;
+  };
+  std::vector<uint32_t> indices, next_origin;
+  std::vector<uint8_t> next_dirty;
+  indices.reserve(3 * new_count);
+  next_origin.reserve(new_count);
+  next_dirty.reserve(new_count);
+  auto emit = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t from, uint8_t d) {
+    indices.insert(indices.end(), {a, b, c});
+    next_origin.push_back(from);
+    next_dirty.push_back(d);
+  };
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t* v = &mesh.indices[3 * t];
+    const uint32_t* e = &pass.et.tri_edge[3 * t];
+    const uint32_t from = s->origin[t];
+    if (!HasMark(pass, t)) {
+      // Kept as it is; evaluated again only while one of its edges misses its target.
+      const bool misses = pass.length[e[0]] > pass.target[e[0]] ||
+                          pass.length[e[1]] > pass.target[e[1]] ||
+                          pass.length[e[2]] > pass.target[e[2]];
+      emit(v[0], v[1], v[2], from, misses ? 1 : 0);
+      continue;
+    }
+    const int k = LongestCorner(pass, t);
+    const uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+    const uint32_t eab = e[k], ebc = e[(k + 1) % 3], eca = e[(k + 2) % 3];
+    const uint32_t m = midpoint_vertex(a, b, eab);
+    // The half (a, m, c), bisected again at the midpoint q of (c, a) when that is marked.
+    if (pass.marked[eca]) {
+      const uint32_t q = midpoint_vertex(c, a, eca);
+      emit(a, m, q, from, 1);
+      emit(q, m, c, from, 1);
+    } else {
+      emit(a, m, c, from, 1);
+    }
+    // The half (m, b, c), bisected again at the midpoint n of (b, c) when that is marked.
+    if (pass.marked[ebc]) {
+      const uint32_t n = midpoint_vertex(b, c, ebc);
+      emit(m, b, n, from, 1);
+      emit(m, n, c, from, 1);
+    } else {
+      emit(m, b, c, from, 1);
+    }
+  }
+  mesh.indices = std::move(indices);
+  s->origin = std::move(next_origin);
+  s->dirty = std::move(next_dirty);
 }
 
 }  // namespace
@@ -114,275 +366,71 @@ bool RefineMesh(const MeshData& in, const EdgeLengthField& max_edge, const Refin
   *out = RefineResult{};
   const size_t errors_before = diag->ErrorCount();
   try {
-    const size_t nv = in.positions.size();
-    if (!max_edge) {
-      diag->Error(where, "no edge-length field given (expected a function of position and uv)");
-    }
-    if (!in.normals.empty() && in.normals.size() != nv) {
-      diag->Error(where, "has " + std::to_string(in.normals.size()) + " normals for " +
-                             std::to_string(nv) + " vertices (expected none or one per vertex)");
-    }
-    if (!in.uvs.empty() && in.uvs.size() != nv) {
-      diag->Error(where, "has " + std::to_string(in.uvs.size()) + " uvs for " +
-                             std::to_string(nv) + " vertices (expected none or one per vertex)");
-    }
-    if (!std::isfinite(options.weld_tolerance)) {
-      diag->Error(where, "weld tolerance " + G(options.weld_tolerance) +
-                             " is not finite (expected a positive number, or <= 0 for the "
-                             "default)");
-    }
-    if (diag->ErrorCount() > errors_before) return false;
-
-    out->input_vertex_count = nv;
-    if (in.indices.empty()) {
-      // Nothing to refine (and nothing to weld): the result is the input.
-      out->mesh = in;
-      out->parents.resize(nv);
-      for (size_t v = 0; v < nv; ++v) out->parents[v] = {uint32_t(v), uint32_t(v)};
-      return true;
-    }
+    // Counts of normals and uvs, a field, a finite weld tolerance.
+    if (!CheckInput(in, max_edge, options, where, diag)) return false;
+    // The result starts as the input (with no triangles, that is all).
+    InitResult(in, out);
+    if (in.indices.empty()) return true;
+    // Weld: marks are decided on points, so both sides of a seam split alike.
     WeldedMesh welded;
-    if (!WeldMesh(in, options.weld_tolerance, &welded, diag)) return false;
-
-    // Working state. Vertices are only appended, so input vertex indices never change.
-    MeshData& mesh = out->mesh;
-    mesh = in;
-    std::vector<uint32_t>& pov = welded.point_of_vertex;
-    std::vector<float3>& points = welded.points;
-    std::vector<std::pair<uint32_t, uint32_t>>& parents = out->parents;
-    parents.resize(nv);
-    for (size_t v = 0; v < nv; ++v) parents[v] = {uint32_t(v), uint32_t(v)};
-    std::vector<uint32_t>& origin = out->triangle_origin;
-    origin.resize(in.triangle_count());
-    for (size_t t = 0; t < origin.size(); ++t) origin[t] = static_cast<uint32_t>(t);
-    std::vector<uint8_t> dirty(origin.size(), 1);
-    const bool has_uv = !mesh.uvs.empty(), has_normal = !mesh.normals.empty();
-
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (size_t p = 0; p < points.size(); ++p) {
-      const double c[3] = {points[p].x, points[p].y, points[p].z};
-      for (int k = 0; k < 3; ++k) {
-        if (p == 0 || c[k] < lo[k]) lo[k] = c[k];
-        if (p == 0 || c[k] > hi[k]) hi[k] = c[k];
-      }
+    if (!WeldMesh(in, options.weld_tolerance, &welded, diag)) {
+      *out = RefineResult{};
+      return false;
     }
-    const double bbox_diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-                                       (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    const double tol = options.weld_tolerance > 0 ? options.weld_tolerance : 1e-6 * bbox_diag;
-    const double min_split = std::max(kMinSplitFraction * bbox_diag, 8.0 * tol);
-
-    size_t nan_count = 0;
-    float3 nan_at{};
-    auto evaluate = [&](float3 p, float2 uv) -> double {
-      const float v = max_edge(p, uv);
-      if (std::isnan(v)) {
-        if (nan_count++ == 0) nan_at = p;
-        return kInf;
-      }
-      return v > 0 ? static_cast<double>(v) : kInf;  // +inf and <= 0: no constraint
-    };
-    auto uv_of = [&](uint32_t v) { return has_uv ? mesh.uvs[v] : float2{}; };
-
-    EdgeTable et;
-    std::vector<uint32_t> tri_points;
-    std::vector<double> length, target;
-    std::vector<uint8_t> evaluated, marked;
+    State s{out->mesh, welded.point_of_vertex, welded.points, out->parents, out->triangle_origin,
+            std::vector<uint8_t>(in.triangle_count(), 1), !in.uvs.empty(), !in.normals.empty()};
+    // The shortest edge that is split: 2e-4 of the bounding-box diagonal, 8 weld tolerances.
+    const double bbox_diag = ComputeBounds(welded.points).Diagonal();
+    const double min_split = std::max(kMinSplitFraction * bbox_diag,
+                                      8.0 * EffectiveWeldTolerance(options.weld_tolerance, bbox_diag));
+    FieldSampler field{max_edge};
+    Pass pass;
     for (;;) {
-      const size_t nt = mesh.indices.size() / 3;
-      tri_points.resize(nt * 3);
-      for (size_t i = 0; i < nt * 3; ++i) tri_points[i] = pov[mesh.indices[i]];
-      BuildEdges(tri_points, &et);
-      const size_t ne = et.keys.size();
-      length.resize(ne);
-      for (size_t e = 0; e < ne; ++e) {
-        length[e] = Distance(points[et.keys[e] >> 32], points[et.keys[e] & 0xffffffffu]);
-      }
-
-      // 1. Targets for the edges of dirty triangles, and the edges that miss them.
-      target.assign(ne, kInf);
-      evaluated.assign(ne, 0);
-      for (size_t t = 0; t < nt; ++t) {
-        if (!dirty[t]) continue;
-        const uint32_t* v = &mesh.indices[3 * t];
-        const float3 a = points[pov[v[0]]], b = points[pov[v[1]]], c = points[pov[v[2]]];
-        const float3 centroid{
-            static_cast<float>((static_cast<double>(a.x) + b.x + c.x) / 3.0),
-            static_cast<float>((static_cast<double>(a.y) + b.y + c.y) / 3.0),
-            static_cast<float>((static_cast<double>(a.z) + b.z + c.z) / 3.0)};
-        const float2 ua = uv_of(v[0]), ub = uv_of(v[1]), uc = uv_of(v[2]);
-        const float2 uv_centroid{
-            static_cast<float>((static_cast<double>(ua.x) + ub.x + uc.x) / 3.0),
-            static_cast<float>((static_cast<double>(ua.y) + ub.y + uc.y) / 3.0)};
-        const double at_centroid = evaluate(centroid, uv_centroid);
-        for (int k = 0; k < 3; ++k) {
-          const uint32_t e = et.tri_edge[3 * t + k];
-          target[e] = std::min(target[e], at_centroid);
-          if (!evaluated[e]) {
-            evaluated[e] = 1;
-            const uint32_t va = v[k], vb = v[(k + 1) % 3];
-            target[e] = std::min(target[e], evaluate(Midpoint(points[pov[va]], points[pov[vb]]),
-                                                     Midpoint(uv_of(va), uv_of(vb))));
-          }
-        }
-      }
-      marked.assign(ne, 0);
-      size_t splittable = 0, too_short = 0;
-      double worst_ratio = 1, worst_length = 0, worst_target = 0;
-      for (size_t e = 0; e < ne; ++e) {
-        if (!(length[e] > target[e])) continue;
-        const double ratio = length[e] / target[e];
-        if (ratio > worst_ratio) {
-          worst_ratio = ratio;
-          worst_length = length[e];
-          worst_target = target[e];
-        }
-        if (length[e] >= min_split) {
-          marked[e] = 1;
-          ++splittable;
-        } else {
-          ++too_short;
-        }
-      }
-
-      auto stop = [&](const std::string& why) {
-        out->bound_met = false;
-        diag->Warning(where,
-                      "adaptive refinement (MODEL.md §11) " + why + " after " +
-                          std::to_string(out->passes) + " passes with " + std::to_string(nt) +
-                          " triangles: " + std::to_string(splittable + too_short) +
-                          " edges are still longer than their target, the worst by a factor " +
-                          G(worst_ratio) + " (length " + G(worst_length) + ", target " +
-                          G(worst_target) +
-                          "); expected every edge in a wrinkle support within its target");
-      };
-      if (splittable == 0) {
-        if (too_short > 0) {
-          stop("stopped at the shortest edge it splits (" + G(min_split) +
-               ", 2e-4 of the bounding-box diagonal or 8 weld tolerances)");
+      const size_t nt = s.mesh.indices.size() / 3;
+      // 1. The point-edges of the current triangles and their lengths.
+      BuildPassEdges(s, &pass);
+      // 2. Targets for the edges of triangles that changed (or still miss).
+      SampleTargets(s, &field, &pass);
+      // 3. Mark the edges that miss their target (unless too short to split).
+      const Misses misses = MarkLongEdges(min_split, &pass);
+      if (misses.splittable == 0) {
+        if (misses.too_short > 0) {
+          WarnStopped(where,
+                      "stopped at the shortest edge it splits (" + G(min_split) +
+                          ", 2e-4 of the bounding-box diagonal or 8 weld tolerances)",
+                      out->passes, nt, misses, out, diag);
         }
         break;
       }
       if (out->passes >= static_cast<size_t>(std::max(options.max_passes, 0))) {
-        stop("stopped at the pass limit (max_passes " + std::to_string(options.max_passes) + ")");
+        WarnStopped(where,
+                    "stopped at the pass limit (max_passes " + std::to_string(options.max_passes) +
+                        ")",
+                    out->passes, nt, misses, out, diag);
         break;
       }
-
-      // 2. Closure: every triangle with a marked edge has its longest edge marked.
-      auto longest = [&](size_t t) {
-        int best = 0;
-        for (int k = 1; k < 3; ++k) {
-          const uint32_t e = et.tri_edge[3 * t + k], b = et.tri_edge[3 * t + best];
-          if (length[e] > length[b] || (length[e] == length[b] && e < b)) best = k;
-        }
-        return best;
-      };
-      auto has_mark = [&](size_t t) {
-        return marked[et.tri_edge[3 * t]] || marked[et.tri_edge[3 * t + 1]] ||
-               marked[et.tri_edge[3 * t + 2]];
-      };
-      std::deque<uint32_t> queue;
-      for (size_t t = 0; t < nt; ++t) {
-        if (has_mark(t)) queue.push_back(static_cast<uint32_t>(t));
-      }
-      while (!queue.empty()) {
-        const uint32_t t = queue.front();
-        queue.pop_front();
-        const uint32_t e = et.tri_edge[3 * t + longest(t)];
-        if (marked[e]) continue;
-        marked[e] = 1;
-        for (uint32_t i = et.start[e]; i < et.start[e + 1]; ++i) queue.push_back(et.corners[i] / 3);
-      }
-      size_t new_count = 0;
-      for (size_t t = 0; t < nt; ++t) {
-        new_count += 1 + marked[et.tri_edge[3 * t]] + marked[et.tri_edge[3 * t + 1]] +
-                     marked[et.tri_edge[3 * t + 2]];
-      }
+      // 4. Closure: a triangle with a marked edge has its longest edge marked.
+      CloseMarks(nt, &pass);
+      // 5. The triangle limit: a pass that would exceed it is not run.
+      const size_t new_count = CountAfterSplit(nt, pass);
       if (new_count > options.max_triangles) {
-        stop("stopped at the triangle limit (max_triangles " +
-             std::to_string(options.max_triangles) + "; the next pass would make " +
-             std::to_string(new_count) + ")");
+        WarnStopped(where,
+                    "stopped at the triangle limit (max_triangles " +
+                        std::to_string(options.max_triangles) + "; the next pass would make " +
+                        std::to_string(new_count) + ")",
+                    out->passes, nt, misses, out, diag);
         break;
       }
-
-      // 3. Split. New points in edge order, new file vertices in order of first use.
-      std::vector<uint32_t> mid_point(ne, kNone);
-      for (size_t e = 0; e < ne; ++e) {
-        if (!marked[e]) continue;
-        mid_point[e] = static_cast<uint32_t>(points.size());
-        points.push_back(Midpoint(points[et.keys[e] >> 32], points[et.keys[e] & 0xffffffffu]));
-      }
-      std::unordered_map<uint64_t, uint32_t> mid_vertex;
-      mid_vertex.reserve(2 * (new_count - nt));
-      auto midpoint_vertex = [&](uint32_t va, uint32_t vb, uint32_t e) {
-        const uint64_t key = EdgeKey(va, vb);
-        const auto [it, inserted] =
-            mid_vertex.try_emplace(key, static_cast<uint32_t>(mesh.positions.size()));
-        if (!inserted) return it->second;
-        const uint32_t a = std::min(va, vb), b = std::max(va, vb);
-        const float3 position = points[mid_point[e]];
-        mesh.positions.push_back(position);
-        if (has_normal) {
-          const float3 na = mesh.normals[a], nb = mesh.normals[b];
-          mesh.normals.push_back(NormalizeOr(na + nb, na));
-        }
-        if (has_uv) {
-          const float2 uv = Midpoint(mesh.uvs[a], mesh.uvs[b]);
-          mesh.uvs.push_back(uv);
-        }
-        pov.push_back(mid_point[e]);
-        parents.push_back({a, b});
-        return it->second;
-      };
-      std::vector<uint32_t> indices, next_origin;
-      std::vector<uint8_t> next_dirty;
-      indices.reserve(3 * new_count);
-      next_origin.reserve(new_count);
-      next_dirty.reserve(new_count);
-      auto emit = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t from, uint8_t d) {
-        indices.insert(indices.end(), {a, b, c});
-        next_origin.push_back(from);
-        next_dirty.push_back(d);
-      };
-      for (size_t t = 0; t < nt; ++t) {
-        const uint32_t* v = &mesh.indices[3 * t];
-        const uint32_t* e = &et.tri_edge[3 * t];
-        if (!has_mark(t)) {
-          // Kept as it is; evaluated again only while one of its edges misses its target.
-          const bool misses = length[e[0]] > target[e[0]] || length[e[1]] > target[e[1]] ||
-                              length[e[2]] > target[e[2]];
-          emit(v[0], v[1], v[2], origin[t], misses ? 1 : 0);
-          continue;
-        }
-        const int k = longest(t);
-        const uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
-        const uint32_t eab = e[k], ebc = e[(k + 1) % 3], eca = e[(k + 2) % 3];
-        const uint32_t m = midpoint_vertex(a, b, eab);
-        if (marked[eca]) {
-          const uint32_t q = midpoint_vertex(c, a, eca);
-          emit(a, m, q, origin[t], 1);
-          emit(q, m, c, origin[t], 1);
-        } else {
-          emit(a, m, c, origin[t], 1);
-        }
-        if (marked[ebc]) {
-          const uint32_t n = midpoint_vertex(b, c, ebc);
-          emit(m, b, n, origin[t], 1);
-          emit(m, n, c, origin[t], 1);
-        } else {
-          emit(m, b, c, origin[t], 1);
-        }
-      }
-      mesh.indices = std::move(indices);
-      origin = std::move(next_origin);
-      dirty = std::move(next_dirty);
+      // 6. Split: bisect every marked edge once.
+      SplitMarked(pass, new_count, &s);
       ++out->passes;
     }
-
-    if (nan_count > 0) {
-      diag->Warning(where, "the edge-length field returned NaN at " + std::to_string(nan_count) +
-                               " places (first at position (" + G(nan_at.x) + ", " +
-                               G(nan_at.y) + ", " + G(nan_at.z) +
+    // NaN samples of the field: one warning with the first place.
+    if (field.nan_count > 0) {
+      diag->Warning(where, "the edge-length field returned NaN at " +
+                               std::to_string(field.nan_count) + " places (first at position (" +
+                               G(field.nan_at.x) + ", " + G(field.nan_at.y) + ", " +
+                               G(field.nan_at.z) +
                                ")); treated as no constraint (expected a positive length, or "
                                "+inf / <= 0 for none)");
     }

@@ -30,6 +30,11 @@ struct WeldedMesh {
 // 20 messages per kind, then "... and N more". Out-of-range indices, non-finite positions or a
 // non-finite tolerance are reported too (then nothing is welded). Returns false when any
 // error was recorded.
+// The edge checks use geometry/topology.h (BuildEdgeTable, NonManifoldEdges).
 bool WeldMesh(const MeshData& mesh, float tolerance, WeldedMesh* out, Diagnostics* diag);
+
+// The tolerance WeldMesh uses, mesh units: `tolerance` when > 0, else 1e-6 of
+// `bbox_diagonal` (the diagonal of the positions' bounding box, geometry/bounds.h).
+double EffectiveWeldTolerance(float tolerance, double bbox_diagonal);
 
 }  // namespace mimetic

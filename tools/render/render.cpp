@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/file_util.h"
+#include "geometry/normals.h"
 
 namespace mimetic {
 namespace {
@@ -52,23 +53,6 @@ Camera FitCamera(const MeshData& mesh, const RenderOptions& o, int w, int h) {
   return cam;
 }
 
-std::vector<float3> AreaWeightedNormals(const MeshData& mesh) {
-  std::vector<float3> n(mesh.positions.size(), float3{0.f, 0.f, 0.f});
-  const size_t nv = mesh.positions.size();
-  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-    const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-    if (a >= nv || b >= nv || c >= nv) continue;
-    // The cross product's length is twice the area: summing it weights by area.
-    const float3 fn = Cross(mesh.positions[b] - mesh.positions[a],
-                            mesh.positions[c] - mesh.positions[a]);
-    n[a] += fn;
-    n[b] += fn;
-    n[c] += fn;
-  }
-  for (float3& v : n) v = Normalized(v);
-  return n;
-}
-
 uint8_t ToByte(float v) {
   const float c = ClampOrLow(v, 0.f, 1.f);
   return static_cast<uint8_t>(std::lround(c * 255.f));
@@ -99,7 +83,7 @@ Image RenderMesh(const MeshData& mesh, const RenderOptions& o) {
   const size_t nv = mesh.positions.size();
   const Camera cam = FitCamera(mesh, o, W, H);
   const std::vector<float3> normals =
-      mesh.normals.size() == nv ? mesh.normals : AreaWeightedNormals(mesh);
+      mesh.normals.size() == nv ? mesh.normals : ComputeVertexNormals(mesh);  // fallback +z
   const bool use_colors = o.vertex_colors && o.vertex_colors->size() == nv;
 
   // Project every vertex once: screen x, y in supersampled pixels, view depth, camera-space

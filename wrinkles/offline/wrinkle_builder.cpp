@@ -25,45 +25,6 @@ double TriangleArea2(float2 a, float2 b, float2 c) {
 
 }  // namespace
 
-CsrTable BuildPointTriangles(span<const uint32_t> triangles, size_t point_count) {
-  CsrTable t;
-  t.offsets.assign(point_count + 1, 0);
-  const size_t tri_count = triangles.size() / 3;
-  for (size_t k = 0; k < tri_count * 3; ++k) {
-    if (triangles[k] < point_count) ++t.offsets[triangles[k] + 1];
-  }
-  for (size_t p = 0; p < point_count; ++p) t.offsets[p + 1] += t.offsets[p];
-  t.items.resize(t.offsets[point_count]);
-  std::vector<uint32_t> fill(t.offsets.begin(), t.offsets.end() - 1);
-  for (size_t k = 0; k < tri_count * 3; ++k) {
-    if (triangles[k] < point_count) t.items[fill[triangles[k]]++] = static_cast<uint32_t>(k / 3);
-  }
-  return t;
-}
-
-CsrTable BuildPointNeighbors(span<const uint32_t> triangles, size_t point_count) {
-  std::vector<std::vector<uint32_t>> lists(point_count);
-  const size_t tri_count = triangles.size() / 3;
-  for (size_t t = 0; t < tri_count; ++t) {
-    for (int e = 0; e < 3; ++e) {
-      const uint32_t a = triangles[3 * t + e], b = triangles[3 * t + (e + 1) % 3];
-      if (a >= point_count || b >= point_count || a == b) continue;
-      lists[a].push_back(b);
-      lists[b].push_back(a);
-    }
-  }
-  CsrTable out;
-  out.offsets.assign(point_count + 1, 0);
-  for (size_t p = 0; p < point_count; ++p) {
-    auto& l = lists[p];
-    std::sort(l.begin(), l.end());
-    l.erase(std::unique(l.begin(), l.end()), l.end());
-    out.offsets[p + 1] = out.offsets[p] + static_cast<uint32_t>(l.size());
-    out.items.insert(out.items.end(), l.begin(), l.end());
-  }
-  return out;
-}
-
 std::vector<float> ComputeTriangleAreas(span<const float3> points, span<const uint32_t> triangles) {
   const size_t tri_count = triangles.size() / 3;
   std::vector<float> areas(tri_count, 0.f);

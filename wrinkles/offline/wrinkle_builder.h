@@ -1,5 +1,5 @@
 // wrinkles/offline/wrinkle_builder.h: compile-time tables for the wrinkle jobs (MODEL.md §4-8):
-// topology helpers, muscle wrinkling regions (001), curve-wrinkle distances and directional
+// triangle areas, muscle wrinkling regions (001), curve-wrinkle distances and directional
 // shrinkage probes (000), and thickness-map sampling (002 §6). Inputs are the welded rest mesh:
 // points (#P float3, mesh units) and triangles (3 point indices each).
 #pragma once
@@ -11,23 +11,16 @@
 #include "core/diagnostics.h"
 #include "core/math.h"
 #include "core/span.h"
+#include "geometry/topology.h"
 #include "wrinkles/offline/wrinkle_spec.h"
 #include "wrinkles/runtime/strain_jobs.h"
 #include "wrinkles/runtime/wrinkle_jobs.h"
 
 namespace mimetic {
 
-// A compressed sparse row table: row i owns items[offsets[i] .. offsets[i+1]).
-struct CsrTable {
-  std::vector<uint32_t> offsets;  // #rows + 1, offsets[0] = 0
-  std::vector<uint32_t> items;
-};
+// CsrTable, BuildPointTriangles and BuildPointNeighbors (point -> triangles, point -> points)
+// are geometry/topology.h's, included above.
 
-// point -> incident triangles (ascending triangle index). Triangle indices >= point_count are
-// skipped.
-CsrTable BuildPointTriangles(span<const uint32_t> triangles, size_t point_count);
-// point -> neighbouring points through triangle edges (ascending, no duplicates, no self).
-CsrTable BuildPointNeighbors(span<const uint32_t> triangles, size_t point_count);
 // Rest area of each triangle, mesh units^2 (0 for a triangle with an out-of-range index).
 std::vector<float> ComputeTriangleAreas(span<const float3> points, span<const uint32_t> triangles);
 
