@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "fitting/fit.h"  // SurfaceQuery
+#include "geometry/surface_query.h"
 
 namespace mimetic {
 namespace {
