@@ -1,5 +1,6 @@
 // tests/io/json_reader_test.cpp: the declarative JSON reader (io/json_reader.h): each field
-// type, each kind of error with its message, the guard, views, the schema.
+// type, each kind of error with its message, the guard, views, the schema; and one integer
+// rule for every format (rig file and template agree).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "io/json_reader.h"
+#include "io/landmarks_file.h"
+#include "io/rig_file.h"
+#include "io/template_file.h"
 
 namespace mimetic {
 namespace {
@@ -370,6 +374,62 @@ TEST(JsonReader, HeaderExampleWorks) {
             "error: points[1].offset: expected [dx, dy], two finite numbers, got array of 1 "
             "elements\n"
             "error: points[1].side: expected one of \"left\", \"right\", got \"up\"\n");
+}
+
+// The same wrinkle count in a rig file and in a template gets the same answer.
+TEST(JsonReader, RigFileAndTemplateAgreeOnIntegers) {
+  const std::string rig = R"({"format": "mimetic-rig", "version": 1, "mesh": {"path": "m.obj"},
+      "units": "mm", "muscles": [{"name": "z_L", "type": "linear", "strength": 1,
+      "attachment": [0, 0, 0], "insertion": [1, 0, 0], "zone_angle_deg": 40,
+      "falloff_start": 1, "falloff_end": 2, "wrinkles": {"depth": 1, "count": COUNT}}]})";
+  const std::string tmpl = R"({"format": "mimetic-muscle-template", "version": 1,
+      "muscles": [{"name": "z_L", "type": "linear", "strength": 1,
+      "attachment": {"landmarks": [45], "depth": 0}, "insertion": {"landmarks": [54], "depth": 0},
+      "zone_angle_deg": 40, "falloff_start": 1, "falloff_end": 2,
+      "wrinkles": {"depth": 1, "count": COUNT}}]})";
+  auto with = [](std::string text, const std::string& count) {
+    return text.replace(text.find("COUNT"), 5, count);
+  };
+  for (const char* count : {"6", "6.0", "6e0", "6.5", "0", "\"6\""}) {
+    SCOPED_TRACE(count);
+    RigSpec spec;
+    MuscleTemplate t;
+    Diagnostics rig_diag, tmpl_diag;
+    const bool rig_ok = ParseRigSpec(with(rig, count), "", &spec, &rig_diag);
+    const bool tmpl_ok = ParseMuscleTemplate(with(tmpl, count), &t, &tmpl_diag);
+    EXPECT_EQ(rig_ok, tmpl_ok) << rig_diag.Format() << tmpl_diag.Format();
+    const bool integral = std::string(count) == "6" || std::string(count) == "6.0" ||
+                          std::string(count) == "6e0";
+    EXPECT_EQ(rig_ok, integral) << rig_diag.Format();
+    if (rig_ok && tmpl_ok) {
+      EXPECT_EQ(spec.muscle_wrinkles[0]->count, 6);
+      EXPECT_EQ(t.muscles[0].wrinkles->count, 6);
+    } else {
+      const std::string msg = "muscles[0].wrinkles.count: expected an integer >= 1, got";
+      EXPECT_NE(rig_diag.Format().find(msg), std::string::npos) << rig_diag.Format();
+      EXPECT_NE(tmpl_diag.Format().find(msg), std::string::npos) << tmpl_diag.Format();
+    }
+  }
+}
+
+// No input crashes a Parse function or lets an exception out.
+TEST(JsonReader, HostileInputsAreCleanErrorsInEveryFormat) {
+  const std::vector<std::string> texts = {
+      std::string(100000, '[') + std::string(100000, ']'),
+      std::string(100000, '{'),
+      "{\"a\":" + std::string(50000, '[') + "1e400" + std::string(50000, ']') + "}",
+      "[1e400, -1e400, 1e-400]", "{\"format\": 1e400}", "\"\xff\xfe\"", "nul", "", "{}",
+      "{\"points\": [[1e400, 0, 0]]}", "{\"version\": 1e400}", "{\"muscles\": [1e400]}"};
+  for (const std::string& text : texts) {
+    Diagnostics d1, d2, d3;
+    RigSpec spec;
+    MuscleTemplate t;
+    Landmarks lm;
+    EXPECT_FALSE(ParseRigSpec(text, "", &spec, &d1));
+    EXPECT_FALSE(ParseMuscleTemplate(text, &t, &d2));
+    EXPECT_FALSE(ParseLandmarks(text, "lm.json", &lm, &d3));
+    EXPECT_TRUE(d1.HasErrors() && d2.HasErrors() && d3.HasErrors());
+  }
 }
 
 }  // namespace
