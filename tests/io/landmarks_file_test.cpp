@@ -132,6 +132,39 @@ TEST(Landmarks, EveryProblemIsReportedNotOnlyTheFirst) {
   EXPECT_EQ(diag.ErrorCount(), 4u) << diag.Format();  // format, version, extra, points[0][1]
 }
 
+TEST(Landmarks, DeepNestingAndOverflowingNumbersAreCleanErrors) {
+  // 100,000 nested brackets used to overflow the stack; they are refused before parsing.
+  Landmarks lm;
+  Diagnostics diag;
+  EXPECT_FALSE(ParseLandmarks(std::string(100000, '[') + std::string(100000, ']'), "lm.json", &lm,
+                              &diag));
+  EXPECT_NE(diag.Format().find("error: lm.json: nested deeper than 64 levels at line 1, column 65"),
+            std::string::npos)
+      << diag.Format();
+  EXPECT_TRUE(diag.Contains("top level is array")) << diag.Format();
+  // 1e400 overflows a double (nlohmann's parser used to throw out_of_range, uncaught): now a
+  // message with its path.
+  Diagnostics d2;
+  EXPECT_FALSE(ParseLandmarks(File("\"points\": " + PointsJson(68, "[1, 1e400, 2]")), "lm.json",
+                              &lm, &d2));
+  EXPECT_EQ(d2.ErrorCount(), 1u) << d2.Format();
+  EXPECT_NE(d2.Format().find("error: lm.json: points[0][1]: is a number that overflows to "
+                             "infinity; expected a finite number (float range)"),
+            std::string::npos)
+      << d2.Format();
+}
+
+TEST(Landmarks, IntegralNumbersAreVertexIndices) {
+  std::string verts = "[";
+  for (int i = 0; i < 68; ++i) verts += (i ? "," : "") + std::to_string(i) + ".0";
+  Landmarks lm;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseLandmarks(File("\"vertices\": " + verts + "]"), "f.json", &lm, &diag))
+      << diag.Format();
+  ASSERT_EQ(lm.vertex_indices.size(), 68u);
+  EXPECT_EQ(lm.vertex_indices[67], 67);
+}
+
 TEST(Landmarks, LoadReportsMissingFile) {
   Landmarks lm;
   Diagnostics diag;
