@@ -257,7 +257,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
     }
     spec.muscles.push_back(m);
     if (tm.wrinkles) {
-      // MODEL.md §6: the block as written, lengths from units of s to mesh units.
+      // docs/model.md §6: the block as written, lengths from units of s to mesh units.
       MuscleWrinkleSpec w = *tm.wrinkles;
       w.depth *= s;
       w.h_c *= s;
@@ -267,7 +267,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
       spec.muscle_wrinkles[i] = w;
     }
   }
-  // Curve wrinkles (MODEL.md §7-8): control points on the skin -> texture coordinates.
+  // Curve wrinkles (docs/model.md §7-8): control points on the skin -> texture coordinates.
   const bool has_uvs = !head.uvs.empty() && head.uvs.size() == head.vertex_count();
   if (!tmpl.curve_wrinkles.empty() && !has_uvs) {
     diag->Error("curve_wrinkles", "the head mesh " + head.source + " has no texture coordinates; "
@@ -331,7 +331,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
     }
     spec.curve_wrinkles.push_back(c);
   }
-  // Skin thickness per vertex (MODEL.md §4), template units of s -> mesh units.
+  // Skin thickness per vertex (docs/model.md §4), template units of s -> mesh units.
   spec.thickness.kind = ThicknessSpec::Kind::kPerVertex;
   spec.thickness.per_vertex.resize(head.vertex_count());
   for (size_t v = 0; v < head.vertex_count(); ++v)

@@ -93,7 +93,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
 // which s is closest to 90 mm. Returns "" when s is not a positive finite number.
 std::string GuessUnits(float eye_corner_distance);
 
-// Writes a grayscale thickness map (MODEL.md §4, Bando 2003 §6) in texture space: each
+// Writes a grayscale thickness map (docs/model.md §4, Bando 2003 §6) in texture space: each
 // triangle is rasterised in UV space with its per-vertex thickness (v = 0 on the top row, as
 // in glTF), the image is blurred with a small Gaussian (sigma in pixels) and holes are filled
 // from their neighbours; black = 0, white = `max_value` (the largest value, rounded up).

@@ -1,7 +1,7 @@
 // fitting/muscle_template.h: a head-independent muscle layout, expressed relative to the
 // 68 iBUG facial landmarks (docs/template-format.md, docs/fitting.md).
 //
-// A template says where each Waters muscle (MODEL.md §2 linear, §3 sheet) lies on a face in
+// A template says where each Waters muscle (docs/model.md §2 linear, §3 sheet) lies on a face in
 // the face frame of fit.h: origin at the nose bridge top (landmark 27), x from the subject's
 // right outer eye corner (36) to the left one (45), y up (chin 8 -> bridge 27, made
 // orthogonal to x), z = x cross y toward the viewer, unit s = |45 - 36|. Every length in a
@@ -47,12 +47,12 @@ struct TemplateMuscle {
   float falloff_end = 0.f;     // linear: Rf > Rs, units of s
   float length = 0.f;          // sheet: Ls, units of s, > 0
   float width = 0.f;           // sheet: Ws, units of s, > 0
-  // The optional wrinkle block (MODEL.md §6), as in the rig file but with `depth` (k0) and
+  // The optional wrinkle block (docs/model.md §6), as in the rig file but with `depth` (k0) and
   // `h_c` in units of s; `phi_c` in radians (the file says degrees). Mirrored copies share it.
   std::optional<MuscleWrinkleSpec> wrinkles;
 };
 
-// A curve wrinkle (MODEL.md §7-8) placed relative to the landmarks: its 4 Bezier control
+// A curve wrinkle (docs/model.md §7-8) placed relative to the landmarks: its 4 Bezier control
 // points are template points (depth 0) that the fit casts onto the head and turns into the
 // texture coordinates of the surface hit; depth and width in units of s.
 struct TemplateCurveWrinkle {

@@ -1,4 +1,4 @@
-// geometry/refine.cpp: RefineMesh, adaptive refinement at rig compile time (MODEL.md §11).
+// geometry/refine.cpp: RefineMesh, adaptive refinement at rig compile time (docs/model.md §11).
 //
 // Algorithm: conforming longest-edge bisection (M.-C. Rivara, "Algorithms for refining
 // triangular grids suitable for adaptive and multigrid techniques", IJNME 1984), one batch per
@@ -222,7 +222,7 @@ Misses MarkLongEdges(double min_split, Pass* pass) {
 void WarnStopped(const std::string& where, const std::string& why, size_t passes, size_t nt,
                  const Misses& m, RefineResult* out, Diagnostics* diag) {
   out->bound_met = false;
-  diag->Warning(where, "adaptive refinement (MODEL.md §11) " + why + " after " +
+  diag->Warning(where, "adaptive refinement (docs/model.md §11) " + why + " after " +
                            std::to_string(passes) + " passes with " + std::to_string(nt) +
                            " triangles: " + std::to_string(m.splittable + m.too_short) +
                            " edges are still longer than their target, the worst by a factor " +

@@ -1,7 +1,7 @@
 // geometry/refine.h: adaptive refinement of the rest mesh when the rig is compiled
-// (MODEL.md §11).
+// (docs/model.md §11).
 //
-// MODEL.md §11 (choice): refine once at compile time, so the runtime topology is fixed: split
+// docs/model.md §11 (choice): refine once at compile time, so the runtime topology is fixed: split
 // the triangles in each wrinkle's support until their edges are shorter than a fraction of the
 // wrinkle's width (kDefaultRefineWidthFraction). This header knows nothing about wrinkles: the
 // caller describes the wanted edge length as a field over the surface.

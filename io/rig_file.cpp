@@ -1,6 +1,6 @@
 // io/rig_file.cpp: the rig file (docs/rig-format.md, version 1): parse, validate, save.
 //
-// The file holds what MODEL.md §2 (linear muscles), §3 (sheet muscles), §4 (skin thickness),
+// The file holds what docs/model.md §2 (linear muscles), §3 (sheet muscles), §4 (skin thickness),
 // §6 (muscle-derived wrinkles), §7-8 (curve wrinkles) and §11 (refinement) need. Angles are
 // degrees in the file and radians in the spec structs. The fields are declared once in the
 // tables below (io/json_reader.h checks them and generates assets/schema/mimetic-rig.schema.json
@@ -48,7 +48,7 @@ const Object kMesh = {"mesh", {
                    "directory)").NonEmpty().Required(),
     String("name", "string (glTF mesh name)").About("glTF mesh name; absent = the first mesh")}};
 
-// MODEL.md §4: skin thickness h, mesh units; absent = constant 0.
+// docs/model.md §4: skin thickness h, mesh units; absent = constant 0.
 const Object kConstantThickness = {"constant thickness", {
     Number("value").Min(0).Required().About("mesh units")}};
 const Object kPerVertexThickness = {"per-vertex thickness", {
@@ -66,13 +66,13 @@ const Object kThickness = {
     .variants = {{"constant", &kConstantThickness},
                  {"per_vertex", &kPerVertexThickness},
                  {"image", &kImageThickness}},
-    .description = "Subcutaneous skin thickness h in mesh units (MODEL.md §4). Absent = "
+    .description = "Subcutaneous skin thickness h in mesh units (docs/model.md §4). Absent = "
                    "constant 0; min <= max (reader check)."};
 
 const Object kLinearWrinkles = MuscleWrinkleBlock(true, "mesh units");
 const Object kSheetWrinkles = MuscleWrinkleBlock(false, "mesh units");
 
-// MODEL.md §2: v1 (attachment), v2 (insertion), Omega, Rs, Rf.
+// docs/model.md §2: v1 (attachment), v2 (insertion), Omega, Rs, Rf.
 const Object kLinearMuscle = {
     .owner = "a linear muscle",
     .fields = {
@@ -84,9 +84,9 @@ const Object kLinearMuscle = {
             .About("Rf, mesh units"),
         ObjectOf("wrinkles", kLinearWrinkles, "object {\"lambda_w\": ..., \"count\": ..., "
                  "\"depth\": ..., \"shape\": ..., \"phi_c_deg\": ...}")},
-    .description = "Waters linear muscle (MODEL.md §2)."};
+    .description = "Waters linear muscle (docs/model.md §2)."};
 
-// MODEL.md §3: attachment line mA1 mA2, insertion line mI1 mI2, Ls, Ws, Rs.
+// docs/model.md §3: attachment line mA1 mA2, insertion line mI1 mI2, Ls, Ws, Rs.
 Field Line(const char* key, const char* about) {
   return Array(key, Numbers("", 3), "array of 2 points (each an array of 3 numbers)")
       .Count(2).Required().About(about);
@@ -101,7 +101,7 @@ const Object kSheetMuscle = {
             .About("Rs, mesh units"),
         ObjectOf("wrinkles", kSheetWrinkles, "object {\"lambda_w\": ..., \"count\": ..., "
                  "\"depth\": ..., \"shape\": ..., \"h_c\": ...}")},
-    .description = "Waters sheet muscle (MODEL.md §3)."};
+    .description = "Waters sheet muscle (docs/model.md §3)."};
 
 const Object kMuscle = {
     .owner = "a muscle",
@@ -116,7 +116,7 @@ const Object kMuscle = {
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}},
     .description = "A muscle; names unique within the rig (reader check)."};
 
-// MODEL.md §7-8.
+// docs/model.md §7-8.
 const Object kCurveWrinkle = {
     .owner = "a curve wrinkle",
     .fields = {
@@ -129,15 +129,15 @@ const Object kCurveWrinkle = {
         Enum("profile", kProfiles),
         Enum("modulation", kModulations),
         Number("rest_amplitude").Min(0).Max(1)},
-    .description = "A curve wrinkle (MODEL.md §7-8); names unique (reader check)."};
+    .description = "A curve wrinkle (docs/model.md §7-8); names unique (reader check)."};
 
-// MODEL.md §1 steps 3-4; absent keys = true.
+// docs/model.md §1 steps 3-4; absent keys = true.
 const Object kLayers = {"layers", {
-    Bool("thickness").About("volume-preserving thickness (MODEL.md §4)"),
-    Bool("muscle_wrinkles").About("muscle-derived wrinkles (MODEL.md §6)"),
-    Bool("curve_wrinkles").About("curve wrinkles (MODEL.md §7-8)")}};
+    Bool("thickness").About("volume-preserving thickness (docs/model.md §4)"),
+    Bool("muscle_wrinkles").About("muscle-derived wrinkles (docs/model.md §6)"),
+    Bool("curve_wrinkles").About("curve wrinkles (docs/model.md §7-8)")}};
 
-// MODEL.md §11.
+// docs/model.md §11.
 const Object kRefinement = {"refinement", {
     Bool("enabled"),
     Number("edge_fraction", "a number in (0, 1] (fraction of the wrinkle width)").Above(0).Max(1)}};
@@ -288,7 +288,7 @@ bool RigRules::Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkl
   } else {
     return false;
   }
-  // MODEL.md §6: the optional wrinkle block, checked against the muscle's geometry.
+  // docs/model.md §6: the optional wrinkle block, checked against the muscle's geometry.
   if (!m.Has("wrinkles")) return ok;
   MuscleWrinkleSpec spec;
   if (!Wrinkles(m.Member("wrinkles"), m, *out, ok, &spec)) return false;
@@ -350,10 +350,10 @@ bool RigRules::Sheet(const View& m, SheetMuscleSpec* out) {
   return ok && have_a && have_b;
 }
 
-// MODEL.md §6 (001 eq. 5-7, 12, 15). The attenuation parameter is bounded by the muscle's zone
+// docs/model.md §6 (001 eq. 5-7, 12, 15). The attenuation parameter is bounded by the muscle's zone
 // angle (linear) or half width (sheet) where those were read; `muscle_ok`: the whole muscle is
 // valid, so the wrinkle module's own check can run too.
-// MODEL.md §6 (001 eq. 5-7, 12, 15); `muscle_ok`: the whole muscle is valid, so the wrinkle
+// docs/model.md §6 (001 eq. 5-7, 12, 15); `muscle_ok`: the whole muscle is valid, so the wrinkle
 // module's own check can run too.
 bool RigRules::Wrinkles(const View& w, const View& m, const MuscleSpec& muscle, bool muscle_ok,
                         MuscleWrinkleSpec* out) {
@@ -596,7 +596,7 @@ json_reader::Object MuscleWrinkleBlock(bool linear, const std::string& unit) {
                                 " muscle, and this is a " + type + " muscle; expected " +
                                 Quoted(key) + " (" + meaning + ")",
                  true}},
-      .description = "Wrinkles of a " + type + " muscle (MODEL.md §6; 001 eq. " +
+      .description = "Wrinkles of a " + type + " muscle (docs/model.md §6; 001 eq. " +
                      (linear ? "5-7, 11-12" : "13-15") + ")."};
 }
 

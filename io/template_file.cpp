@@ -63,7 +63,7 @@ const Object kThickness = {"thickness", {
                                            "\"value\"}"),
           "an array of regions")}};
 
-// MODEL.md §6: the rig file's wrinkle block (docs/rig-format.md), lengths in units of s.
+// docs/model.md §6: the rig file's wrinkle block (docs/rig-format.md), lengths in units of s.
 const Object kLinearWrinkles = MuscleWrinkleBlock(true, "units of s");
 const Object kSheetWrinkles = MuscleWrinkleBlock(false, "units of s");
 
@@ -98,7 +98,7 @@ const Object kMuscle = {
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}}};
 
-// MODEL.md §7-8: a curve wrinkle whose control points are template points on the skin.
+// docs/model.md §7-8: a curve wrinkle whose control points are template points on the skin.
 const Object kCurveWrinkle = {"a curve wrinkle", {
     String("name").NonEmpty().Required().About("such as \"nasolabial_L\""),
     Bool("mirror"),

@@ -176,12 +176,12 @@ int CmdFit(const Args& args) {
   for (size_t m = 0; m < spec.muscle_wrinkles.size(); ++m) {
     if (!spec.muscle_wrinkles[m]) continue;
     const MuscleWrinkleSpec& w = *spec.muscle_wrinkles[m];
-    if (wrinkled++ == 0) std::printf("muscle wrinkles (MODEL.md section 6):\n");
+    if (wrinkled++ == 0) std::printf("muscle wrinkles (docs/model.md §6):\n");
     std::printf("  %-32s lambda_w %.3g, %d wrinkles, depth %.3g %s\n", spec.muscles[m].name.c_str(),
                 double(w.lambda_w), w.count, double(w.depth), units.c_str());
   }
   if (!spec.curve_wrinkles.empty())
-    std::printf("curve wrinkles (MODEL.md sections 7-8), control points in texture space:\n");
+    std::printf("curve wrinkles (docs/model.md §7-8), control points in texture space:\n");
   for (const NamedCurveWrinkle& c : spec.curve_wrinkles) {
     std::printf("  %-20s", c.name.c_str());
     for (const float2& uv : c.spec.control) std::printf(" (%.4f, %.4f)", double(uv.x), double(uv.y));

@@ -18,7 +18,7 @@ namespace mimetic::tools {
 static const char* kRenderUsage =
     "usage: mimetic render MESH --out IMAGE.png [--yaw DEG] [--pitch DEG] [--size N]\n"
     "                      [--zoom Z] [--focus X,Y] [--wireframe]\n\n"
-    "Renders MESH (.obj, .gltf, .glb) with skin shading (MODEL.md section 12) on grey,\n"
+    "Renders MESH (.obj, .gltf, .glb) with skin shading (docs/model.md §12) on grey,\n"
     "seen from +Z turned by --yaw about +Y (toward +X) and --pitch (from above), fitted to\n"
     "the bounding box. --size N gives an N x N image (default 800, at most 8192).\n"
     "--zoom Z (1 to 8, default 1) shows a close-up: the full view is rendered Z times larger\n"

@@ -41,9 +41,9 @@ const char* kEvalUsage =
     "  --set MUSCLE=VALUE      activation of one muscle (repeatable); a NAME without a muscle\n"
     "                          of its own sets NAME_L and NAME_R together\n"
     "  --out FILE              output mesh: .obj or .glb\n"
-    "  --no-thickness          skip the volume-preserving thickness layer (MODEL.md §4)\n"
-    "  --no-muscle-wrinkles    skip muscle-derived wrinkles (MODEL.md §6)\n"
-    "  --no-curve-wrinkles     skip curve wrinkles (MODEL.md §7-8)\n";
+    "  --no-thickness          skip the volume-preserving thickness layer (docs/model.md §4)\n"
+    "  --no-muscle-wrinkles    skip muscle-derived wrinkles (docs/model.md §6)\n"
+    "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n";
 
 void PrintDiagnostics(const Diagnostics& diag) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);

@@ -9,7 +9,7 @@
 
 namespace mimetic {
 
-// For every point and muscle, evaluates MODEL.md §2-3 at activation 1 (k = strength) and keeps
+// For every point and muscle, evaluates docs/model.md §2-3 at activation 1 (k = strength) and keeps
 // non-zero displacements. Specs must already be valid (the rig loader checks them).
 MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points);
 

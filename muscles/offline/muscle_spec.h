@@ -1,4 +1,4 @@
-// muscles/offline/muscle_spec.h: authored description of Waters muscles (MODEL.md §2-3).
+// muscles/offline/muscle_spec.h: authored description of Waters muscles (docs/model.md §2-3).
 // All lengths are in mesh units; angles in radians here (the rig file stores degrees).
 #pragma once
 
@@ -8,7 +8,7 @@
 
 namespace mimetic {
 
-// Waters linear muscle, MODEL.md §2.
+// Waters linear muscle, docs/model.md §2.
 struct LinearMuscleSpec {
   float3 attachment;         // v1, on the bone; the skin moves toward it
   float3 insertion;          // v2, in the skin; v2 - v1 is the zone's axis
@@ -17,7 +17,7 @@ struct LinearMuscleSpec {
   float falloff_end = 0.f;   // Rf, > Rs
 };
 
-// Waters sheet muscle, MODEL.md §3 (geometry as in Zhang et al. 2005, §2.3).
+// Waters sheet muscle, docs/model.md §3 (geometry as in Zhang et al. 2005, §2.3).
 struct SheetMuscleSpec {
   float3 attachment[2];      // mA1, mA2: the attachment line
   float3 insertion[2];       // mI1, mI2: the insertion line

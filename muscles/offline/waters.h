@@ -1,7 +1,7 @@
 // muscles/offline/waters.h: Waters' muscle model evaluated directly from its formulas.
 //
 // Waters, "A Muscle Model for Animating Three-Dimensional Facial Expression", SIGGRAPH 1987,
-// as restated in MODEL.md §2 (linear) and §3 (sheet, geometry of Zhang et al. 2005 §2.3).
+// as restated in docs/model.md §2 (linear) and §3 (sheet, geometry of Zhang et al. 2005 §2.3).
 // The rig compiler (muscle_builder.h) evaluates these once per vertex at unit activation;
 // tests compare the compiled tables against them.
 #pragma once
@@ -11,20 +11,20 @@
 
 namespace mimetic {
 
-// MODEL.md §2, angular factor A = cos(mu / Omega * pi/2); 0 outside [0, Omega].
+// docs/model.md §2, angular factor A = cos(mu / Omega * pi/2); 0 outside [0, Omega].
 double WatersAngularFactor(double mu, double omega);
-// MODEL.md §2, radial factor R(D): rises from 0 at D = 0 to 1 at Rs, falls to 0 at Rf.
+// docs/model.md §2, radial factor R(D): rises from 0 at D = 0 to 1 at Rs, falls to 0 at Rf.
 double WatersRadialFactor(double d, double rs, double rf);
-// MODEL.md §3 (choice): the sheet's length fall-off Fl(lambda), lambda = l / Ls; it rises over
+// docs/model.md §3 (choice): the sheet's length fall-off Fl(lambda), lambda = l / Ls; it rises over
 // [0, Rs/Ls] and falls to 0 at 1; 0 outside [0, 1].
 double SheetLengthFalloff(double lambda, double rs_over_ls);
-// MODEL.md §3 (choice): the sheet's width fall-off Fw(gamma) = cos(gamma * pi/2); 0 outside [0, 1].
+// docs/model.md §3 (choice): the sheet's width fall-off Fw(gamma) = cos(gamma * pi/2); 0 outside [0, 1].
 double SheetWidthFalloff(double gamma);
 
 // Displacement of point `p` for contraction `k` (mesh units; activation * strength).
-// Linear, MODEL.md §2: k * A * R * (v1 - p) / |v1 - p|, toward the attachment.
+// Linear, docs/model.md §2: k * A * R * (v1 - p) / |v1 - p|, toward the attachment.
 float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k);
-// Sheet, MODEL.md §3: -k * Fl(lambda) * Fw(gamma) * f, f the unit fiber direction mAc -> mIc.
+// Sheet, docs/model.md §3: -k * Fl(lambda) * Fw(gamma) * f, f the unit fiber direction mAc -> mIc.
 // `l` is measured from the attachment line's midpoint along f: l = (p - mAc) . f, and `h` is
 // the distance from p to the central fiber's line (choice: 001 leaves both implicit).
 float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k);

@@ -1,7 +1,7 @@
 // muscles/runtime/muscle_table.h: compiled muscle influences and the per-frame muscle job.
 //
-// Muscles are evaluated on the rest pose and their displacements summed (MODEL.md §1, step 1).
-// Waters' displacement is linear in the contraction k = activation * strength (MODEL.md §2-3),
+// Muscles are evaluated on the rest pose and their displacements summed (docs/model.md §1, step 1).
+// Waters' displacement is linear in the contraction k = activation * strength (docs/model.md §2-3),
 // so each muscle's effect on a point is a fixed vector times its activation. The rig compiler
 // stores, per point, the muscles that reach it and that vector at activation 1; a frame then
 // costs one multiply-add per (point, muscle) pair that actually interacts, not muscles x points.

@@ -69,7 +69,7 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
 }
 
 
-// MODEL.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
+// docs/model.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
 bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
                        const std::vector<uint32_t>& file_triangle, RigData* rig,
                        Diagnostics* diag) {
@@ -151,7 +151,7 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
   return ok;
 }
 
-// MODEL.md §11: the target edge length at a surface place, the smallest over the wrinkles
+// docs/model.md §11: the target edge length at a surface place, the smallest over the wrinkles
 // whose support holds it (fraction x width: u for a muscle wrinkle, whose furrows are u wide,
 // w or a0 for a curve wrinkle), +infinity elsewhere. A curve's support is measured in texture
 // space with the texture-to-mesh scale of the triangles around it, and widened by their
@@ -356,7 +356,7 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOptions& options,
               Rig* out, Diagnostics* diag) {
-  // Refine where wrinkles act (MODEL.md §11); everything below runs on the refined layout.
+  // Refine where wrinkles act (docs/model.md §11); everything below runs on the refined layout.
   const MeshData* mesh_ptr = &file_mesh;
   const RigSpec* spec_ptr = &spec_in;
   RefineResult refined;

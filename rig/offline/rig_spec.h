@@ -14,7 +14,7 @@
 
 namespace mimetic {
 
-// Subcutaneous skin thickness h (MODEL.md §4), in mesh units.
+// Subcutaneous skin thickness h (docs/model.md §4), in mesh units.
 struct ThicknessSpec {
   enum class Kind { kConstant, kPerVertex, kImage };
   Kind kind = Kind::kConstant;
@@ -25,12 +25,12 @@ struct ThicknessSpec {
   float min = 0.f, max = 0.f;      // kImage: black -> min, white -> max
 };
 
-// Which skin layers a rig evaluates (MODEL.md §1 steps 3-4): the runtime's SkinLayers, all on
+// Which skin layers a rig evaluates (docs/model.md §1 steps 3-4): the runtime's SkinLayers, all on
 // by default. Each can also be switched off per evaluation (EvaluateJob::layers); a layer off
 // in the rig is not compiled at all. (Alias kept for rig_json.cpp and older callers.)
 using LayerSpec = SkinLayers;
 
-// Compile-time refinement (MODEL.md §11): triangles in a wrinkle's support are split until
+// Compile-time refinement (docs/model.md §11): triangles in a wrinkle's support are split until
 // their edges are shorter than `edge_fraction` times the wrinkle's width.
 struct RefinementSpec {
   bool enabled = true;
@@ -49,16 +49,16 @@ struct RigSpec {
   std::string units;       // "mm", "cm", "dm", "m" or "in"
   ThicknessSpec thickness;
   std::vector<MuscleSpec> muscles;
-  // Parallel to `muscles`: the optional wrinkle block of each muscle (MODEL.md §6). Empty
+  // Parallel to `muscles`: the optional wrinkle block of each muscle (docs/model.md §6). Empty
   // vector or nullopt entries mean no wrinkles. (Kept here, not in MuscleSpec, because
   // muscles/ and wrinkles/ are siblings that do not include each other.)
   std::vector<std::optional<MuscleWrinkleSpec>> muscle_wrinkles;
-  std::vector<NamedCurveWrinkle> curve_wrinkles;  // MODEL.md §7-8
+  std::vector<NamedCurveWrinkle> curve_wrinkles;  // docs/model.md §7-8
   LayerSpec layers;
   RefinementSpec refinement;
 };
 
-// The muscle geometry a wrinkle region needs (MODEL.md §6), from a muscle spec: linear R is
+// The muscle geometry a wrinkle region needs (docs/model.md §6), from a muscle spec: linear R is
 // Waters' Rf, phi the zone angle; sheet lines, Ls and Ws as they are. (Here because muscles/
 // and wrinkles/ are siblings that do not include each other.)
 WrinkleMuscleGeometry WrinkleGeometryOf(const MuscleSpec& muscle);

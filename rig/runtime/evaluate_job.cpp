@@ -99,14 +99,14 @@ void Scatter(span<const float3> src, span<const uint32_t> vertex_points, span<fl
   }
 }
 
-// r of a point from its gathered slots (MODEL.md §4: the mean over its triangles; 1 for a
+// r of a point from its gathered slots (docs/model.md §4: the mean over its triangles; 1 for a
 // point without any).
 inline float PointRatio(const float4& sum, uint32_t count) {
   return count ? sum.w / float(count) : 1.f;
 }
 
 // One point of DisplaceAlongNormals (the scalar lane). The offset d = (1/rc - 1) h + extra
-// (MODEL.md §4 with rc = max(r, r_min), plus the wrinkle sum) and the normalisation share one
+// (docs/model.md §4 with rc = max(r, r_min), plus the wrinkle sum) and the normalisation share one
 // division: d / |n| = ((1 - rc) h + rc extra) / (rc |n|).
 inline void DisplacePoint(const float4& s, float r, const float* h, float min_ratio,
                           const float* extra, uint32_t p, float3* points) {
@@ -186,7 +186,7 @@ struct FrameState {
 
 // Face normals of the current points, only for triangles touching a point that can move (the
 // others keep the rest face normals set when the context was sized); with `ratios`, each
-// triangle's area ratio in w (MODEL.md §4).
+// triangle's area ratio in w (docs/model.md §4).
 void FaceNormalsOfActive(const FrameState& f, bool ratios) {
   const float* rest = ratios ? f.rig.rest_triangle_areas().data() : nullptr;
   const float3* points = f.points;
@@ -197,14 +197,14 @@ void FaceNormalsOfActive(const FrameState& f, bool ratios) {
   });
 }
 
-// MODEL.md §1 step 1: muscles summed on the base pose; only points that can move.
+// docs/model.md §1 step 1: muscles summed on the base pose; only points that can move.
 void StageMuscles(const FrameState& f) {
   ParallelFor(f.job, f.rig.active_point_count(), [&](uint32_t b, uint32_t e) {
     MusclePoints(f.rig.muscles(), f.activations, f.base, b, e, f.points);
   });
 }
 
-// The strain of X1 against the rest pose (MODEL.md §4-5): face normals and triangle area
+// The strain of X1 against the rest pose (docs/model.md §4-5): face normals and triangle area
 // ratios of X1, and the lengths of the edges the strain measures read (compression eps per
 // wrinkled-muscle row, 001 eq. 9-10, and shrinkage s per curve-wrinkle entry, 000 eq. 4, are
 // computed from them where StageDisplace needs them). All read X1, so they run before
@@ -221,8 +221,8 @@ void StageStrain(const FrameState& f) {
   }
 }
 
-// Per point: N1 and r from its triangles (MODEL.md §1 step 2, §4), then one displacement
-// along N1 (MODEL.md §4, §6-8): the volume-preserving thickness (1/r - 1) h, its
+// Per point: N1 and r from its triangles (docs/model.md §1 step 2, §4), then one displacement
+// along N1 (docs/model.md §4, §6-8): the volume-preserving thickness (1/r - 1) h, its
 // muscle-wrinkle rows H At A(eps) in rig order, its curve wrinkles S(l) M. Three sweeps: the
 // gathers alone (independent load chains that overlap), the wrinkle sums of the points that
 // have any, then four points at a time share the square root and the divisions. Each point
@@ -275,7 +275,7 @@ void StageDisplace(const FrameState& f) {
         if (muscle_wrinkles) {
           for (uint32_t row = point_rows[p]; row < point_rows[p + 1]; ++row) {
             // 001 eq. 9-10: eps = sum_j c_j (L_j - l_j); eq. 4: W = H(w_i) A(eps) At_i
-            // (MODEL.md §5-6).
+            // (docs/model.md §5-6).
             float eps = 0.f;
             for (uint32_t k = row_entries[row]; k < row_entries[row + 1]; ++k)
               eps += coeffs[k] * (rest[k] - length[edges[k]]);

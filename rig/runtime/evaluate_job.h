@@ -1,18 +1,18 @@
 // rig/runtime/evaluate_job.h: the one per-frame entry point.
 //
-// rest mesh + activations -> positions and normals (MODEL.md §1). Run() is a fixed sequence of
+// rest mesh + activations -> positions and normals (docs/model.md §1). Run() is a fixed sequence of
 // stages (static functions in evaluate_job.cpp), each reading and writing one per-frame
 // FrameState (the job, the rig, its RigTables, the context's scratch and the layer flags
 // resolved once per frame):
 //   StageMuscles   X1 = base + sum_m a_m U_m over the active points (MusclePoints:
-//                  MuscleDeformJob in SSE); base = the rest pose        MODEL.md §1-3
+//                  MuscleDeformJob in SSE); base = the rest pose        docs/model.md §1-3
 //   StageStrain    face normals of X1 with each triangle's area ratio in the same pass; the
-//                  lengths of the edges the strain measures read (each edge once) MODEL.md §4-5
+//                  lengths of the edges the strain measures read (each edge once) docs/model.md §4-5
 //   StageDisplace  per point: N1 and r gathered from its triangles; compression eps of its
 //                  wrinkled-muscle rows and shrinkage s of its directional curve-wrinkle
 //                  entries from the edge lengths; then X3 = X1 + d N1 with
 //                  d = (1/r - 1) h  +  sum of its muscle-wrinkle rows W  +  its curve-wrinkle sum
-//                                                                        MODEL.md §4-8
+//                                                                        docs/model.md §4-8
 //   StageNormals   face normals of X3 (only when normals are requested)
 //   StageOutputs   per vertex: positions scattered to the file's vertex layout, normals of X3
 //                  gathered straight into the output, with strides
@@ -63,7 +63,7 @@ class EvaluateContext {
   // Read access to the last frame's intermediate results (for overlays and tests).
   span<const float> activations() const { return activations_; }
   span<const float3> points() const { return span<const float3>(points_).first(point_count_); }
-  // Per-point area ratio r of the last frame (MODEL.md §4); 1 where no skin layer ran.
+  // Per-point area ratio r of the last frame (docs/model.md §4); 1 where no skin layer ran.
   span<const float> area_ratios() const { return point_ratios_; }
 
   // Bytes this context holds: sizeof(EvaluateContext) plus the capacity of every vector.

@@ -5,7 +5,7 @@
 // Why not the public stage jobs (FaceNormalsJob, PointNormalsJob, EdgeCompressionJob): those
 // take caller spans of tightly packed float3 and cannot read past them. Here the point buffer
 // is the context's own, allocated with kPointPadFloats spare floats, so a point loads as one
-// unaligned 16-byte SIMD load, a face normal as one aligned load, and the ratio r (MODEL.md §4)
+// unaligned 16-byte SIMD load, a face normal as one aligned load, and the ratio r (docs/model.md §4)
 // rides in the same register as the normal through the gather. The results are the same bits
 // as the scalar expressions of the stage jobs (Cross, 0.5 |n| / S, Length, CSR-order sums),
 // with or without SSE (tests/rig/face_kernels_test.cpp compares them).

@@ -64,7 +64,7 @@ bool PointNormalsJob::Run() const {
     }
     out_normals[p] = NormalizeOr(n, float3{0.f, 0.f, 1.f});
     const uint32_t count = off[p + 1] - off[p];
-    out_ratios[p] = count ? sum / float(count) : 1.f;  // MODEL.md §4: mean over I_j
+    out_ratios[p] = count ? sum / float(count) : 1.f;  // docs/model.md §4: mean over I_j
   }
   return true;
 }

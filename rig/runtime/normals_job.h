@@ -27,7 +27,7 @@ struct FaceNormalsJob {
   span<float3> out_face_normals;    // #T, unnormalised (length = 2 * area)
   uint32_t begin = 0, end = 0;      // triangle range
   // Optional, fused (saves a second pass over the triangles): the area ratio S'/S per
-  // triangle (MODEL.md §4, 002 eq. 1). Both empty, or rest_areas >= #T (mesh units^2, from
+  // triangle (docs/model.md §4, 002 eq. 1). Both empty, or rest_areas >= #T (mesh units^2, from
   // TriangleRestArea) and out_area_ratios >= #T. A zero rest area gives 1.
   span<const float> rest_areas;
   span<float> out_area_ratios;
@@ -42,7 +42,7 @@ struct PointNormalsJob {
   span<const uint32_t> point_triangles;      // offsets[#P] entries, each < #T
   span<float3> out_normals;                  // #P, unit length
   uint32_t begin = 0, end = 0;               // point range
-  // Optional, fused: r per point, the mean of its triangles' ratios (MODEL.md §4, 002 eq. 1);
+  // Optional, fused: r per point, the mean of its triangles' ratios (docs/model.md §4, 002 eq. 1);
   // 1 for a point without triangles. Both empty, or triangle_ratios >= #T and out_ratios >= #P.
   span<const float> triangle_ratios;
   span<float> out_ratios;

@@ -27,7 +27,7 @@
 
 namespace mimetic {
 
-// One muscle's wrinkling region (MODEL.md §6), fixed on the rest pose; see MuscleWrinkleJob
+// One muscle's wrinkling region (docs/model.md §6), fixed on the rest pose; see MuscleWrinkleJob
 // and EdgeCompressionJob for the meaning of each array (rows = region points).
 struct RigMuscleWrinkles {
   uint32_t muscle = 0;                    // index into the rig's muscles
@@ -45,7 +45,7 @@ struct RigMuscleWrinkles {
   uint32_t row_count() const { return uint32_t(points.size()); }
 };
 
-// Every curve wrinkle of the rig in one table (MODEL.md §7-8); see CurveWrinkleJob.
+// Every curve wrinkle of the rig in one table (docs/model.md §7-8); see CurveWrinkleJob.
 struct RigCurveWrinkles {
   std::vector<std::string> names;            // one per wrinkle
   std::vector<CurveWrinkleParams> wrinkles;  // one per wrinkle
@@ -81,13 +81,13 @@ struct RigData {
   std::vector<uint32_t> vertex_indices;  // 3 * #T, into vertices (the file's index buffer)
   std::vector<float2> vertex_uvs;        // #V, or empty when the mesh has none
 
-  // Skin (MODEL.md §4-8).
+  // Skin (docs/model.md §4-8).
   // What was compiled: a layer is on when the rig file enables it and it has something to do
   // (all off until the builder says otherwise).
   SkinLayers layers{false, false, false};
-  std::vector<float> point_thickness;    // #P, mesh units (MODEL.md §4)
+  std::vector<float> point_thickness;    // #P, mesh units (docs/model.md §4)
   std::vector<float> rest_triangle_areas;  // #T, mesh units^2 (when any skin layer is on)
-  float min_area_ratio = kDefaultMinAreaRatio;  // r_min (MODEL.md §4 choice)
+  float min_area_ratio = kDefaultMinAreaRatio;  // r_min (docs/model.md §4 choice)
   std::vector<RigMuscleWrinkles> muscle_wrinkles;  // one per wrinkled muscle, muscle order
   RigCurveWrinkles curve_wrinkles;
 

@@ -180,7 +180,7 @@ TEST(SampleHead, DenserOnTheForeheadThanAtTheBack) {
   ASSERT_GT(forehead, 0);
   ASSERT_GT(back, 0);
   EXPECT_LT(forehead, 0.6 * back) << "forehead " << forehead << " mm, back " << back << " mm";
-  EXPECT_LT(forehead, 2.5);  // fine enough for forehead wrinkles (MODEL.md §13: 2-12 mm wide)
+  EXPECT_LT(forehead, 2.5);  // fine enough for forehead wrinkles (docs/model.md §13: 2-12 mm wide)
 }
 
 TEST(SampleHead, UvsInUnitSquareWithDuplicatedSeam) {

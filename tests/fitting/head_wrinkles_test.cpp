@@ -1,6 +1,6 @@
 // The default head rig's wrinkles (assets/head/sample_head.rig.json, generated from
 // assets/head/default.template.json by `mimetic fit`): every skin layer compiles, and the
-// expressions of docs/wrinkles.md show the wrinkles MODEL.md §6-8 predict. Expected counts come
+// expressions of docs/wrinkles.md show the wrinkles docs/model.md §6-8 predict. Expected counts come
 // from the rig's own wrinkle parameters and geometry (001 eq. 6-7), not from program output.
 #include <gtest/gtest.h>
 
@@ -264,7 +264,7 @@ TEST(HeadWrinkles, SmileDeepensTheNasolabialFoldWhichIsFaintAtRest) {
   for (const NamedCurveWrinkle& c : head.spec.curve_wrinkles) {
     if (c.name.rfind("nasolabial", 0) != 0) continue;
     const std::string side = c.name.substr(c.name.size() - 2);
-    // Points whose texture coordinate lies within the furrow, l < w/2 (S < 0 there, MODEL.md
+    // Points whose texture coordinate lies within the furrow, l < w/2 (S < 0 there, docs/model.md
     // §7), with uv distances in mesh units by the local texture scale around the curve.
     std::vector<char> near(rig.point_count(), 0);
     double area3 = 0, area2 = 0;

@@ -1,4 +1,4 @@
-// Tests for RefineMesh (geometry/refine.h, MODEL.md §11). Expected values come from the
+// Tests for RefineMesh (geometry/refine.h, docs/model.md §11). Expected values come from the
 // construction of the inputs: a flat 20 x 20 grid (unit spacing, area 400, 80 boundary edges),
 // the same grid with a UV seam, and an octahedron (closed: Euler characteristic 2). Bounds
 // checked: edge length inside the support, untouched triangles far from it, exact welding at

@@ -56,14 +56,14 @@ std::string Top(const std::string& from, const std::string& to) { return Replace
 std::string Thickness(const std::string& thickness) {
   return Doc("[" + kLinear + "]", R"(, "thickness": )" + thickness);
 }
-// The linear (sheet) muscle above with the given wrinkle block (MODEL.md §6).
+// The linear (sheet) muscle above with the given wrinkle block (docs/model.md §6).
 std::string LinearW(const std::string& wrinkles) {
   return Linear(R"("falloff_end": 30)", R"("falloff_end": 30, "wrinkles": )" + wrinkles);
 }
 std::string SheetW(const std::string& wrinkles) {
   return Sheet(R"("falloff_start": 20)", R"("falloff_start": 20, "wrinkles": )" + wrinkles);
 }
-// A curve wrinkle (MODEL.md §7-8) with only the required keys.
+// A curve wrinkle (docs/model.md §7-8) with only the required keys.
 const std::string kCurve =
     R"({"name": "nasolabial_L", "control": [[0.1, 0.2], [0.2, 0.3], [0.3, 0.35], [0.4, 0.3]],
         "depth": 2, "width": 3})";
@@ -238,7 +238,7 @@ std::vector<BadCase> BadCases() {
       {"image missing path", Thickness(R"({"type": "image", "min": 0, "max": 2})"),
        {"thickness.path: missing required key"}},
 
-      // Muscle wrinkles (MODEL.md §6).
+      // Muscle wrinkles (docs/model.md §6).
       {"h_c on a linear muscle", LinearW(R"({"depth": 1, "h_c": 5})"),
        {"muscles[0].wrinkles.h_c: \"h_c\" is for the wrinkles of a sheet muscle, and this is a "
         "linear muscle; expected \"phi_c_deg\""}},
@@ -282,7 +282,7 @@ std::vector<BadCase> BadCases() {
       {"wrinkles not an object", LinearW("true"),
        {"muscles[0].wrinkles: expected object", "\"phi_c_deg\": ...}, got boolean"}},
 
-      // Curve wrinkles (MODEL.md §7-8).
+      // Curve wrinkles (docs/model.md §7-8).
       {"curve_wrinkles not an array", Extra(R"("curve_wrinkles": )" + kCurve),
        {"curve_wrinkles: expected array of curve wrinkles, got object"}},
       {"curve wrinkle not an object", Curves("[\"nasolabial_L\"]"),
@@ -323,7 +323,7 @@ std::vector<BadCase> BadCases() {
        {"curve_wrinkles[0].colour: unknown key \"colour\"; allowed keys for a curve wrinkle: name, "
         "control, depth, width, profile, modulation, rest_amplitude"}},
 
-      // Layers and refinement (MODEL.md §1, §11).
+      // Layers and refinement (docs/model.md §1, §11).
       {"layers.thickness \"yes\"", Extra(R"("layers": {"thickness": "yes"})"),
        {"layers.thickness: expected boolean (true or false), got \"yes\""}},
       {"layers.curve_wrinkles 0", Extra(R"("layers": {"curve_wrinkles": 0})"),

@@ -1,4 +1,4 @@
-// Known answers for Waters' muscles, computed by hand from MODEL.md §2-3.
+// Known answers for Waters' muscles, computed by hand from docs/model.md §2-3.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -178,7 +178,7 @@ TEST(EvaluateJob, PositionsMatchDirectMuscleFormulas) {
   const std::vector<float> act = SomeActivations(s.rig);
   std::vector<float> pos, nrm;
   EvaluateJob job = MakeJob(s.rig, &ctx, act, &pos, &nrm);
-  job.layers = {false, false, false};  // muscles only (MODEL.md §1 step 1)
+  job.layers = {false, false, false};  // muscles only (docs/model.md §1 step 1)
   ASSERT_TRUE(job.Run());
   size_t moved = 0;
   for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {

@@ -1,4 +1,4 @@
-// The whole per-frame pipeline with skin layers (MODEL.md §1): the 002 Fig. 3/5 set-up,
+// The whole per-frame pipeline with skin layers (docs/model.md §1): the 002 Fig. 3/5 set-up,
 // finiteness under collapse, zero allocation and thread-split determinism with every layer on.
 #include <gtest/gtest.h>
 
@@ -92,7 +92,7 @@ TEST(SkinPipeline, Bando2003Fig3WrinkleMatchesSTimesC) {
   ASSERT_TRUE(f.rig.layers().curve_wrinkles);
   const std::vector<float> act = {1.f};
   // X1 (muscles only) gives the strain; the wrinkle is the difference of the runs with and
-  // without the curve-wrinkle layer: S(l) C(r) N1 (MODEL.md §7, 002 eq. 4-6).
+  // without the curve-wrinkle layer: S(l) C(r) N1 (docs/model.md §7, 002 eq. 4-6).
   const std::vector<float> x1 = Evaluate(f.rig, act, {false, false, false});
   const std::vector<float> on = Evaluate(f.rig, act, {true, true, true});
   const std::vector<float> off = Evaluate(f.rig, act, {true, true, false});

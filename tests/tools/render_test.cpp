@@ -1,6 +1,6 @@
 // tests/tools/render_test.cpp: the software rasterizer (tools/render/render.h).
 //
-// Expected colours are computed by hand from MODEL.md §12 (b = (0.97, 0.87, 0.67), ambient
+// Expected colours are computed by hand from docs/model.md §12 (b = (0.97, 0.87, 0.67), ambient
 // 0.3, light 0.7) and expected coverage from the camera fit documented in render.h.
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>

@@ -1,4 +1,4 @@
-// Compile-time wrinkle tables (MODEL.md §5-7): Bezier distance against closed forms, muscle
+// Compile-time wrinkle tables (docs/model.md §5-7): Bezier distance against closed forms, muscle
 // wrinkling regions on hand-built fans (001 eq. 1-3, 7, 12-15), shrinkage probes (000 eq. 4).
 #include "wrinkles/offline/wrinkle_builder.h"
 

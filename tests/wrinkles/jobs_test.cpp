@@ -1,4 +1,4 @@
-// Per-frame wrinkle jobs (MODEL.md §4-8): known answers, volume checks (accept b, c), finite
+// Per-frame wrinkle jobs (docs/model.md §4-8): known answers, volume checks (accept b, c), finite
 // outputs on degenerate frames (accept g), validity tables and range-split determinism.
 #include <gtest/gtest.h>
 
@@ -51,7 +51,7 @@ std::vector<double> PointAreas(const std::vector<float3>& p, const std::vector<u
   return a;
 }
 
-// --- MODEL.md §4: area ratio and thickness ----------------------------------------------------
+// --- docs/model.md §4: area ratio and thickness ----------------------------------------------------
 
 TEST(AreaRatio, TriangleScaledByKnownFactors) {
   const std::vector<float3> rest = {{0, 0, 0}, {2, 0, 0}, {0, 1, 0}};
@@ -136,7 +136,7 @@ TEST(Thickness, ClampsTheAreaRatio) {
   EXPECT_FALSE(th.Validate());
 }
 
-// --- MODEL.md §5: shrinkage and compression ---------------------------------------------------
+// --- docs/model.md §5: shrinkage and compression ---------------------------------------------------
 
 TEST(DirectionalShrinkage, TriangleScaledByKnownFactors) {  // 000 eq. 4
   const std::vector<float3> rest = {{0, 0, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {-1, -1, 0}};
@@ -227,7 +227,7 @@ TEST(EdgeCompression, HandBuiltStar) {  // 001 eq. 9-10 with |cos|
   EXPECT_NEAR(eps[0], (0.3 - 0.2 + c * 0.5) / (1.0 + 1.0 + c), 1e-6);
 }
 
-// --- MODEL.md §6: muscle wrinkles -------------------------------------------------------------
+// --- docs/model.md §6: muscle wrinkles -------------------------------------------------------------
 
 TEST(MuscleWrinkle, KnownAnswerAlongTheNormal) {  // 001 eq. 4
   const std::vector<float3> nrm = {{0, 0, 1}, {0, 1, 0}};
@@ -263,7 +263,7 @@ TEST(MuscleWrinkle, KnownAnswerAlongTheNormal) {  // 001 eq. 4
   EXPECT_EQ(amp[0], 0.f);
 }
 
-// --- MODEL.md §7-8: curve wrinkles ------------------------------------------------------------
+// --- docs/model.md §7-8: curve wrinkles ------------------------------------------------------------
 
 TEST(CurveWrinkle, ValueKnownAnswers) {
   CurveWrinkleParams p;

@@ -1,4 +1,4 @@
-// Known-answer tests of the scalar wrinkle functions (MODEL.md §6-8): expected values come from
+// Known-answer tests of the scalar wrinkle functions (docs/model.md §6-8): expected values come from
 // the formulas written out again here, from hand values, or from numeric quadrature.
 #include "wrinkles/runtime/profiles.h"
 
@@ -20,7 +20,7 @@ double Simpson(const std::function<double(double)>& f, double a, double b, int n
   return s * h / 3.0;
 }
 
-// --- MODEL.md §6 (001) ------------------------------------------------------------------------
+// --- docs/model.md §6 (001) ------------------------------------------------------------------------
 
 TEST(ZhangShape, ZeroMeanOverACycle) {  // 001 eq. 8, accept d
   for (double alpha : {-2.0, -1.0, -0.5, 0.0, 0.7, 2.0, 3.5}) {
@@ -73,7 +73,7 @@ TEST(Attenuation, BoundaryValuesAndContinuity) {  // 001 eq. 12 / 15
   EXPECT_EQ(Attenuation(2.0), 0.0);
 }
 
-// --- MODEL.md §7 (000, 002) -------------------------------------------------------------------
+// --- docs/model.md §7 (000, 002) -------------------------------------------------------------------
 
 TEST(CurveProfile, ShapeAndZeroVolume) {  // 000 eq. 2-3
   const double d = 0.7, w = 0.3;
@@ -116,7 +116,7 @@ TEST(Modulation, AreaIsC1AndHitsEnds) {  // 002 eq. 6
   EXPECT_NEAR(AreaModulation(0.5, 0.0), 0.5, 1e-15);
 }
 
-// --- MODEL.md §8 (004) ------------------------------------------------------------------------
+// --- docs/model.md §8 (004) ------------------------------------------------------------------------
 
 // The profile written out again from 004 eq. 1-2 in expanded polynomial form (the seed text
 // of eq. 2 has a garbled sign in the constant term; this is the expansion of the Hermite

@@ -1,5 +1,5 @@
 // tools/render/render.cpp: z-buffered software rasterizer with Blinn-Phong skin shading
-// (MODEL.md §12). Deliberately simple: one pass over the triangles into a supersampled
+// (docs/model.md §12). Deliberately simple: one pass over the triangles into a supersampled
 // colour/depth buffer, box-filtered down to the output size.
 #include "tools/render/render.h"
 

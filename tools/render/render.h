@@ -1,7 +1,7 @@
 // tools/render/render.h: a small software rasterizer for looking at meshes without OpenGL.
 //
 // Z-buffered triangles, perspective camera fitted to the mesh's bounding box, per-pixel
-// interpolated normals and Blinn-Phong shading with the skin colour of MODEL.md §12
+// interpolated normals and Blinn-Phong shading with the skin colour of docs/model.md §12
 // (b = (0.97, 0.87, 0.67), ambient 0.3, light 0.7). Used by `mimetic render`, the docs images
 // and tests; deterministic (same mesh and options give the same bytes).
 #pragma once
@@ -32,9 +32,9 @@ struct RenderOptions {
   bool wireframe = false;  // dark triangle edges over the shading
   // Per-vertex albedo (#V) instead of the skin base colour; ignored when its size is not #V.
   const std::vector<float3>* vertex_colors = nullptr;
-  float3 base_color{0.97f, 0.87f, 0.67f};  // MODEL.md §12 b
-  float ambient = 0.3f;                     // MODEL.md §12 (003 §5.3)
-  float diffuse = 0.7f;                     // MODEL.md §12 light intensity
+  float3 base_color{0.97f, 0.87f, 0.67f};  // docs/model.md §12 b
+  float ambient = 0.3f;                     // docs/model.md §12 (003 §5.3)
+  float diffuse = 0.7f;                     // docs/model.md §12 light intensity
   float specular = 0.08f;                   // white Blinn-Phong highlight strength
   float shininess = 24.f;                   // Blinn-Phong exponent
   // Direction toward the light in camera space (+X right, +Y up, +Z toward the viewer);

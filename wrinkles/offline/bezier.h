@@ -1,5 +1,5 @@
 // wrinkles/offline/bezier.h: closest point on a planar cubic Bezier curve (the furrow of a
-// curve wrinkle, 000 §6, MODEL.md §7), used when the rig is compiled.
+// curve wrinkle, 000 §6, docs/model.md §7), used when the rig is compiled.
 #pragma once
 
 #include "core/math.h"

@@ -196,7 +196,8 @@ float CurveWrinkleSupport(const CurveWrinkleSpec& spec) {
   switch (spec.profile) {
     case CurveWrinkleProfile::kBando:
       // **choice**: 8 w. Beyond it |S| < 7 e^-8 d = 0.0023 d and the tail holds 8 e^-8 d w,
-      // 0.18% of the furrow volume 4 d w / e; 12 w (1e-4) cost 50% more points per frame.
+      // 0.73% of the volume d w / e on that side (docs/model.md §7); 12 w (1e-4) cost 50% more
+      // points per frame.
       return 8.f * spec.width;
     case CurveWrinkleProfile::kYangZhang:
       return static_cast<float>(YangZhangWidth(std::hypot(double(spec.width), double(spec.depth))));

@@ -1,4 +1,4 @@
-// wrinkles/offline/wrinkle_builder.h: compile-time tables for the wrinkle jobs (MODEL.md §4-8):
+// wrinkles/offline/wrinkle_builder.h: compile-time tables for the wrinkle jobs (docs/model.md §4-8):
 // triangle areas, muscle wrinkling regions (001), curve-wrinkle distances and directional
 // shrinkage probes (000), and thickness-map sampling (002 §6). Inputs are the welded rest mesh:
 // points (#P float3, mesh units) and triangles (3 point indices each).
@@ -25,14 +25,14 @@ namespace mimetic {
 std::vector<float> ComputeTriangleAreas(span<const float3> points, span<const uint32_t> triangles);
 
 // |cos theta| between each edge (points[i] -> neighbour) and a unit direction per row, and the
-// edge's length, on the REST positions (EdgeCompressionJob's weights, MODEL.md §5). A zero-length
+// edge's length, on the REST positions (EdgeCompressionJob's weights, docs/model.md §5). A zero-length
 // edge gets weight 0.
 void ComputeCompressionWeights(span<const float3> rest_points, span<const uint32_t> row_points,
                                span<const float3> row_directions, span<const uint32_t> offsets,
                                span<const uint32_t> neighbors, std::vector<float>* rest_lengths,
                                std::vector<float>* weights);
 
-// Muscle wrinkling region and its run-time table (MODEL.md §6, 001 eq. 1-3, 6-7, 12-15).
+// Muscle wrinkling region and its run-time table (docs/model.md §6, 001 eq. 1-3, 6-7, 12-15).
 struct MuscleWrinkleTable {
   std::vector<uint32_t> points;        // region points, ascending
   std::vector<float> phase;            // w_i in [0, 2u) per row, mesh units
@@ -83,11 +83,11 @@ ShrinkageProbe BuildShrinkageProbe(uint32_t point, float2 dp, span<const float3>
                                    const CsrTable& point_triangles);
 
 // How far a curve wrinkle reaches, mesh units: 8 w for Bando (beyond it |S| < 0.0023 d and the
-// tail holds 0.18% of the furrow volume), 20/3 sqrt(a0^2 + h0^2) for Yang-Zhang with eq. 9 (the widest profile that
+// tail holds 0.73% of the furrow volume on that side), 20/3 sqrt(a0^2 + h0^2) for Yang-Zhang with eq. 9 (the widest profile that
 // still has depth) and 20/3 times the flank length for the exact variant.
 float CurveWrinkleSupport(const CurveWrinkleSpec& spec);
 
-// Curve-wrinkle table (MODEL.md §7-8). For each point, its texture coordinate is each of its
+// Curve-wrinkle table (docs/model.md §7-8). For each point, its texture coordinate is each of its
 // triangle corners' uvs; the distance to the curve is the smallest over them, converted to mesh
 // units by the point's texture-to-mesh scale sqrt(sum of incident 3D areas / sum of their
 // texture areas) (**choice**: widths and distances in mesh units, so both profiles and eq. 9 see

@@ -1,4 +1,4 @@
-// wrinkles/offline/wrinkle_spec.h: authored wrinkle descriptions (MODEL.md §6-8), independent of
+// wrinkles/offline/wrinkle_spec.h: authored wrinkle descriptions (docs/model.md §6-8), independent of
 // any file format: the rig loader fills them from JSON, the builder turns them into run-time
 // tables (wrinkle_builder.h). Lengths in mesh units, angles in radians, curve control points in
 // texture space.
@@ -12,7 +12,7 @@
 
 namespace mimetic {
 
-// The optional wrinkle block of a muscle (001 §2.2-2.3, MODEL.md §6).
+// The optional wrinkle block of a muscle (001 §2.2-2.3, docs/model.md §6).
 struct MuscleWrinkleSpec {
   float lambda_w = 0.5f;  // lambda_w in [0, 1): the region starts at lambda_w R (or Ls)
   int count = 3;          // n_w >= 1: wrinkles across the region (001 eq. 6)
@@ -42,7 +42,7 @@ struct WrinkleMuscleGeometry {
   float width = 0.f;            // Ws, mesh units, > 0
 };
 
-// A curve wrinkle (000 §6-7, 002 §5, 004; MODEL.md §7-8).
+// A curve wrinkle (000 §6-7, 002 §5, 004; docs/model.md §7-8).
 struct CurveWrinkleSpec {
   float2 control[4];            // cubic Bezier control points of the furrow, texture space
   float depth = 0.f;            // d (Bando) or rest depth h0 (Yang-Zhang), mesh units, > 0

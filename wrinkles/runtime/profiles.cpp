@@ -1,5 +1,5 @@
 // wrinkles/runtime/profiles.cpp: Yang-Zhang arc length and exact depth update (004 eq. 6),
-// MODEL.md §8. Allocation-free, bounded work, no exceptions.
+// docs/model.md §8. Allocation-free, bounded work, no exceptions.
 #include "wrinkles/runtime/profiles.h"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// wrinkles/runtime/profiles.h: the scalar wrinkle functions of MODEL.md §6-8 (std only).
+// wrinkles/runtime/profiles.h: the scalar wrinkle functions of docs/model.md §6-8 (std only).
 //
 // Zhang, Sim, Tan 2005 (seed 001) shape, anisotropy and attenuation functions; Bando et al.
 // 2002/2003 (seeds 000, 002) curve-wrinkle profile and amplitude modulations; Yang and Zhang
@@ -12,7 +12,7 @@
 namespace mimetic {
 
 // ---------------------------------------------------------------------------------------------
-// Zhang et al. (001), MODEL.md §6.
+// Zhang et al. (001), docs/model.md §6.
 
 // Bulge height d of eq. 5 fixed by the zero-mean condition, eq. 8:
 //   d = k0 (2^(alpha+1) - 1) / (2 (alpha + 1)),
@@ -60,7 +60,7 @@ inline T Attenuation(T q) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Bando et al. (000 eq. 2-5, 002 eq. 4-6), MODEL.md §7.
+// Bando et al. (000 eq. 2-5, 002 eq. 4-6), docs/model.md §7.
 
 // Curve-wrinkle shape S(l) = d (l/w - 1) exp(-l/w) (000 eq. 2), `l` >= 0 the distance from the
 // furrow, `depth` d and `width` w > 0 in the units of the caller (l and w alike). S(0) = -d,
@@ -73,7 +73,7 @@ inline T CurveProfile(T l, T depth, T width) {
   return depth * (x - T(1)) * T(std::exp(-x));
 }
 
-// Directional amplitude modulation M(s) of 000 eq. 5, `s` the shrinkage of MODEL.md §5
+// Directional amplitude modulation M(s) of 000 eq. 5, `s` the shrinkage of docs/model.md §5
 // (1 = fully shrunk, 0 rest, < 0 stretched), `r` in [0, 1] the relative amplitude at rest:
 //   M = (1 - r) s + r  (s >= 0),   M = r exp((1/r - 1) s)  (s < 0).
 // C1 at s = 0. r <= 0 gives 0 for s < 0 (the limit); s > 1 is clamped to 1; NaN s gives r.
@@ -90,7 +90,7 @@ inline T DirectionalModulation(T s, T r) {
   return r * T(std::exp((T(1) / r - T(1)) * s));
 }
 
-// Area amplitude modulation C(r) of 002 eq. 6, `r` the area ratio of MODEL.md §4 (1 rest,
+// Area amplitude modulation C(r) of 002 eq. 6, `r` the area ratio of docs/model.md §4 (1 rest,
 // < 1 compressed), `kr` in [0, 1] the relative amplitude at rest:
 //   C = (kr - 1) r + 1  (r <= 1),   C = kr exp((1 - 1/kr)(r - 1))  (r > 1).
 // C1 at r = 1. kr <= 0 gives 0 for r > 1 (the limit); r < 0 is clamped to 0; NaN r gives kr.
@@ -108,7 +108,7 @@ inline T AreaModulation(T r, T kr) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Yang and Zhang (004), MODEL.md §8.
+// Yang and Zhang (004), docs/model.md §8.
 
 // Outer end A of the half profile for zero volume (004 eq. 5): A = 20 a / 3.
 template <class T>
@@ -165,7 +165,7 @@ inline T YangZhangDepth(T h0, T a0, T S) {
 // Which stretch of the half profile the exact (Newton) depth update keeps at constant length.
 enum class YangZhangSpan {
   // [0, a]: the furrow flank, i.e. the exact form of the length that eq. 9 keeps through its
-  // chord. MODEL.md §8 choice used by the rig (see wrinkle_jobs.h): same behaviour as eq. 9,
+  // chord. docs/model.md §8 choice used by the rig (see wrinkle_jobs.h): same behaviour as eq. 9,
   // without its ~1% error.
   kFlank,
   // [0, A]: the whole half profile, eq. 6 as written in 004. With A = 20a/3 shrinking with S,

@@ -1,4 +1,4 @@
-// wrinkles/runtime/strain_jobs.cpp: MODEL.md §4-5 strain measures (see strain_jobs.h).
+// wrinkles/runtime/strain_jobs.cpp: docs/model.md §4-5 strain measures (see strain_jobs.h).
 #include "wrinkles/runtime/strain_jobs.h"
 
 #include <cmath>
@@ -22,7 +22,7 @@ bool TriangleAreaRatioJob::Run() const {
     const float3 a = positions[triangles[3 * t]];
     const float3 b = positions[triangles[3 * t + 1]];
     const float3 c = positions[triangles[3 * t + 2]];
-    const float area = 0.5f * Length(Cross(b - a, c - a));  // MODEL.md §4: S'_i
+    const float area = 0.5f * Length(Cross(b - a, c - a));  // docs/model.md §4: S'_i
     const float rest = rest_areas[t];
     out_ratios[t] = rest > 0.f ? area / rest : 1.f;
   }
@@ -50,7 +50,7 @@ bool PointAreaRatioJob::Run() const {
     }
     float sum = 0.f;
     for (uint32_t k = first; k < last; ++k) sum += triangle_ratios[point_triangles[k]];
-    out_ratios[p] = sum / static_cast<float>(last - first);  // MODEL.md §4: mean over I_j
+    out_ratios[p] = sum / static_cast<float>(last - first);  // docs/model.md §4: mean over I_j
   }
   return true;
 }
@@ -81,7 +81,7 @@ bool EdgeCompressionJob::Run() const {
       num += w * tau;
       den += w;
     }
-    // 001 eq. 10 with |cos| weights (MODEL.md §5 choice).
+    // 001 eq. 10 with |cos| weights (docs/model.md §5 choice).
     out_compression[i] = den > 0.f ? num / den : 0.f;
   }
   return true;

@@ -1,5 +1,5 @@
 // wrinkles/runtime/strain_jobs.h: per-frame skin strain measures on the welded points
-// (MODEL.md §4-5; Bando et al. 2003 eq. 1, Bando et al. 2002 eq. 4, Zhang et al. 2005 eq. 9-10).
+// (docs/model.md §4-5; Bando et al. 2003 eq. 1, Bando et al. 2002 eq. 4, Zhang et al. 2005 eq. 9-10).
 //
 // Job conventions (DESIGN.md), shared by every job of wrinkles/runtime:
 // - A job owns nothing and allocates nothing. `Run()` calls `Validate()` first and leaves every
@@ -22,7 +22,7 @@
 
 namespace mimetic {
 
-// Per-triangle area ratio S'_i / S_i (MODEL.md §4, 002 eq. 1). Rows are triangles.
+// Per-triangle area ratio S'_i / S_i (docs/model.md §4, 002 eq. 1). Rows are triangles.
 struct TriangleAreaRatioJob {
   bool Validate() const;
   bool Run() const;
@@ -37,7 +37,7 @@ struct TriangleAreaRatioJob {
   span<float> out_ratios;           // S'_i / S_i per triangle, >= 0 (0 when collapsed); >= end
 };
 
-// Per-point area ratio r_j = mean of the ratios of its triangles (MODEL.md §4, 002 eq. 1).
+// Per-point area ratio r_j = mean of the ratios of its triangles (docs/model.md §4, 002 eq. 1).
 // Rows are points. r = 1 at rest, -> 0 compressed, > 1 stretched; a point with no triangle
 // gets 1.
 struct PointAreaRatioJob {
@@ -53,10 +53,10 @@ struct PointAreaRatioJob {
   span<float> out_ratios;                  // r per point, >= 0; >= end
 };
 
-// Edge compression rate eps_i (MODEL.md §5, 001 eq. 9-10) over the rows of a table: row i is
+// Edge compression rate eps_i (docs/model.md §5, 001 eq. 9-10) over the rows of a table: row i is
 // point points[i] with neighbours neighbors[offsets[i] .. offsets[i+1]):
 //   tau_ij = (L_ij - |x_i - x_j|) / L_ij,   eps_i = sum_j w_ij tau_ij / sum_j w_ij,
-// with w_ij = |cos theta_ij| (MODEL.md choice: both sides of the point count).
+// with w_ij = |cos theta_ij| (docs/model.md §5 choice: both sides of the point count).
 // **choice**: w_ij is computed once on the REST edge and the contraction direction (see
 // ComputeCompressionWeights in wrinkles/offline), so a collapsed edge keeps its weight and
 // eps reaches 1 when everything collapses; it differs from using the current edge direction
@@ -97,7 +97,7 @@ struct ShrinkageProbe {
   ShrinkageSide sides[2];
 };
 
-// Directional shrinkage s per probe (MODEL.md §5, 000 eq. 4). For a side with 3D edge length
+// Directional shrinkage s per probe (docs/model.md §5, 000 eq. 4). For a side with 3D edge length
 // ratios t2 = |x2 - x1| / |X2 - X1| and t3 likewise, scaling the texture-space edges v1v2, v1v3
 // by t2, t3 moves the crossing of the ray from v1 so that
 //   L'/L = 1 / ((1 - beta)/t2 + beta/t3) = t2 t3 / ((1 - beta) t3 + beta t2),

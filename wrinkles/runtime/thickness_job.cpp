@@ -1,4 +1,4 @@
-// wrinkles/runtime/thickness_job.cpp: MODEL.md §4 thickness (see thickness_job.h).
+// wrinkles/runtime/thickness_job.cpp: docs/model.md §4 thickness (see thickness_job.h).
 #include "wrinkles/runtime/thickness_job.h"
 
 namespace mimetic {

@@ -1,4 +1,4 @@
-// wrinkles/runtime/thickness_job.h: volume-preserving skin thickness (MODEL.md §4, Bando et al.
+// wrinkles/runtime/thickness_job.h: volume-preserving skin thickness (docs/model.md §4, Bando et al.
 // 2003 eq. 3). Job conventions: see strain_jobs.h.
 #pragma once
 
@@ -9,11 +9,11 @@
 
 namespace mimetic {
 
-// Default lower clamp of the area ratio r (MODEL.md §4 choice): a point whose triangles
+// Default lower clamp of the area ratio r (docs/model.md §4 choice): a point whose triangles
 // collapse is pushed out by at most (1/0.05 - 1) h = 19 h instead of to infinity.
 inline constexpr float kDefaultMinAreaRatio = 0.05f;
 
-// The offset along the normal, (1/max(r, r_min) - 1) h (MODEL.md §4, 002 eq. 3); NaN r counts
+// The offset along the normal, (1/max(r, r_min) - 1) h (docs/model.md §4, 002 eq. 3); NaN r counts
 // as r_min. ThicknessJob uses it; EvaluateJob folds the same clamp into its one division per
 // point (DisplacePoint in rig/runtime/evaluate_job.cpp).
 inline float ThicknessOffset(float r, float h, float min_area_ratio) {

@@ -1,4 +1,4 @@
-// wrinkles/runtime/wrinkle_jobs.cpp: MODEL.md §6-8 wrinkle displacement (see wrinkle_jobs.h).
+// wrinkles/runtime/wrinkle_jobs.cpp: docs/model.md §6-8 wrinkle displacement (see wrinkle_jobs.h).
 #include "wrinkles/runtime/wrinkle_jobs.h"
 
 #include <cmath>
@@ -30,7 +30,7 @@ bool MuscleWrinkleJob::Validate() const {
 bool MuscleWrinkleJob::Run() const {
   if (!Validate()) return false;
   for (size_t i = begin; i < end; ++i) {
-    // 001 eq. 4: W = H(w_i) A(eps_i) At_i (MODEL.md §6); no activation factor (see header).
+    // 001 eq. 4: W = H(w_i) A(eps_i) At_i (docs/model.md §6); no activation factor (see header).
     const float h_at = profile.empty()
                            ? MuscleWrinkleProfile(phase[i], half_cycle, furrow_depth, shape,
                                                   attenuation[i])
@@ -47,12 +47,12 @@ bool MuscleWrinkleJob::Run() const {
 float CurveWrinkleValue(const CurveWrinkleParams& p, float l, float s, float r) {
   const bool directional = p.modulation == CurveWrinkleModulation::kDirectional;
   if (p.profile == CurveWrinkleProfile::kBando) {
-    // 000 eq. 2 times 000 eq. 5 or 002 eq. 6 (MODEL.md §7).
+    // 000 eq. 2 times 000 eq. 5 or 002 eq. 6 (docs/model.md §7).
     const float m = directional ? DirectionalModulation(s, p.rest_amplitude)
                                 : AreaModulation(r, p.rest_amplitude);
     return CurveProfile(l, p.depth, p.width) * m;
   }
-  // Yang-Zhang (MODEL.md §8): skin length ratio across the furrow, a = S a0 (004 eq. 8).
+  // Yang-Zhang (docs/model.md §8): skin length ratio across the furrow, a = S a0 (004 eq. 8).
   float S = directional ? 1.f - s : r;
   if (!(S >= 0.f)) S = S != S ? 1.f : 0.f;
   if (!(S < 1e6f)) S = 1e6f;  // far past the point where the depth is 0
@@ -104,7 +104,7 @@ bool CurveWrinkleJob::Run() const {
     const float r = p < area_ratios.size() ? area_ratios[p] : 1.f;
     const float sum = CurveWrinkleRowSum(wrinkles.data(), entries.data(), offsets[i],
                                          offsets[i + 1], entry_shrinkage.data(), r);
-    positions[p] += normals[p] * sum;  // MODEL.md §7: x' = x + S(l) M N
+    positions[p] += normals[p] * sum;  // docs/model.md §7: x' = x + S(l) M N
     if (!out_amplitudes.empty()) out_amplitudes[i] = sum;
   }
   return true;

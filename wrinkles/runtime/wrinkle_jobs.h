@@ -1,7 +1,7 @@
 // wrinkles/runtime/wrinkle_jobs.h: large-scale wrinkle displacement along the normal
-// (MODEL.md §6-8): muscle-derived wrinkles (Zhang et al. 2005) and curve wrinkles (Bando et al.
+// (docs/model.md §6-8): muscle-derived wrinkles (Zhang et al. 2005) and curve wrinkles (Bando et al.
 // 2002/2003, with the Yang-Zhang 2005 profile as an alternative). Job conventions: see
-// strain_jobs.h. Both jobs ADD to `positions` (X3 = X2 + sum W N1, MODEL.md §1 step 4); rows of
+// strain_jobs.h. Both jobs ADD to `positions` (X3 = X2 + sum W N1, docs/model.md §1 step 4); rows of
 // one table name distinct points, so a row range split across threads is safe and bit-identical,
 // but two tables that share points must run one after the other (in a fixed order).
 #pragma once
@@ -15,7 +15,7 @@
 
 namespace mimetic {
 
-// Muscle-derived wrinkles of one muscle (MODEL.md §6, 001 eq. 4-8, 11-12, 15) over its
+// Muscle-derived wrinkles of one muscle (docs/model.md §6, 001 eq. 4-8, 11-12, 15) over its
 // wrinkling region, whose rows (points, phase w_i, attenuation At_i) were fixed on the REST
 // pose when the rig was compiled (BuildMuscleWrinkleTable in wrinkles/offline):
 //   W_i = H(w_i) * A(eps_i) * At_i,   x_i += W_i N_i.
@@ -93,7 +93,7 @@ struct CurveWrinkleEntry {
   uint32_t has_profile = 0;
 };
 
-// Curve wrinkles (MODEL.md §7-8): row i is point points[i] with its entries
+// Curve wrinkles (docs/model.md §7-8): row i is point points[i] with its entries
 // [offsets[i], offsets[i+1]) (the wrinkles whose support covers it):
 //   x_i += N_i * sum_e W_e   (sum in entry order).
 struct CurveWrinkleJob {
