@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 
+#include "fitting/landmarks.h"
 #include "geometry/closest_point.h"
 #include "geometry/normals.h"
 
@@ -286,13 +287,6 @@ float3 ToF3(V3 v) {
 // contour (0-16) is a silhouette in a photograph; here it is projected from outside toward
 // a point inside the lower head, so it lies on the jaw line. Subject's left (+x) points are
 // given; the right side mirrors them.
-// Mirror pairs (iBUG): subject's left index -> subject's right index.
-constexpr int kMirrorPairs[][2] = {
-    {9, 7},   {10, 6},  {11, 5},  {12, 4},  {13, 3},  {14, 2},  {15, 1},  {16, 0},
-    {22, 21}, {23, 20}, {24, 19}, {25, 18}, {26, 17}, {34, 32}, {35, 31}, {42, 39},
-    {43, 38}, {44, 37}, {45, 36}, {46, 41}, {47, 40}, {53, 49}, {52, 50}, {54, 48},
-    {55, 59}, {56, 58}, {63, 61}, {64, 60}, {65, 67}};
-
 struct LandmarkTarget {
   V3 from;  // start point, outside the head
   V3 dir;   // unit direction toward the surface
@@ -353,9 +347,12 @@ std::array<LandmarkTarget, 68> LandmarkTargets() {
   t[62] = front(0, kStomionY + 0.5);
   t[65] = front(10, kStomionY - 0.5);
   t[66] = front(0, kStomionY - 0.5);
-  for (const auto& pr : kMirrorPairs) {
-    const LandmarkTarget& l = t[pr[0]];
-    t[pr[1]] = {{-l.from.x, l.from.y, l.from.z}, {-l.dir.x, l.dir.y, l.dir.z}};
+  // The subject's right side (-x) mirrors the left (iBUG pairs, IbugMirrorLandmark).
+  for (int l = 0; l < 68; ++l) {
+    const int r = IbugMirrorLandmark(l);
+    if (r == l || !(t[size_t(l)].from.x > 0)) continue;
+    const LandmarkTarget& left = t[size_t(l)];
+    t[size_t(r)] = {{-left.from.x, left.from.y, left.from.z}, {-left.dir.x, left.dir.y, left.dir.z}};
   }
   return t;
 }
@@ -510,9 +507,11 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     head.landmarks[l] = ToF3(best);
     if (targets[l].from.x == 0) head.landmarks[l].x = 0.f;
   }
-  for (const auto& pr : kMirrorPairs) {
-    const float3 p = head.landmarks[pr[0]];
-    head.landmarks[pr[1]] = {-p.x, p.y, p.z};
+  for (int l = 0; l < 68; ++l) {
+    const int r = IbugMirrorLandmark(l);
+    if (r == l || !(targets[size_t(l)].from.x > 0)) continue;
+    const float3 p = head.landmarks[size_t(l)];
+    head.landmarks[size_t(r)] = {-p.x, p.y, p.z};
   }
   return head;
 }

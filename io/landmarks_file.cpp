@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/file_util.h"
+#include "io/formats.h"
 #include "io/json_reader.h"
 
 namespace mimetic {

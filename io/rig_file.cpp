@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/file_util.h"
+#include "io/formats.h"
 #include "io/json_reader.h"
 #include "io/rig_file.h"
 

@@ -13,6 +13,7 @@
 
 #include "core/file_util.h"
 #include "fitting/landmarks.h"
+#include "io/formats.h"
 #include "io/json_reader.h"
 
 namespace mimetic {

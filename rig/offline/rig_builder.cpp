@@ -7,6 +7,7 @@
 
 #include "muscles/offline/muscle_builder.h"
 #include "geometry/refine.h"
+#include "geometry/topology.h"
 #include "geometry/weld.h"
 #include "rig/runtime/normals_job.h"
 #include "wrinkles/offline/bezier.h"
@@ -261,15 +262,9 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
   rig.vertex_uvs = mesh.uvs;
 
   // Point -> triangle adjacency (CSR, ascending triangle order per point).
-  const uint32_t points = rig.point_count();
-  rig.point_triangle_offsets.assign(points + 1, 0);
-  for (uint32_t idx : rig.triangles) ++rig.point_triangle_offsets[idx + 1];
-  for (uint32_t p = 0; p < points; ++p)
-    rig.point_triangle_offsets[p + 1] += rig.point_triangle_offsets[p];
-  rig.point_triangles.resize(rig.triangles.size());
-  std::vector<uint32_t> fill(rig.point_triangle_offsets.begin(), rig.point_triangle_offsets.end() - 1);
-  for (uint32_t t = 0; t < rig.triangle_count(); ++t)
-    for (int k = 0; k < 3; ++k) rig.point_triangles[fill[rig.triangles[3 * t + k]]++] = t;
+  CsrTable adjacency = BuildPointTriangles(rig.triangles, rig.point_count());
+  rig.point_triangle_offsets = std::move(adjacency.offsets);
+  rig.point_triangles = std::move(adjacency.items);
 
   bool ok = ResolveThickness(spec.thickness, mesh, welded, &rig.point_thickness, diag);
 
