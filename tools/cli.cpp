@@ -1,5 +1,7 @@
 #include "tools/cli.h"
 
+#include <cstdlib>
+
 #include <cstdio>
 
 namespace mimetic::tools {
@@ -51,6 +53,14 @@ ParsedArgs ParseArgs(const std::vector<std::string>& args, const std::set<std::s
 int UsageError(const std::string& command, const std::string& error, const char* usage) {
   std::fprintf(stderr, "mimetic %s: %s\n\n%s", command.c_str(), error.c_str(), usage);
   return 2;
+}
+
+bool ParseNumber(const std::string& text, double lo, double hi, double* out) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) return false;
+  *out = v;
+  return true;
 }
 
 }  // namespace mimetic::tools

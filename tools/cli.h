@@ -24,6 +24,9 @@ struct ParsedArgs {
 ParsedArgs ParseArgs(const std::vector<std::string>& args, const std::set<std::string>& valued,
                      const std::set<std::string>& flags);
 
+// Parses a whole string as a number in [lo, hi] (no trailing characters; NaN never passes).
+bool ParseNumber(const std::string& text, double lo, double hi, double* out);
+
 // Prints "mimetic <cmd>: <error>\n<usage>" to stderr and returns 2.
 int UsageError(const std::string& command, const std::string& error, const char* usage);
 

@@ -39,14 +39,6 @@ static const char* kCompareUsage =
     "bottom; --yaw and --size as in `mimetic render`.\n"
     "--json writes every number to FILE (atomically).\n";
 
-static bool ParseNumber(const std::string& text, double lo, double hi, double* out) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) return false;
-  *out = v;
-  return true;
-}
-
 // Reads a vertex list: non-negative integers separated by white space, commas or brackets;
 // '#' to the end of a line is a comment.
 static bool ReadVertexList(const std::string& path, std::vector<uint32_t>* out,

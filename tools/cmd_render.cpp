@@ -42,14 +42,6 @@ static bool ParseFocus(const std::string& text, double* x, double* y) {
   return true;
 }
 
-static bool ParseReal(const std::string& text, double lo, double hi, double* out) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) return false;
-  *out = v;
-  return true;
-}
-
 int CmdRender(const Args& args) {
   const ParsedArgs parsed =
       ParseArgs(args, {"out", "yaw", "pitch", "size", "zoom", "focus"}, {"wireframe"});
@@ -64,21 +56,21 @@ int CmdRender(const Args& args) {
   const std::string out = parsed.Get("out");
   if (out.empty()) return UsageError("render", "missing --out IMAGE.png", kRenderUsage);
   double yaw = 0, pitch = 0, size = 800;
-  if (parsed.Has("yaw") && !ParseReal(parsed.Get("yaw"), -3600, 3600, &yaw))
+  if (parsed.Has("yaw") && !ParseNumber(parsed.Get("yaw"), -3600, 3600, &yaw))
     return UsageError("render", "--yaw '" + parsed.Get("yaw") + "': expected degrees",
                       kRenderUsage);
-  if (parsed.Has("pitch") && !ParseReal(parsed.Get("pitch"), -89, 89, &pitch))
+  if (parsed.Has("pitch") && !ParseNumber(parsed.Get("pitch"), -89, 89, &pitch))
     return UsageError("render", "--pitch '" + parsed.Get("pitch") +
                                     "': expected degrees in [-89, 89]",
                       kRenderUsage);
-  if (parsed.Has("size") && (!ParseReal(parsed.Get("size"), 1, 8192, &size) ||
+  if (parsed.Has("size") && (!ParseNumber(parsed.Get("size"), 1, 8192, &size) ||
                              size != static_cast<double>(static_cast<int>(size))))
     return UsageError("render", "--size '" + parsed.Get("size") +
                                     "': expected a whole number of pixels in [1, 8192]",
                       kRenderUsage);
 
   double zoom = 1, focus_x = 0.5, focus_y = 0.5;
-  if (parsed.Has("zoom") && !ParseReal(parsed.Get("zoom"), 1, 8, &zoom))
+  if (parsed.Has("zoom") && !ParseNumber(parsed.Get("zoom"), 1, 8, &zoom))
     return UsageError("render", "--zoom '" + parsed.Get("zoom") + "': expected a number in [1, 8]",
                       kRenderUsage);
   if (parsed.Has("focus") && !ParseFocus(parsed.Get("focus"), &focus_x, &focus_y))

@@ -194,23 +194,12 @@ int CmdEval(const Args& args) {
     return 1;
   }
 
-  EvaluateContext context(rig);
   const MeshData rest = RestMesh(rig);
   MeshData posed;
-  posed.positions.resize(rig.vertex_count());
-  posed.normals.resize(rig.vertex_count());
-  posed.uvs = rig.vertex_uvs();
-  posed.indices = rig.vertex_indices();
-  EvaluateJob job;
-  job.rig = &rig;
-  job.context = &context;
-  job.activations = activations;
-  job.out_positions = span<float>(&posed.positions[0].x, posed.positions.size() * 3);
-  job.out_normals = span<float>(&posed.normals[0].x, posed.normals.size() * 3);
-  job.layers.thickness = !parsed.flags.count("no-thickness");
-  job.layers.muscle_wrinkles = !parsed.flags.count("no-muscle-wrinkles");
-  job.layers.curve_wrinkles = !parsed.flags.count("no-curve-wrinkles");
-  if (!job.Run()) {
+  const SkinLayers layers{.thickness = !parsed.flags.count("no-thickness"),
+                          .muscle_wrinkles = !parsed.flags.count("no-muscle-wrinkles"),
+                          .curve_wrinkles = !parsed.flags.count("no-curve-wrinkles")};
+  if (!PosedMesh(rig, activations, layers, &posed)) {
     std::fprintf(stderr, "mimetic eval: evaluation failed (internal error: job did not validate)\n");
     return 1;
   }
@@ -241,9 +230,9 @@ int CmdEval(const Args& args) {
   const struct {
     bool compiled, enabled;
     const char* name;
-  } layer_list[] = {{rig.layers().thickness, job.layers.thickness, "thickness"},
-                    {rig.layers().muscle_wrinkles, job.layers.muscle_wrinkles, "muscle wrinkles"},
-                    {rig.layers().curve_wrinkles, job.layers.curve_wrinkles, "curve wrinkles"}};
+  } layer_list[] = {{rig.layers().thickness, layers.thickness, "thickness"},
+                    {rig.layers().muscle_wrinkles, layers.muscle_wrinkles, "muscle wrinkles"},
+                    {rig.layers().curve_wrinkles, layers.curve_wrinkles, "curve wrinkles"}};
   for (const auto& l : layer_list) {
     if (l.compiled && l.enabled) std::printf(", %s", l.name);
     else if (l.compiled) std::printf(" (%s switched off)", l.name);

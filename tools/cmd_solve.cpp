@@ -14,7 +14,7 @@
 #include "io/expression_file.h"
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
-#include "rig/runtime/evaluate_job.h"
+#include "rig/offline/rig_builder.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 
@@ -37,14 +37,6 @@ static const char* kSolveUsage =
     "  --mirror            solve each NAME_L / NAME_R pair as one value\n"
     "  --name NAME         the expression's name (default: SHAPE's file name)\n"
     "  --posed MESH        also write the rig posed with the result (.obj or .glb)\n";
-
-static bool ParseNumber(const std::string& text, double lo, double hi, double* out) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) return false;
-  *out = v;
-  return true;
-}
 
 static std::string Stem(const std::string& path) {
   const size_t slash = path.find_last_of('/');
@@ -170,19 +162,11 @@ int CmdSolve(const Args& args) {
     return 1;
   }
   if (parsed.Has("posed")) {
-    MeshData full = RestMesh(rig);
-    // The whole output layout (refined vertices too), posed with the result.
-    std::vector<float> weights = result.activations;
-    EvaluateContext context(rig);
-    std::vector<float> buffer(3 * size_t(rig.vertex_count()));
-    EvaluateJob job;
-    job.rig = &rig;
-    job.context = &context;
-    job.activations = weights;
-    job.out_positions = buffer;
-    job.Run();
-    for (uint32_t i = 0; i < rig.vertex_count(); ++i)
-      full.positions[i] = {buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]};
+    MeshData full;  // the whole output layout, refined vertices too
+    if (!PosedMesh(rig, result.activations, {}, &full)) {
+      std::fputs("mimetic solve: evaluation failed (internal error: job did not validate)\n", stderr);
+      return 1;
+    }
     if (!ExportMesh(parsed.Get("posed"), full, &diag)) {
       std::fputs(diag.Format().c_str(), stderr);
       return 1;

@@ -17,14 +17,6 @@ static const char* kUsage =
     "Writes a gently bulged rectangular sheet (a stand-in for a cheek) as .obj or .glb.\n"
     "Defaults: 41 x 41 vertices, 100 x 100 x 10 mesh units (the bundled assets/surface).\n";
 
-static bool ParseNumber(const std::string& text, double lo, double hi, double* out) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) return false;
-  *out = v;
-  return true;
-}
-
 int CmdMakeSurface(const Args& args) {
   const ParsedArgs parsed =
       ParseArgs(args, {"out", "columns", "rows", "width", "height", "bulge"}, {});

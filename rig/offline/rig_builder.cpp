@@ -9,6 +9,7 @@
 #include "geometry/refine.h"
 #include "geometry/topology.h"
 #include "geometry/weld.h"
+#include "rig/runtime/evaluate_job.h"
 #include "rig/runtime/normals_job.h"
 #include "wrinkles/offline/bezier.h"
 #include "wrinkles/offline/wrinkle_builder.h"
@@ -425,6 +426,23 @@ MeshData RestMesh(const Rig& rig) {
   mesh.uvs = rig.vertex_uvs();
   mesh.indices = rig.vertex_indices();
   return mesh;
+}
+
+bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& layers,
+               MeshData* out) {
+  MeshData posed = RestMesh(rig);
+  posed.normals.resize(posed.positions.size());
+  EvaluateContext context(rig);
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = &context;
+  job.activations = activations;
+  job.out_positions = span<float>(&posed.positions[0].x, posed.positions.size() * 3);
+  job.out_normals = span<float>(&posed.normals[0].x, posed.normals.size() * 3);
+  job.layers = layers;
+  if (posed.positions.empty() || !job.Run()) return false;
+  *out = std::move(posed);
+  return true;
 }
 
 }  // namespace mimetic

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/diagnostics.h"
+#include "core/span.h"
 #include "geometry/mesh.h"
 #include "rig/offline/rig_spec.h"
 #include "rig/runtime/rig.h"
@@ -24,5 +25,12 @@ bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& opt
 // The rig's rest mesh in its output layout (refined where wrinkles act): positions, uvs and
 // triangles per output vertex. Tools use it to write posed meshes and measure displacements.
 MeshData RestMesh(const Rig& rig);
+
+// The rig posed: RestMesh's layout with the positions and unit normals EvaluateJob gives for
+// `activations` (one per muscle; fewer is an error) and the skin layers `layers`. An offline
+// convenience (it sizes a context per call): per-frame code runs EvaluateJob itself. Returns
+// false (and leaves `out` alone) when the job does not validate.
+bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& layers,
+               MeshData* out);
 
 }  // namespace mimetic
