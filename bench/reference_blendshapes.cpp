@@ -57,8 +57,12 @@ ReferenceContext::ReferenceContext(const Rig& rig)
 
 void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float> weights,
                        ReferenceContext* ctx, span<float> out_positions, span<float> out_normals) {
+  // Plain pointers, read once: stores through `p` and the outputs cannot move them.
   float3* p = ctx->points.data();
-  for (uint32_t i : ref.points) p[i] = rig.rest_points()[i];
+  const float3* rest = rig.rest_points().data();
+  const uint32_t* vertex_points = rig.vertex_points().data();
+  const uint32_t vertex_count = rig.vertex_count();
+  for (uint32_t i : ref.points) p[i] = rest[i];
   for (size_t s = 0; s < ref.shapes.size(); ++s) {
     const float w = weights[s];
     if (w == 0.f) continue;
@@ -72,8 +76,8 @@ void EvaluateReference(const Rig& rig, const ReferenceRig& ref, span<const float
   const uint32_t* off = rig.point_triangle_offsets().data();
   const uint32_t* tri = rig.point_triangles().data();
   const float4* fn = ctx->face_normals.data();
-  for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
-    const uint32_t i = rig.vertex_points()[v];
+  for (uint32_t v = 0; v < vertex_count; ++v) {
+    const uint32_t i = vertex_points[v];
     const float3 q = p[i];
     const float3 n =
         ref.normal_changes[i] ? UnitNormal(GatherFaces4(off, tri, fn, i)) : ctx->point_normals[i];

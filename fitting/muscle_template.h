@@ -38,6 +38,7 @@ struct TemplateMuscle {
   std::string name;  // unique; `_L` / `_R` = subject's left (+x) / right
   MuscleType type = MuscleType::kLinear;
   float strength = 0.f;  // contraction at activation 1, units of s, >= 0
+  MuscleFalloff falloff = MuscleFalloff::kWaters;  // copied into the fitted rig
   // Linear: attachment[0] = v1 (bone), insertion[0] = v2 (skin). Sheet: both ends of the
   // attachment line and of the insertion line.
   TemplatePoint attachment[2];

@@ -33,6 +33,8 @@ using namespace json_reader;
 constexpr const char* kFormatName = "mimetic-rig";
 constexpr int kFormatVersion = 1;
 
+// In MuscleFalloff's order.
+const std::vector<std::string> kFalloffs = {"waters", "smooth"};
 const std::vector<std::string> kProfiles = {
     CurveWrinkleProfileName(CurveWrinkleProfile::kBando),
     CurveWrinkleProfileName(CurveWrinkleProfile::kYangZhang),
@@ -112,7 +114,10 @@ const Object kMuscle = {
             .UnknownChoice("unknown muscle type {}; supported types: \"linear\", \"sheet\" "
                            "(sphincter muscles are not supported)"),
         Number("strength").Min(0).Required()
-            .About("contraction at activation 1, mesh units")},
+            .About("contraction at activation 1, mesh units"),
+        Enum("falloff", kFalloffs, "\"waters\" or \"smooth\"")
+            .About("how the influence reaches 0 at the zone's edges (docs/model.md §2-3); "
+                   "default \"waters\"")},
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}},
     .description = "A muscle; names unique within the rig (reader check)."};
@@ -279,6 +284,7 @@ void RigRules::Thickness(const View& t, ThicknessSpec* out) {
 bool RigRules::Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkleSpec>* wrinkles) {
   m.Read("name", &out->name);
   m.Read("strength", &out->strength);
+  if (size_t choice = 0; m.Choice("falloff", &choice)) out->falloff = static_cast<MuscleFalloff>(choice);
   bool ok = m.ok();
   if (m.variant() == "linear") {
     out->type = MuscleType::kLinear;
@@ -475,6 +481,7 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
     j["name"] = m.name;
     j["type"] = MuscleTypeName(m.type);
     j["strength"] = ShortestDecimal(m.strength);
+    if (m.falloff != MuscleFalloff::kWaters) j["falloff"] = MuscleFalloffName(m.falloff);
     if (m.type == MuscleType::kLinear) {
       j["attachment"] = Vec3Json(m.linear.attachment);
       j["insertion"] = Vec3Json(m.linear.insertion);

@@ -95,7 +95,9 @@ const Object kMuscle = {
         String("name").NonEmpty().Required().About("such as \"zygomaticus_major_L\""),
         Enum("type", {"linear", "sheet"}, "\"linear\" or \"sheet\"").Required(),
         Bool("mirror").About("also the copy mirrored across the midline, _L <-> _R"),
-        Number("strength").Min(0).Required().About("units of s")},
+        Number("strength").Min(0).Required().About("units of s"),
+        Enum("falloff", {"waters", "smooth"}, "\"waters\" or \"smooth\"")
+            .About("as in the rig file; default \"waters\"")},
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}}};
 
@@ -277,6 +279,7 @@ void TemplateRules::Muscle(const View& m, std::vector<TemplateMuscle>* out,
   std::string copy_name;
   const bool mirror = Mirror(m, t.name, "muscle", &copy_name);
   m.Read("strength", &t.strength);
+  if (size_t choice = 0; m.Choice("falloff", &choice)) t.falloff = static_cast<MuscleFalloff>(choice);
   if (m.variant() == "linear") {
     t.type = MuscleType::kLinear;
     Point(m.Member("attachment"), &t.attachment[0]);

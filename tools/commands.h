@@ -19,5 +19,6 @@ int CmdFit(const Args& args);          // place a muscle template on a head (too
 int CmdCompare(const Args& args);      // how close a mesh is to another (tools/cmd_compare.cpp)
 int CmdSolve(const Args& args);        // activations closest to a target shape (tools/cmd_solve.cpp)
 int CmdFidelity(const Args& args);     // the fidelity report on ICT-FaceKit (tools/cmd_fidelity.cpp)
+int CmdCreases(const Args& args);      // crease numbers of the muscles (tools/cmd_creases.cpp)
 
 }  // namespace mimetic::tools

@@ -24,6 +24,7 @@ const Command kCommands[] = {
     {"compare", mimetic::tools::CmdCompare, "how close a mesh is to another (surface distance, motion)"},
     {"solve", mimetic::tools::CmdSolve, "the muscle activations closest to a target shape"},
     {"fidelity", mimetic::tools::CmdFidelity, "the fidelity report: the rig against ICT-FaceKit's real shapes"},
+    {"creases", mimetic::tools::CmdCreases, "how sharply each muscle folds the skin at its zone's edges"},
 };
 
 void PrintHelp(FILE* out) {

@@ -10,4 +10,12 @@ const char* MuscleTypeName(MuscleType type) {
   return "unknown";
 }
 
+const char* MuscleFalloffName(MuscleFalloff falloff) {
+  switch (falloff) {
+    case MuscleFalloff::kWaters: return "waters";
+    case MuscleFalloff::kSmooth: return "smooth";
+  }
+  return "unknown";
+}
+
 }  // namespace mimetic

@@ -28,14 +28,21 @@ struct SheetMuscleSpec {
 
 enum class MuscleType { kLinear, kSheet };
 
+// How a muscle's influence falls to zero at the edges of its zone (docs/model.md §2-3):
+// kWaters, Waters' cosines, which reach 0 with a non-zero slope, so the skin creases along the
+// zone's edges; kSmooth, the same factors squared, which reach 0 with zero slope (C1).
+enum class MuscleFalloff { kWaters, kSmooth };
+
 struct MuscleSpec {
   std::string name;       // unique within a rig
   MuscleType type = MuscleType::kLinear;
+  MuscleFalloff falloff = MuscleFalloff::kWaters;  // the paper's, for files that do not say
   float strength = 0.f;   // contraction at activation 1, mesh units (k = activation * strength)
   LinearMuscleSpec linear;  // used when type == kLinear
   SheetMuscleSpec sheet;    // used when type == kSheet
 };
 
 const char* MuscleTypeName(MuscleType type);
+const char* MuscleFalloffName(MuscleFalloff falloff);  // "waters", "smooth"
 
 }  // namespace mimetic

@@ -38,7 +38,12 @@ double SheetWidthFalloff(double gamma) {
   return std::cos(gamma * kHalfPi);
 }
 
-float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k) {
+double ApplyFalloff(double f, MuscleFalloff falloff) {
+  return falloff == MuscleFalloff::kSmooth ? f * f : f;
+}
+
+float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k,
+                                MuscleFalloff falloff) {
   const D3 v1 = ToD(m.attachment);
   const D3 axis = Sub(ToD(m.insertion), v1);
   const D3 rel = Sub(ToD(p), v1);  // p - v1
@@ -47,13 +52,14 @@ float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k) {
   if (!(d > 0.0) || !(axis_len > 0.0) || d > m.falloff_end) return {};
   const double cos_mu = DotD(axis, rel) / (axis_len * d);
   const double mu = std::acos(cos_mu < -1.0 ? -1.0 : (cos_mu > 1.0 ? 1.0 : cos_mu));
-  const double a = WatersAngularFactor(mu, m.zone_angle);
-  const double r = WatersRadialFactor(d, m.falloff_start, m.falloff_end);
+  const double a = ApplyFalloff(WatersAngularFactor(mu, m.zone_angle), falloff);
+  const double r = ApplyFalloff(WatersRadialFactor(d, m.falloff_start, m.falloff_end), falloff);
   const double s = double(k) * a * r / d;  // (v1 - p) / D = -rel / d
   return {float(-rel.x * s), float(-rel.y * s), float(-rel.z * s)};
 }
 
-float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k) {
+float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k,
+                               MuscleFalloff falloff) {
   const D3 a1 = ToD(m.attachment[0]), a2 = ToD(m.attachment[1]);
   const D3 i1 = ToD(m.insertion[0]), i2 = ToD(m.insertion[1]);
   const D3 ac = {(a1.x + a2.x) * 0.5, (a1.y + a2.y) * 0.5, (a1.z + a2.z) * 0.5};
@@ -68,15 +74,16 @@ float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k) {
   const double h = LenD(perp);
   const double lambda = l / m.length;
   const double gamma = 2.0 * h / m.width;
-  const double fl = SheetLengthFalloff(lambda, double(m.falloff_start) / m.length);
-  const double fw = SheetWidthFalloff(gamma);
+  const double fl = ApplyFalloff(SheetLengthFalloff(lambda, double(m.falloff_start) / m.length),
+                                 falloff);
+  const double fw = ApplyFalloff(SheetWidthFalloff(gamma), falloff);
   const double s = double(k) * fl * fw;
   return {float(-f.x * s), float(-f.y * s), float(-f.z * s)};
 }
 
 float3 MuscleDisplacement(const MuscleSpec& m, float3 p, float k) {
-  return m.type == MuscleType::kLinear ? LinearMuscleDisplacement(m.linear, p, k)
-                                       : SheetMuscleDisplacement(m.sheet, p, k);
+  return m.type == MuscleType::kLinear ? LinearMuscleDisplacement(m.linear, p, k, m.falloff)
+                                       : SheetMuscleDisplacement(m.sheet, p, k, m.falloff);
 }
 
 }  // namespace mimetic

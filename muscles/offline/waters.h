@@ -21,13 +21,22 @@ double SheetLengthFalloff(double lambda, double rs_over_ls);
 // docs/model.md §3 (choice): the sheet's width fall-off Fw(gamma) = cos(gamma * pi/2); 0 outside [0, 1].
 double SheetWidthFalloff(double gamma);
 
+// docs/model.md §2-3 (choice): the smooth fall-off is Waters' factor squared, F^2. Where F
+// reaches 0 with slope F' != 0 (the zone's angle and radius, the sheet's width and length
+// ends), (F^2)' = 2 F F' = 0: the displacement field is C1 there, so the skin does not fold
+// along straight lines; where F = 1 and F' = 0 (the peaks) nothing changes.
+double ApplyFalloff(double waters_factor, MuscleFalloff falloff);
+
 // Displacement of point `p` for contraction `k` (mesh units; activation * strength).
 // Linear, docs/model.md §2: k * A * R * (v1 - p) / |v1 - p|, toward the attachment.
-float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k);
+float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k,
+                                MuscleFalloff falloff = MuscleFalloff::kWaters);
 // Sheet, docs/model.md §3: -k * Fl(lambda) * Fw(gamma) * f, f the unit fiber direction mAc -> mIc.
 // `l` is measured from the attachment line's midpoint along f: l = (p - mAc) . f, and `h` is
 // the distance from p to the central fiber's line (choice: 001 leaves both implicit).
-float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k);
+float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k,
+                               MuscleFalloff falloff = MuscleFalloff::kWaters);
+// The muscle's own type and fall-off.
 float3 MuscleDisplacement(const MuscleSpec& m, float3 p, float k);
 
 }  // namespace mimetic

@@ -160,7 +160,7 @@ std::vector<BadCase> BadCases() {
       {"muscle not object", Doc("[3]"), {"muscles[0]: expected object (a muscle), got number"}},
       {"unknown muscle key", Linear(R"("strength": 4)", R"("strength": 4, "colour": 1)"),
        {"muscles[0].colour: unknown key \"colour\"",
-        "allowed keys for a linear muscle: name, type, strength, attachment, insertion, "
+        "allowed keys for a linear muscle: name, type, strength, falloff, attachment, insertion, "
         "zone_angle_deg, falloff_start, falloff_end, wrinkles"}},
       {"linear key on a sheet", Sheet(R"("width": 40)", R"("width": 40, "zone_angle_deg": 40)"),
        {"muscles[0].zone_angle_deg: unknown key", "allowed keys for a sheet muscle"}},
@@ -1368,6 +1368,47 @@ for path in sys.argv[2:]:
     EXPECT_NE(out.find("\nVALID " + p + "\n"), std::string::npos) << p << "\n" << ReadText(p) << out;
   for (const std::string& p : bad)
     EXPECT_NE(out.find("\nINVALID " + p + "\n"), std::string::npos) << p << "\n" << ReadText(p) << out;
+}
+
+}  // namespace
+}  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+TEST(RigJsonTest, MuscleFalloffKinds) {
+  // docs/rig-format.md: "falloff" is "waters" (the default) or "smooth".
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseRigSpec(Doc(), "", &spec, &diag)) << diag.Format();
+  EXPECT_EQ(spec.muscles[0].falloff, MuscleFalloff::kWaters);
+  ASSERT_TRUE(ParseRigSpec(Linear(R"("strength": 4)", R"("strength": 4, "falloff": "smooth")"), "",
+                           &spec, &diag))
+      << diag.Format();
+  EXPECT_EQ(spec.muscles[0].falloff, MuscleFalloff::kSmooth);
+  ASSERT_TRUE(ParseRigSpec(Sheet(R"("strength": 3)", R"("strength": 3, "falloff": "waters")"), "",
+                           &spec, &diag));
+  EXPECT_EQ(spec.muscles[0].falloff, MuscleFalloff::kWaters);
+  Diagnostics bad;
+  EXPECT_FALSE(ParseRigSpec(Linear(R"("strength": 4)", R"("strength": 4, "falloff": "cubic")"), "",
+                            &spec, &bad));
+  EXPECT_TRUE(bad.Contains("\"waters\" or \"smooth\"")) << bad.Format();
+  EXPECT_NE(bad.Format().find("muscles[0].falloff"), std::string::npos) << bad.Format();
+  // Saved and read back; a Waters muscle is written without the key (older readers agree).
+  spec = {};
+  ASSERT_TRUE(ParseRigSpec(Linear(R"("strength": 4)", R"("strength": 4, "falloff": "smooth")"),
+                           "", &spec, &diag));
+  const std::string dir = test::TempDir();
+  spec.file = dir + "/f.rig.json";
+  ASSERT_TRUE(SaveRigSpec(spec.file, spec, &diag)) << diag.Format();
+  RigSpec back;
+  ASSERT_TRUE(LoadRigSpec(spec.file, &back, &diag)) << diag.Format();
+  EXPECT_EQ(back.muscles[0].falloff, MuscleFalloff::kSmooth);
+  back.muscles[0].falloff = MuscleFalloff::kWaters;
+  ASSERT_TRUE(SaveRigSpec(spec.file, back, &diag));
+  std::ifstream in(spec.file);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(text.find("falloff\""), std::string::npos) << text;
 }
 
 }  // namespace

@@ -307,3 +307,31 @@ TEST(TemplateThickness, NormalisedGaussianBlendKnownAnswers) {
 
 }  // namespace
 }  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+TEST(MuscleTemplate, FalloffIsReadAndMirroredCopiesShareIt) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(kValid, &t, &diag)) << diag.Format();
+  for (const TemplateMuscle& m : t.muscles) EXPECT_EQ(m.falloff, MuscleFalloff::kWaters);
+  const std::string smooth =
+      Replace(kValid, R"("mirror": true, "strength": 0.08,)",
+              R"("mirror": true, "strength": 0.08, "falloff": "smooth",)");
+  ASSERT_TRUE(ParseMuscleTemplate(smooth, &t, &diag)) << diag.Format();
+  int smooth_count = 0;
+  for (const TemplateMuscle& m : t.muscles)
+    if (m.falloff == MuscleFalloff::kSmooth) {
+      ++smooth_count;
+      EXPECT_EQ(m.name.substr(0, 4), "zyg_");
+    }
+  EXPECT_EQ(smooth_count, 2);  // zyg_L and its mirrored zyg_R
+  Diagnostics bad;
+  EXPECT_FALSE(ParseMuscleTemplate(
+      Replace(kValid, R"("strength": 0.08,)", R"("strength": 0.08, "falloff": 3,)"), &t, &bad));
+  EXPECT_TRUE(bad.Contains("\"waters\" or \"smooth\"")) << bad.Format();
+}
+
+}  // namespace
+}  // namespace mimetic

@@ -93,6 +93,62 @@ TEST(LinearMuscle, DisplacementAtInteriorPoints) {
   ExpectNear3(LinearMuscleDisplacement(m, p, k), -2.0 * kR2 * c, -2.0 * kR2 * s, 0, 1e-6);
 }
 
+TEST(SmoothFalloff, IsWatersSquared) {
+  // docs/model.md §2-3: the smooth fall-off is each Waters factor squared. At D = 2.5 on the
+  // axis R = cos(pi/4), so the smooth R is 1/2; at mu = 30 deg and D = 7.5, A = R = cos(pi/4)
+  // and the smooth displacement is k A^2 R^2 = k / 4 along -p/|p|.
+  const LinearMuscleSpec m = Linear();
+  const float k = 2.f;
+  ExpectNear3(LinearMuscleDisplacement(m, {2.5f, 0, 0}, k, MuscleFalloff::kSmooth), -1.0, 0, 0);
+  const double c = std::cos(kPi / 6), s = std::sin(kPi / 6);
+  const float3 p{float(7.5 * c), float(7.5 * s), 0.f};
+  ExpectNear3(LinearMuscleDisplacement(m, p, k, MuscleFalloff::kSmooth), -0.5 * c, -0.5 * s, 0);
+  // The peak is unchanged: on the axis at D = Rs both give k.
+  ExpectNear3(LinearMuscleDisplacement(m, {5, 0, 0}, k, MuscleFalloff::kSmooth), -2.0, 0, 0);
+  // Sheet at l = 12.5 (lambda 0.625: Fl = cos(pi/4)), h = 5 (gamma 0.5: Fw = cos(pi/4)):
+  // Waters k/2, smooth k/4, both along -x.
+  const SheetMuscleSpec sh = Sheet();
+  ExpectNear3(SheetMuscleDisplacement(sh, {12.5f, 5, 0}, k), -1.0, 0, 0);
+  ExpectNear3(SheetMuscleDisplacement(sh, {12.5f, 5, 0}, k, MuscleFalloff::kSmooth), -0.5, 0, 0);
+  // MuscleDisplacement follows the spec's falloff.
+  MuscleSpec spec;
+  spec.type = MuscleType::kSheet;
+  spec.sheet = sh;
+  spec.falloff = MuscleFalloff::kSmooth;
+  ExpectNear3(MuscleDisplacement(spec, {12.5f, 5, 0}, k), -0.5, 0, 0);
+}
+
+TEST(SmoothFalloff, ReachesZeroWithZeroSlope) {
+  // The slope of |U| toward the zone's edges, by central differences of step h: Waters' is
+  // k pi / (2 (Rf - Rs)) at Rf and k pi / (2 Omega) per radian at Omega; the smooth one's is
+  // O(h) (its derivative 2 F F' vanishes with F).
+  const LinearMuscleSpec m = Linear();
+  const float k = 1.f;
+  const double h = 1e-3;
+  auto along_axis = [&](double d, MuscleFalloff f) {
+    return double(Length(LinearMuscleDisplacement(m, {float(d), 0.f, 0.f}, k, f)));
+  };
+  // Radial edge at Rf = 10, from inside: one-sided difference over [Rf - 2h, Rf - h].
+  const double waters_r = (along_axis(10 - 2 * h, MuscleFalloff::kWaters) -
+                           along_axis(10 - h, MuscleFalloff::kWaters)) / h;
+  const double smooth_r = (along_axis(10 - 2 * h, MuscleFalloff::kSmooth) -
+                           along_axis(10 - h, MuscleFalloff::kSmooth)) / h;
+  EXPECT_NEAR(waters_r, kPi / (2 * 5), 1e-3);
+  EXPECT_LT(std::fabs(smooth_r), 1e-2);
+  // Angular edge at Omega = 60 degrees, D = Rs = 5.
+  auto at_angle = [&](double mu, MuscleFalloff f) {
+    return double(Length(LinearMuscleDisplacement(
+        m, {float(5 * std::cos(mu)), float(5 * std::sin(mu)), 0.f}, k, f)));
+  };
+  const double omega = kPi / 3, dmu = 1e-4;
+  const double waters_a = (at_angle(omega - 2 * dmu, MuscleFalloff::kWaters) -
+                           at_angle(omega - dmu, MuscleFalloff::kWaters)) / dmu;
+  const double smooth_a = (at_angle(omega - 2 * dmu, MuscleFalloff::kSmooth) -
+                           at_angle(omega - dmu, MuscleFalloff::kSmooth)) / dmu;
+  EXPECT_NEAR(waters_a, kPi / (2 * omega), 2e-3);
+  EXPECT_LT(std::fabs(smooth_a), 1e-2);
+}
+
 TEST(LinearMuscle, ZoneBoundariesGiveZero) {
   const LinearMuscleSpec m = Linear();
   const double a = kPi / 3;

@@ -1,0 +1,31 @@
+// fitting/creases.h: how sharply a muscle folds the skin along the edges of its zone, the
+// crease number of docs/model.md §2-3 (the measure that compares Waters' fall-offs with the
+// smooth ones).
+//
+// For muscle m alone at activation 1 (the muscle displacement only: X1 = X + U_m), the change
+// of dihedral angle of every interior edge of the welded mesh, |theta(X1) - theta(X)| in
+// degrees, theta the angle between the edge's two face normals. The band: points on either
+// side of the zone's boundary (a point m moves with a neighbour it does not move, and that
+// neighbour), grown by `rings` rings of neighbours; an edge counts when both of its points are
+// in the band. The muscle's crease number is the largest change in its band; the rig's is the
+// largest over its muscles.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rig/runtime/rig.h"
+
+namespace mimetic {
+
+struct CreaseReport {
+  std::vector<float> muscle_degrees;   // per muscle, rig order (0 for a muscle that moves nothing)
+  std::vector<uint32_t> band_edges;    // per muscle: edges measured
+  float max_degrees = 0.f;             // over the muscles
+  uint32_t worst_muscle = 0;
+};
+
+// Measures every muscle of `rig`. `rings` >= 0 (2 is the documented default).
+CreaseReport MeasureCreases(const Rig& rig, int rings = 2);
+
+}  // namespace mimetic
