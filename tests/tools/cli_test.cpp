@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 
 #include "geometry/mesh.h"
@@ -262,6 +263,30 @@ TEST(Cli, MakeSurfaceWritesTheGridItSays) {
   EXPECT_EQ(mesh.triangle_count(), 4u * 3u * 2u);
   EXPECT_EQ(RunTool({"make-surface", "--out", out, "--columns", "1"}).exit_code, 2);
   EXPECT_EQ(RunTool({"make-surface", "--out", out, "--width", "abc"}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+double CreaseNumber(const std::string& output) {
+  const size_t at = output.find("crease number: ");
+  return at == std::string::npos ? -1.0 : std::atof(output.c_str() + at + 15);
+}
+
+TEST(Cli, CreasesComparesTheFalloffsOnOneRig) {
+  const auto waters = test::RunTool({"creases", SurfaceRig(), "--falloff", "waters"});
+  ASSERT_EQ(waters.exit_code, 0) << waters.output;
+  const auto smooth = test::RunTool({"creases", SurfaceRig(), "--falloff", "smooth"});
+  ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
+  EXPECT_GT(CreaseNumber(waters.output), 0.0) << waters.output;
+  EXPECT_LT(CreaseNumber(smooth.output), CreaseNumber(waters.output)) << smooth.output;
+  EXPECT_NE(smooth.output.find("zygomatic                    smooth"), std::string::npos)
+      << smooth.output;
+  EXPECT_EQ(test::RunTool({"creases", SurfaceRig(), "--falloff", "cubic"}).exit_code, 2);
+  EXPECT_EQ(test::RunTool({"creases", SurfaceRig(), "--rings", "1.5"}).exit_code, 2);
 }
 
 }  // namespace
