@@ -535,8 +535,8 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
     root["curve_wrinkles"] = std::move(curves);
   }
 
-  const LayerSpec default_layers;
-  const LayerSpec& l = spec.layers;
+  const SkinLayers default_layers;
+  const SkinLayers& l = spec.layers;
   if (l.thickness != default_layers.thickness ||
       l.muscle_wrinkles != default_layers.muscle_wrinkles ||
       l.curve_wrinkles != default_layers.curve_wrinkles) {

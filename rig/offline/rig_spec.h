@@ -25,11 +25,6 @@ struct ThicknessSpec {
   float min = 0.f, max = 0.f;      // kImage: black -> min, white -> max
 };
 
-// Which skin layers a rig evaluates (docs/model.md §1 steps 3-4): the runtime's SkinLayers, all on
-// by default. Each can also be switched off per evaluation (EvaluateJob::layers); a layer off
-// in the rig is not compiled at all. (Alias kept for rig_json.cpp and older callers.)
-using LayerSpec = SkinLayers;
-
 // Compile-time refinement (docs/model.md §11): triangles in a wrinkle's support are split until
 // their edges are shorter than `edge_fraction` times the wrinkle's width.
 struct RefinementSpec {
@@ -54,7 +49,7 @@ struct RigSpec {
   // muscles/ and wrinkles/ are siblings that do not include each other.)
   std::vector<std::optional<MuscleWrinkleSpec>> muscle_wrinkles;
   std::vector<NamedCurveWrinkle> curve_wrinkles;  // docs/model.md §7-8
-  LayerSpec layers;
+  SkinLayers layers;  // which skin layers to compile (all by default); docs/model.md §1 steps 3-4
   RefinementSpec refinement;
 };
 

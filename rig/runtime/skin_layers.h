@@ -3,8 +3,7 @@
 
 namespace mimetic {
 
-// Which skin layers are on. The same type says what a rig file asks for (RigSpec::layers, alias
-// LayerSpec), what a rig compiled (Rig::layers: a layer is on when the file enables it and it
+// Which skin layers are on. The same type says what a rig file asks for (RigSpec::layers), what a rig compiled (Rig::layers: a layer is on when the file enables it and it
 // has something to do: a non-zero thickness, a non-empty region) and what one evaluation runs
 // (EvaluateJob::layers, ANDed with the rig's; the viewer toggles them). Default: all on.
 struct SkinLayers {

@@ -1030,7 +1030,7 @@ TEST(RigJsonTest, SavedWrinkleTextHasTheDocumentedLayout) {
   ASSERT_TRUE(SaveRigSpec(path, plain, &diag)) << diag.Format();
   EXPECT_NE(ReadText(path).find("\"muscle_wrinkles\": false"), std::string::npos);
   EXPECT_EQ(ReadText(path).find("refinement"), std::string::npos);
-  plain.layers = LayerSpec();
+  plain.layers = SkinLayers();
   plain.refinement.edge_fraction = 0.5f;
   ASSERT_TRUE(SaveRigSpec(path, plain, &diag)) << diag.Format();
   EXPECT_NE(ReadText(path).find("\"edge_fraction\": 0.5"), std::string::npos);
