@@ -164,9 +164,8 @@ int CmdFidelity(const Args& args) {
   const std::string meshes_dir = parsed.Get("meshes");
   int size = 240;
   if (parsed.Has("size")) {
-    char* end = nullptr;
-    const long v = std::strtol(parsed.Get("size").c_str(), &end, 10);
-    if (*end != '\0' || v < 64 || v > 2048)
+    double v = 0;
+    if (!ParseNumber(parsed.Get("size"), 64, 2048, &v) || v != double(int(v)))
       return UsageError("fidelity", "--size '" + parsed.Get("size") +
                                         "': expected a whole number of pixels in [64, 2048]",
                         kFidelityUsage);
