@@ -23,6 +23,16 @@ struct Expression {
   std::vector<std::pair<std::string, std::string>> solve_strings;
 };
 
+// Parses an expression file (the table in io/expression_file.cpp, the schema
+// assets/schema/mimetic-expression.schema.json). Records every problem with its JSON path:
+// wrong format or version, a missing or empty name, activations not an object, an activation
+// that is not a number in [0, 1], an empty muscle name, unknown keys. `solve` is read as it
+// is (numbers and strings). Returns false when any error was recorded; `where` prefixes the
+// messages (usually the file name).
+bool ParseExpression(const std::string& text, const std::string& where, Expression* out,
+                     Diagnostics* diag);
+bool LoadExpression(const std::string& path, Expression* out, Diagnostics* diag);
+
 // The JSON text of `expression` (keys in the order given).
 std::string ExpressionToJson(const Expression& expression);
 

@@ -33,7 +33,9 @@ std::vector<SchemaFile> Schemas() {
            {"assets/head/default.template.json"}},
           {LandmarksFileFormat(), "mimetic-landmarks.schema.json",
            {"assets/head/sample_head.landmarks.json",
-            "tests/data/landmarks/ict_facekit.landmarks.json"}}};
+            "tests/data/landmarks/ict_facekit.landmarks.json"}},
+          {ExpressionFileFormat(), "mimetic-expression.schema.json",
+           {"tests/data/expressions/smile_L.expression.json"}}};
 }
 
 std::string ReadText(const std::string& path) {
