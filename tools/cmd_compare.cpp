@@ -202,9 +202,7 @@ int CmdCompare(const Args& args) {
     const float max = heat_max > 0 ? float(heat_max) : float(r.b_to_a.max);
     MeshData shown = b;
     shown.normals.clear();
-    std::vector<float3> colors = HeatColors(r.b_distance, max);
-    for (size_t v = 0; v < colors.size(); ++v)
-      if (!r.in_region[v]) colors[v] = {0.72f, 0.72f, 0.72f};  // not measured: grey
+    const std::vector<float3> colors = HeatColors(r.b_distance, max, &r.in_region);
     RenderOptions ro;
     ro.width = ro.height = static_cast<int>(size);
     ro.yaw_deg = static_cast<float>(yaw);

@@ -305,9 +305,8 @@ int CmdFidelity(const Args& args) {
     double largest = 0.0;
     for (size_t v = 0; v < target.vertex_count(); ++v)
       largest = std::max(largest, double(Length(target.positions[v] - neutral.positions[v])));
-    std::vector<float3> colors = HeatColors(row.on.b_distance, float(0.5 * largest));
-    for (size_t v = 0; v < colors.size(); ++v)
-      if (!row.on.in_region[v]) colors[v] = {0.72f, 0.72f, 0.72f};
+    const std::vector<float3> colors =
+        HeatColors(row.on.b_distance, float(0.5 * largest), &row.on.in_region);
     RenderOptions heat = ro;
     heat.vertex_colors = &colors;
     Image panels = SideBySide({RenderCloseUp(real, ro, size, zoom, fx, fy),

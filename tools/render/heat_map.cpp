@@ -18,10 +18,13 @@ float3 HeatColor(float t) {
   return kStops[i] * (1.f - f) + kStops[i + 1] * f;
 }
 
-std::vector<float3> HeatColors(const std::vector<float>& values, float max_value) {
+std::vector<float3> HeatColors(const std::vector<float>& values, float max_value,
+                               const std::vector<uint8_t>* measured) {
   std::vector<float3> colors(values.size());
   for (size_t i = 0; i < values.size(); ++i)
-    colors[i] = HeatColor(max_value > 0.f ? values[i] / max_value : 0.f);
+    colors[i] = measured && i < measured->size() && !(*measured)[i]
+                    ? float3{0.72f, 0.72f, 0.72f}
+                    : HeatColor(max_value > 0.f ? values[i] / max_value : 0.f);
   return colors;
 }
 

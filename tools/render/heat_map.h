@@ -1,6 +1,7 @@
 // tools/render/heat_map.h: colour scale for per-vertex values (`mimetic compare --heatmap`).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/image.h"
@@ -12,8 +13,10 @@ namespace mimetic {
 // green (0.5), yellow (0.75), red (1), linear between the stops.
 float3 HeatColor(float t);
 
-// Per-vertex colours of `values` scaled by 1 / `max_value` (max_value <= 0: all blue).
-std::vector<float3> HeatColors(const std::vector<float>& values, float max_value);
+// Per-vertex colours of `values` scaled by 1 / `max_value` (max_value <= 0: all blue). With
+// `measured` (one flag per value), unmeasured vertices are neutral grey (0.72).
+std::vector<float3> HeatColors(const std::vector<float>& values, float max_value,
+                               const std::vector<uint8_t>* measured = nullptr);
 
 // Draws the colour scale along the bottom `height` rows of `image` (left = 0, right = max),
 // inset by `margin` pixels, with a dark border.
