@@ -223,6 +223,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
     m.type = tm.type;
     m.strength = tm.strength * s;
     m.falloff = tm.falloff;
+    m.motion = tm.motion;
     if (tm.type == MuscleType::kLinear) {
       bool placed = placer.Place(tm.attachment[0], tm.name, "attachment", path + ".attachment", &m.linear.attachment);
       placed &= placer.Place(tm.insertion[0], tm.name, "insertion", path + ".insertion", &m.linear.insertion);

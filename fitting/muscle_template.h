@@ -39,6 +39,10 @@ struct TemplateMuscle {
   MuscleType type = MuscleType::kLinear;
   float strength = 0.f;  // contraction at activation 1, units of s, >= 0
   MuscleFalloff falloff = MuscleFalloff::kWaters;  // copied into the fitted rig
+  MuscleMotion motion = MuscleMotion::kChord;      // copied into the fitted rig
+  // True for the copy a `mirror` entry adds (it follows its source in `muscles`); the writer
+  // writes the source with `"mirror": true` and not the copy.
+  bool mirrored_copy = false;
   // Linear: attachment[0] = v1 (bone), insertion[0] = v2 (skin). Sheet: both ends of the
   // attachment line and of the insertion line.
   TemplatePoint attachment[2];
@@ -64,6 +68,7 @@ struct TemplateCurveWrinkle {
   CurveWrinkleProfile profile = CurveWrinkleProfile::kBando;
   CurveWrinkleModulation modulation = CurveWrinkleModulation::kDirectional;
   float rest_amplitude = 0.f;  // [0, 1]
+  bool mirrored_copy = false;  // as for muscles
 };
 
 // A region of the skin-thickness map (Bando et al. 2003 §6: the face is divided into regions
@@ -74,6 +79,7 @@ struct ThicknessRegion {
   float2 center;  // face-frame (x, y), units of s
   float2 radius;  // (sx, sy) > 0, units of s
   float value = 0.f;  // thickness at the region's centre, units of s, >= 0
+  bool mirrored_copy = false;  // as for muscles
 };
 
 // h(p) = (w0 * base + sum_i g_i(p) v_i) / (w0 + sum_i g_i(p)), a normalised Gaussian blend,
@@ -88,6 +94,7 @@ struct TemplateThickness {
 
 struct MuscleTemplate {
   std::string file;  // where it was loaded from ("" when parsed from text)
+  std::string description;
   TemplateThickness thickness;
   std::vector<TemplateMuscle> muscles;  // `mirror` entries already expanded, file order
   std::vector<TemplateCurveWrinkle> curve_wrinkles;  // likewise

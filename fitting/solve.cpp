@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/strings.h"
 #include "fitting/box_least_squares.h"
 #include "fitting/compare.h"
 #include "rig/runtime/evaluate_job.h"
@@ -46,11 +47,6 @@ double Residual(const std::vector<float3>& posed, const MeshData& target,
     sum += double(weight[v]) * (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
   }
   return sum;
-}
-
-bool EndsWith(const std::string& s, const char* suffix) {
-  const size_t n = std::char_traits<char>::length(suffix);
-  return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
 }
 
 }  // namespace

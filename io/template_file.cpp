@@ -5,6 +5,9 @@
 // expected; nothing throws out of this file.
 #include "io/template_file.h"
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <set>
 #include <string>
 #include <vector>
@@ -12,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/file_util.h"
+#include "core/strings.h"
 #include "fitting/landmarks.h"
 #include "io/formats.h"
 #include "io/json_reader.h"
@@ -97,7 +101,9 @@ const Object kMuscle = {
         Bool("mirror").About("also the copy mirrored across the midline, _L <-> _R"),
         Number("strength").Min(0).Required().About("units of s"),
         Enum("falloff", {"waters", "smooth"}, "\"waters\" or \"smooth\"")
-            .About("as in the rig file; default \"waters\"")},
+            .About("as in the rig file; default \"waters\""),
+        Enum("motion", {"chord", "tangent"}, "\"chord\" or \"tangent\"")
+            .About("as in the rig file; default \"chord\"")},
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}}};
 
@@ -134,10 +140,6 @@ const Format kTemplateFormat = {
 // ---------------------------------------------------------------------------------------------
 // The rules between fields, and mirroring.
 
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 class TemplateRules {
  public:
   TemplateRules(Reader* reader, Diagnostics* diag) : r_(*reader), diag_(diag) {}
@@ -160,6 +162,7 @@ class TemplateRules {
 };
 
 void TemplateRules::Root(const View& top, MuscleTemplate* out) {
+  top.Read("description", &out->description);
   if (top.Has("thickness")) Thickness(top.Member("thickness"), &out->thickness);
   std::vector<std::string> origins, names;
   for (size_t i = 0; i < top.Size("muscles"); ++i)
@@ -266,6 +269,7 @@ void TemplateRules::Thickness(const View& t, TemplateThickness* out) {
     out->regions.push_back(region);
     if (mirror && region.center.x != 0.f) {
       region.center.x = -region.center.x;
+      region.mirrored_copy = true;
       out->regions.push_back(region);
     }
   }
@@ -280,6 +284,7 @@ void TemplateRules::Muscle(const View& m, std::vector<TemplateMuscle>* out,
   const bool mirror = Mirror(m, t.name, "muscle", &copy_name);
   m.Read("strength", &t.strength);
   if (size_t choice = 0; m.Choice("falloff", &choice)) t.falloff = static_cast<MuscleFalloff>(choice);
+  if (size_t choice = 0; m.Choice("motion", &choice)) t.motion = static_cast<MuscleMotion>(choice);
   if (m.variant() == "linear") {
     t.type = MuscleType::kLinear;
     Point(m.Member("attachment"), &t.attachment[0]);
@@ -314,6 +319,7 @@ void TemplateRules::Muscle(const View& m, std::vector<TemplateMuscle>* out,
   if (!mirror) return;
   TemplateMuscle c = t;
   c.name = copy_name;
+  c.mirrored_copy = true;
   for (TemplatePoint* p : {&c.attachment[0], &c.attachment[1], &c.insertion[0], &c.insertion[1]}) {
     for (int& l : p->landmarks) l = IbugMirrorLandmark(l);
     p->offset.x = -p->offset.x;
@@ -343,6 +349,7 @@ void TemplateRules::Curve(const View& c, std::vector<TemplateCurveWrinkle>* out,
   if (!mirror) return;
   TemplateCurveWrinkle m = t;
   m.name = copy_name;
+  m.mirrored_copy = true;
   for (TemplatePoint& p : m.control) {
     for (int& l : p.landmarks) l = IbugMirrorLandmark(l);
     p.offset.x = -p.offset.x;
@@ -381,6 +388,159 @@ bool LoadMuscleTemplate(const std::string& path, MuscleTemplate* out, Diagnostic
   t.file = path;
   *out = std::move(t);
   return true;
+}
+
+}  // namespace mimetic
+
+// ---------------------------------------------------------------------------------------------
+// Writing (calibrated templates, `mimetic calibrate`).
+
+namespace mimetic {
+namespace {
+
+using ordered_json = nlohmann::ordered_json;
+
+// Four significant digits, the shortest decimal that prints so ("0.1", not "0.10000000149").
+double Short(double v) {
+  if (!std::isfinite(v)) return v;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return std::strtod(buf, nullptr);
+}
+
+ordered_json PointJson(const TemplatePoint& p, bool with_depth) {
+  ordered_json j;
+  j["landmarks"] = p.landmarks;
+  bool equal = true;
+  for (float w : p.weights) equal &= std::fabs(w - p.weights[0]) < 1e-6f;
+  if (!equal) {
+    ordered_json w = ordered_json::array();
+    for (float x : p.weights) w.push_back(Short(x));
+    j["weights"] = w;
+  }
+  if (p.offset.x != 0.f || p.offset.y != 0.f)
+    j["offset"] = ordered_json::array({Short(p.offset.x), Short(p.offset.y)});
+  if (with_depth) j["depth"] = Short(p.depth);
+  return j;
+}
+
+// Objects and arrays that fit in `width` columns go on one line; the rest one member a line.
+void Pretty(const ordered_json& j, int indent, std::string* out) {
+  const std::string flat = j.dump(-1, ' ', false, ordered_json::error_handler_t::replace);
+  if ((!j.is_object() && !j.is_array()) || j.empty() || flat.size() + size_t(indent) <= 100) {
+    // nlohmann's compact form has no spaces after ':' and ','; add them for reading.
+    std::string spaced;
+    bool in_string = false;
+    for (size_t i = 0; i < flat.size(); ++i) {
+      const char c = flat[i];
+      spaced += c;
+      if (c == '"' && (i == 0 || flat[i - 1] != '\\')) in_string = !in_string;
+      if (!in_string && (c == ':' || c == ',')) spaced += ' ';
+    }
+    *out += spaced;
+    return;
+  }
+  const std::string pad(size_t(indent + 2), ' ');
+  *out += j.is_object() ? "{\n" : "[\n";
+  size_t k = 0;
+  for (auto it = j.begin(); it != j.end(); ++it, ++k) {
+    *out += pad;
+    if (j.is_object()) *out += ordered_json(it.key()).dump() + ": ";
+    Pretty(*it, indent + 2, out);
+    *out += k + 1 < j.size() ? ",\n" : "\n";
+  }
+  *out += std::string(size_t(indent), ' ') + (j.is_object() ? "}" : "]");
+}
+
+}  // namespace
+
+std::string MuscleTemplateToJson(const MuscleTemplate& t) {
+  ordered_json j;
+  j["format"] = kFormatName;
+  j["version"] = 1;
+  if (!t.description.empty()) j["description"] = t.description;
+  ordered_json th;
+  th["base"] = Short(t.thickness.base);
+  th["front"] = ordered_json::array({Short(t.thickness.front[0]), Short(t.thickness.front[1])});
+  ordered_json regions = ordered_json::array();
+  for (size_t i = 0; i < t.thickness.regions.size(); ++i) {
+    const ThicknessRegion& r = t.thickness.regions[i];
+    if (r.mirrored_copy) continue;
+    ordered_json e;
+    if (!r.name.empty()) e["name"] = r.name;
+    e["center"] = ordered_json::array({Short(r.center.x), Short(r.center.y)});
+    e["radius"] = ordered_json::array({Short(r.radius.x), Short(r.radius.y)});
+    e["value"] = Short(r.value);
+    if (i + 1 < t.thickness.regions.size() && t.thickness.regions[i + 1].mirrored_copy)
+      e["mirror"] = true;
+    regions.push_back(e);
+  }
+  if (!regions.empty()) th["regions"] = regions;
+  j["thickness"] = th;
+  ordered_json muscles = ordered_json::array();
+  for (size_t i = 0; i < t.muscles.size(); ++i) {
+    const TemplateMuscle& m = t.muscles[i];
+    if (m.mirrored_copy) continue;
+    const bool linear = m.type == MuscleType::kLinear;
+    ordered_json e;
+    e["name"] = m.name;
+    e["type"] = MuscleTypeName(m.type);
+    if (i + 1 < t.muscles.size() && t.muscles[i + 1].mirrored_copy) e["mirror"] = true;
+    e["strength"] = Short(m.strength);
+    if (m.falloff != MuscleFalloff::kWaters) e["falloff"] = MuscleFalloffName(m.falloff);
+    if (m.motion != MuscleMotion::kChord) e["motion"] = MuscleMotionName(m.motion);
+    if (linear) {
+      e["attachment"] = PointJson(m.attachment[0], true);
+      e["insertion"] = PointJson(m.insertion[0], true);
+      e["zone_angle_deg"] = Short(m.zone_angle_deg);
+      e["falloff_start"] = Short(m.falloff_start);
+      e["falloff_end"] = Short(m.falloff_end);
+    } else {
+      e["attachment"] = ordered_json::array({PointJson(m.attachment[0], true), PointJson(m.attachment[1], true)});
+      e["insertion"] = ordered_json::array({PointJson(m.insertion[0], true), PointJson(m.insertion[1], true)});
+      e["length"] = Short(m.length);
+      e["width"] = Short(m.width);
+      e["falloff_start"] = Short(m.falloff_start);
+    }
+    if (m.wrinkles) {
+      const MuscleWrinkleSpec& w = *m.wrinkles;
+      ordered_json wj;
+      wj["lambda_w"] = Short(w.lambda_w);
+      wj["count"] = w.count;
+      wj["depth"] = Short(w.depth);
+      wj["shape"] = Short(w.shape);
+      if (linear && w.phi_c != 0.f) wj["phi_c_deg"] = Short(w.phi_c * 180.0 / 3.14159265358979323846);
+      if (!linear && w.h_c != 0.f) wj["h_c"] = Short(w.h_c);
+      e["wrinkles"] = wj;
+    }
+    muscles.push_back(e);
+  }
+  j["muscles"] = muscles;
+  ordered_json curves = ordered_json::array();
+  for (size_t i = 0; i < t.curve_wrinkles.size(); ++i) {
+    const TemplateCurveWrinkle& c = t.curve_wrinkles[i];
+    if (c.mirrored_copy) continue;
+    ordered_json e;
+    e["name"] = c.name;
+    if (i + 1 < t.curve_wrinkles.size() && t.curve_wrinkles[i + 1].mirrored_copy) e["mirror"] = true;
+    ordered_json control = ordered_json::array();
+    for (const TemplatePoint& p : c.control) control.push_back(PointJson(p, false));
+    e["control"] = control;
+    e["depth"] = Short(c.depth);
+    e["width"] = Short(c.width);
+    e["profile"] = CurveWrinkleProfileName(c.profile);
+    e["modulation"] = CurveWrinkleModulationName(c.modulation);
+    e["rest_amplitude"] = Short(c.rest_amplitude);
+    curves.push_back(e);
+  }
+  if (!curves.empty()) j["curve_wrinkles"] = curves;
+  std::string out;
+  Pretty(j, 0, &out);
+  return out + "\n";
+}
+
+bool SaveMuscleTemplate(const std::string& path, const MuscleTemplate& t, Diagnostics* diag) {
+  return WriteFileAtomic(path, MuscleTemplateToJson(t), diag);
 }
 
 }  // namespace mimetic

@@ -14,4 +14,10 @@ namespace mimetic {
 bool ParseMuscleTemplate(std::string_view json_text, MuscleTemplate* out, Diagnostics* diag);
 bool LoadMuscleTemplate(const std::string& path, MuscleTemplate* out, Diagnostics* diag);
 
+// Writes a template in the file format: a mirrored pair as its source with `"mirror": true`,
+// numbers to 4 significant digits, small objects on one line. Parsing the text gives back
+// the template to those digits (`mimetic calibrate` writes its result with it).
+std::string MuscleTemplateToJson(const MuscleTemplate& t);
+bool SaveMuscleTemplate(const std::string& path, const MuscleTemplate& t, Diagnostics* diag);
+
 }  // namespace mimetic

@@ -24,6 +24,7 @@
 #include "rig/offline/rig_builder.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/ict_shapes.h"
 #include "tools/render/close_up.h"
 #include "tools/render/heat_map.h"
 
@@ -46,79 +47,8 @@ const char* kFidelityUsage =
     "--only solves just the named shapes (the report then lists only them); --meshes writes\n"
     "each posed rig (the input mesh's vertices) as DIR/SHAPE.obj. Run from the repository root.\n";
 
-struct Shape {
-  const char* name;
-  const char* file;  // under the data directory
-  const char* why_not;  // nullptr: claimed; else why linear and sheet muscles cannot make it
-};
-
-// ICT-FaceKit's shapes (ARKit names, ict-facekit/arkit/README.md) and the brow raise.
-constexpr const char* kSphincterOris =
-    "orbicularis oris, a sphincter (the rig has linear and sheet muscles only)";
-constexpr const char* kSphincterOculi =
-    "orbicularis oculi, a sphincter, and the eyelids (the rig has neither)";
-constexpr const char* kJaw = "the jaw turns (no jaw stage yet: the jaw issue adds it)";
-constexpr const char* kEyes = "the eyeballs turn; the lids follow (no eyes or lids in the rig)";
-const Shape kShapes[] = {
-    {"browRaise (AU1+2)", "ict-facekit/ict_skin_browRaise_AU1+AU2.obj", nullptr},
-    {"browInnerUp_L", "ict-facekit/arkit/browInnerUp_L.obj", nullptr},
-    {"browInnerUp_R", "ict-facekit/arkit/browInnerUp_R.obj", nullptr},
-    {"browOuterUp_L", "ict-facekit/arkit/browOuterUp_L.obj", nullptr},
-    {"browOuterUp_R", "ict-facekit/arkit/browOuterUp_R.obj", nullptr},
-    {"browDown_L", "ict-facekit/arkit/browDown_L.obj", nullptr},
-    {"browDown_R", "ict-facekit/arkit/browDown_R.obj", nullptr},
-    {"mouthSmile_L", "ict-facekit/arkit/mouthSmile_L.obj", nullptr},
-    {"mouthSmile_R", "ict-facekit/arkit/mouthSmile_R.obj", nullptr},
-    {"mouthDimple_L", "ict-facekit/arkit/mouthDimple_L.obj", nullptr},
-    {"mouthDimple_R", "ict-facekit/arkit/mouthDimple_R.obj", nullptr},
-    {"mouthStretch_L", "ict-facekit/arkit/mouthStretch_L.obj", nullptr},
-    {"mouthStretch_R", "ict-facekit/arkit/mouthStretch_R.obj", nullptr},
-    {"mouthUpperUp_L", "ict-facekit/arkit/mouthUpperUp_L.obj", nullptr},
-    {"mouthUpperUp_R", "ict-facekit/arkit/mouthUpperUp_R.obj", nullptr},
-    {"mouthLowerDown_L", "ict-facekit/arkit/mouthLowerDown_L.obj", nullptr},
-    {"mouthLowerDown_R", "ict-facekit/arkit/mouthLowerDown_R.obj", nullptr},
-    {"mouthShrugUpper", "ict-facekit/arkit/mouthShrugUpper.obj", nullptr},
-    {"mouthLeft", "ict-facekit/arkit/mouthLeft.obj", nullptr},
-    {"mouthRight", "ict-facekit/arkit/mouthRight.obj", nullptr},
-    {"cheekPuff_L", "ict-facekit/arkit/cheekPuff_L.obj",
-     "air pressure pushes the cheek out; no muscle pulls it there"},
-    {"cheekPuff_R", "ict-facekit/arkit/cheekPuff_R.obj",
-     "air pressure pushes the cheek out; no muscle pulls it there"},
-    {"cheekRaiser_L", "ict-facekit/arkit/cheekRaiser_L.obj", kSphincterOculi},
-    {"cheekRaiser_R", "ict-facekit/arkit/cheekRaiser_R.obj", kSphincterOculi},
-    {"cheekSquint_L", "ict-facekit/arkit/cheekSquint_L.obj", kSphincterOculi},
-    {"cheekSquint_R", "ict-facekit/arkit/cheekSquint_R.obj", kSphincterOculi},
-    {"eyeSquint_L", "ict-facekit/arkit/eyeSquint_L.obj", kSphincterOculi},
-    {"eyeSquint_R", "ict-facekit/arkit/eyeSquint_R.obj", kSphincterOculi},
-    {"eyeBlink_L", "ict-facekit/arkit/eyeBlink_L.obj", kSphincterOculi},
-    {"eyeBlink_R", "ict-facekit/arkit/eyeBlink_R.obj", kSphincterOculi},
-    {"eyeWide_L", "ict-facekit/arkit/eyeWide_L.obj",
-     "levator palpebrae lifts the upper lid (no lids in the rig)"},
-    {"eyeWide_R", "ict-facekit/arkit/eyeWide_R.obj",
-     "levator palpebrae lifts the upper lid (no lids in the rig)"},
-    {"eyeLookDown_L", "ict-facekit/arkit/eyeLookDown_L.obj", kEyes},
-    {"eyeLookDown_R", "ict-facekit/arkit/eyeLookDown_R.obj", kEyes},
-    {"eyeLookIn_L", "ict-facekit/arkit/eyeLookIn_L.obj", kEyes},
-    {"eyeLookIn_R", "ict-facekit/arkit/eyeLookIn_R.obj", kEyes},
-    {"eyeLookOut_L", "ict-facekit/arkit/eyeLookOut_L.obj", kEyes},
-    {"eyeLookOut_R", "ict-facekit/arkit/eyeLookOut_R.obj", kEyes},
-    {"eyeLookUp_L", "ict-facekit/arkit/eyeLookUp_L.obj", kEyes},
-    {"eyeLookUp_R", "ict-facekit/arkit/eyeLookUp_R.obj", kEyes},
-    {"jawOpen", "ict-facekit/arkit/jawOpen.obj", kJaw},
-    {"jawForward", "ict-facekit/arkit/jawForward.obj", kJaw},
-    {"jawLeft", "ict-facekit/arkit/jawLeft.obj", kJaw},
-    {"jawRight", "ict-facekit/arkit/jawRight.obj", kJaw},
-    {"mouthClose", "ict-facekit/arkit/mouthClose.obj", kJaw},
-    {"mouthFunnel", "ict-facekit/arkit/mouthFunnel.obj", kSphincterOris},
-    {"mouthPucker", "ict-facekit/arkit/mouthPucker.obj", kSphincterOris},
-    {"mouthPress_L", "ict-facekit/arkit/mouthPress_L.obj", kSphincterOris},
-    {"mouthPress_R", "ict-facekit/arkit/mouthPress_R.obj", kSphincterOris},
-    {"mouthRollLower", "ict-facekit/arkit/mouthRollLower.obj", kSphincterOris},
-    {"mouthRollUpper", "ict-facekit/arkit/mouthRollUpper.obj", kSphincterOris},
-};
-
 struct Row {
-  const Shape* shape = nullptr;
+  const IctShape* shape = nullptr;
   CompareResult on, off;     // every skin layer / muscles alone
   std::string top_muscles;   // the largest activations, layers on
   double solve_seconds = 0;
@@ -171,24 +101,24 @@ int CmdFidelity(const Args& args) {
                         kFidelityUsage);
     size = int(v);
   }
-  std::vector<const Shape*> shapes;
+  std::vector<const IctShape*> shapes;
   if (parsed.Has("only")) {
     std::stringstream list(parsed.Get("only"));
     std::string name;
     while (std::getline(list, name, ',')) {
-      const Shape* found = nullptr;
-      for (const Shape& s : kShapes)
+      const IctShape* found = nullptr;
+      for (const IctShape& s : IctShapes())
         if (name == s.name) found = &s;
       if (!found) {
         std::string known;
-        for (const Shape& s : kShapes) known += (known.empty() ? "" : ", ") + std::string(s.name);
+        for (const IctShape& s : IctShapes()) known += (known.empty() ? "" : ", ") + std::string(s.name);
         return UsageError("fidelity", "--only: unknown shape '" + name + "'; known: " + known,
                           kFidelityUsage);
       }
       shapes.push_back(found);
     }
   } else {
-    for (const Shape& s : kShapes) shapes.push_back(&s);
+    for (const IctShape& s : IctShapes()) shapes.push_back(&s);
   }
 
   // The rig: the template fitted to the ICT neutral.
@@ -235,11 +165,11 @@ int CmdFidelity(const Args& args) {
   if (!meshes_dir.empty()) std::filesystem::create_directories(meshes_dir, ec);
   const std::string report_dir = std::filesystem::path(report_path).parent_path().string();
   std::vector<Row> rows;
-  std::vector<const Shape*> not_claimed, missing;
+  std::vector<const IctShape*> not_claimed, missing;
   size_t done = 0;
   const size_t claimed_count = size_t(std::count_if(shapes.begin(), shapes.end(),
-                                                    [](const Shape* s) { return !s->why_not; }));
-  for (const Shape* shape : shapes) {
+                                                    [](const IctShape* s) { return !s->why_not; }));
+  for (const IctShape* shape : shapes) {
     if (shape->why_not) {
       not_claimed.push_back(shape);
       continue;
@@ -368,7 +298,7 @@ int CmdFidelity(const Args& args) {
         " of " + std::to_string(rows.size()) + ".\n\n";
   if (!not_claimed.empty()) {
     md += "## Shapes the rig does not claim\n\n| shape | why |\n|---|---|\n";
-    for (const Shape* s : not_claimed) md += "| " + std::string(s->name) + " | " + s->why_not + " |\n";
+    for (const IctShape* s : not_claimed) md += "| " + std::string(s->name) + " | " + s->why_not + " |\n";
     md += "\n";
   }
   if (!missing.empty()) {

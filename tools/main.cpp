@@ -25,6 +25,7 @@ const Command kCommands[] = {
     {"solve", mimetic::tools::CmdSolve, "the muscle activations closest to a target shape"},
     {"fidelity", mimetic::tools::CmdFidelity, "the fidelity report: the rig against ICT-FaceKit's real shapes"},
     {"creases", mimetic::tools::CmdCreases, "how sharply each muscle folds the skin at its zone's edges"},
+    {"calibrate", mimetic::tools::CmdCalibrate, "calibrate a muscle template on real expression shapes"},
 };
 
 void PrintHelp(FILE* out) {

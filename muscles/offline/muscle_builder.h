@@ -9,8 +9,15 @@
 
 namespace mimetic {
 
+// docs/model.md §2-3, "Motion": `d` itself for kChord; for kTangent, d - (d . n) n, the part of
+// d across the surface (`normal` is the unit rest normal; a zero normal leaves d as it is).
+float3 ApplyMuscleMotion(float3 d, float3 normal, MuscleMotion motion);
+
 // For every point and muscle, evaluates docs/model.md §2-3 at activation 1 (k = strength) and keeps
 // non-zero displacements. Specs must already be valid (the rig loader checks them).
-MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points);
+// `rest_normals` (unit, one per point) is read by kTangent muscles only; when it is empty they
+// move as kChord.
+MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
+                             span<const float3> rest_normals = {});
 
 }  // namespace mimetic

@@ -18,4 +18,12 @@ const char* MuscleFalloffName(MuscleFalloff falloff) {
   return "unknown";
 }
 
+const char* MuscleMotionName(MuscleMotion motion) {
+  switch (motion) {
+    case MuscleMotion::kChord: return "chord";
+    case MuscleMotion::kTangent: return "tangent";
+  }
+  return "unknown";
+}
+
 }  // namespace mimetic

@@ -32,11 +32,17 @@ enum class MuscleType { kLinear, kSheet };
 // kWaters, Waters' cosines, which reach 0 with a non-zero slope, so the skin creases along the
 // zone's edges; kSmooth, the same factors squared, which reach 0 with zero slope (C1).
 enum class MuscleFalloff { kWaters, kSmooth };
+// Which way the skin goes (docs/model.md §2-3, "Motion"): kChord, Waters' own, straight toward
+// the attachment under the skin, so every motion has a part into the surface; kTangent, that
+// motion with its part along the rest surface normal removed, so the skin slides over the
+// tissue beneath instead of sinking into it.
+enum class MuscleMotion { kChord, kTangent };
 
 struct MuscleSpec {
   std::string name;       // unique within a rig
   MuscleType type = MuscleType::kLinear;
   MuscleFalloff falloff = MuscleFalloff::kWaters;  // the paper's, for files that do not say
+  MuscleMotion motion = MuscleMotion::kChord;      // the paper's, for files that do not say
   float strength = 0.f;   // contraction at activation 1, mesh units (k = activation * strength)
   LinearMuscleSpec linear;  // used when type == kLinear
   SheetMuscleSpec sheet;    // used when type == kSheet
@@ -44,5 +50,6 @@ struct MuscleSpec {
 
 const char* MuscleTypeName(MuscleType type);
 const char* MuscleFalloffName(MuscleFalloff falloff);  // "waters", "smooth"
+const char* MuscleMotionName(MuscleMotion motion);     // "chord", "tangent"
 
 }  // namespace mimetic

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "muscles/offline/muscle_builder.h"
+#include "geometry/normals.h"
 #include "geometry/refine.h"
 #include "geometry/topology.h"
 #include "geometry/weld.h"
@@ -270,7 +271,14 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
   bool ok = ResolveThickness(spec.thickness, mesh, welded, &rig.point_thickness, diag);
 
   for (const MuscleSpec& m : spec.muscles) rig.muscle_names.push_back(m.name);
-  rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points);
+  bool any_tangent = false;
+  for (const MuscleSpec& m : spec.muscles) any_tangent |= m.motion == MuscleMotion::kTangent;
+  // The welded rest surface's area-weighted normals (a point per position, so seams agree).
+  const std::vector<float3> rest_normals =
+      any_tangent ? ComputeVertexNormals(span<const float3>(rig.rest_points),
+                                         span<const uint32_t>(rig.triangles))
+                  : std::vector<float3>();
+  rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points, rest_normals);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     if (rig.muscles.CountInfluenced(m) == 0 && spec.muscles[m].strength > 0.f)
       diag->Warning("muscles[" + std::to_string(m) + "] (" + spec.muscles[m].name + ")",

@@ -1,0 +1,478 @@
+// fitting/calibrate.cpp: coordinate search over a template's muscle parameters (calibrate.h).
+#include "fitting/calibrate.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/strings.h"
+#include "fitting/anatomy.h"
+#include "fitting/box_least_squares.h"
+#include "fitting/compare.h"
+#include "fitting/fit.h"
+#include "geometry/normals.h"
+#include "muscles/offline/muscle_builder.h"
+#include "muscles/offline/waters.h"
+
+namespace mimetic {
+namespace {
+
+// One training shape: its displacement from the neutral, the per-vertex weights, and the
+// normal equations of the muscle basis under those weights (G = U^T W U, h = U^T W t).
+struct Target {
+  std::vector<double> t;  // 3 per vertex
+  std::vector<double> w;  // 1 per vertex
+  double twt = 0.0;
+  Eigen::MatrixXd g;
+  Eigen::VectorXd h;
+};
+
+enum class Kind { kStrength, kRs, kRf, kAngle, kLength, kWidth, kInsX, kInsY, kAttX, kAttY,
+                  kAttDepth, kInsDepth, kMotion };
+
+const char* KindName(Kind k) {
+  switch (k) {
+    case Kind::kStrength: return "strength";
+    case Kind::kRs: return "falloff_start";
+    case Kind::kRf: return "falloff_end";
+    case Kind::kAngle: return "zone_angle_deg";
+    case Kind::kLength: return "length";
+    case Kind::kWidth: return "width";
+    case Kind::kInsX: return "insertion dx";
+    case Kind::kInsY: return "insertion dy";
+    case Kind::kAttX: return "attachment dx";
+    case Kind::kAttY: return "attachment dy";
+    case Kind::kAttDepth: return "attachment depth";
+    case Kind::kInsDepth: return "insertion depth";
+    case Kind::kMotion: return "motion";
+  }
+  return "?";
+}
+
+bool Multiplicative(Kind k) {
+  return k == Kind::kStrength || k == Kind::kRs || k == Kind::kRf || k == Kind::kLength ||
+         k == Kind::kWidth;
+}
+
+int PointCount(const TemplateMuscle& m) { return m.type == MuscleType::kSheet ? 2 : 1; }
+
+double Get(const TemplateMuscle& m, Kind k) {
+  switch (k) {
+    case Kind::kStrength: return m.strength;
+    case Kind::kRs: return m.falloff_start;
+    case Kind::kRf: return m.falloff_end;
+    case Kind::kAngle: return m.zone_angle_deg;
+    case Kind::kLength: return m.length;
+    case Kind::kWidth: return m.width;
+    case Kind::kInsX: return m.insertion[0].offset.x;
+    case Kind::kInsY: return m.insertion[0].offset.y;
+    case Kind::kAttX: return m.attachment[0].offset.x;
+    case Kind::kAttY: return m.attachment[0].offset.y;
+    case Kind::kAttDepth: return m.attachment[0].depth;
+    case Kind::kInsDepth: return m.insertion[0].depth;
+    case Kind::kMotion: return m.motion == MuscleMotion::kTangent ? 1.0 : 0.0;
+  }
+  return 0.0;
+}
+
+// Sets one parameter; a sheet's two points of a line move together.
+void Set(TemplateMuscle* m, Kind k, double value) {
+  const float v = float(value);
+  const int n = PointCount(*m);
+  switch (k) {
+    case Kind::kStrength: m->strength = v; break;
+    case Kind::kRs: m->falloff_start = v; break;
+    case Kind::kRf: m->falloff_end = v; break;
+    case Kind::kAngle: m->zone_angle_deg = v; break;
+    case Kind::kLength: m->length = v; break;
+    case Kind::kWidth: m->width = v; break;
+    case Kind::kInsX: { const float d = v - m->insertion[0].offset.x; for (int i = 0; i < n; ++i) m->insertion[i].offset.x += d; break; }
+    case Kind::kInsY: { const float d = v - m->insertion[0].offset.y; for (int i = 0; i < n; ++i) m->insertion[i].offset.y += d; break; }
+    case Kind::kAttX: { const float d = v - m->attachment[0].offset.x; for (int i = 0; i < n; ++i) m->attachment[i].offset.x += d; break; }
+    case Kind::kAttY: { const float d = v - m->attachment[0].offset.y; for (int i = 0; i < n; ++i) m->attachment[i].offset.y += d; break; }
+    case Kind::kAttDepth: for (int i = 0; i < n; ++i) m->attachment[i].depth = v; break;
+    case Kind::kInsDepth: for (int i = 0; i < n; ++i) m->insertion[i].depth = v; break;
+    case Kind::kMotion: m->motion = value > 0.5 ? MuscleMotion::kTangent : MuscleMotion::kChord; break;
+  }
+}
+
+struct Param {
+  size_t muscle;  // source muscle index in the template
+  Kind kind;
+  double lo, hi, step, min_step;
+};
+
+// The mirror image of a source muscle (template_file's rule: landmarks mirrored, dx negated).
+TemplateMuscle MirrorOf(const TemplateMuscle& src, const std::string& name) {
+  TemplateMuscle c = src;
+  c.name = name;
+  c.mirrored_copy = true;
+  for (TemplatePoint* p : {&c.attachment[0], &c.attachment[1], &c.insertion[0], &c.insertion[1]}) {
+    for (int& l : p->landmarks) l = IbugMirrorLandmark(l);
+    p->offset.x = -p->offset.x;
+  }
+  return c;
+}
+
+class Calibrator {
+ public:
+  Calibrator(const MeshData& head, const Landmarks& landmarks, const CalibrationOptions& options)
+      : head_(head), landmarks_(landmarks), options_(options) {}
+
+  bool Init(const MuscleTemplate& tmpl, const std::vector<CalibrationShape>& shapes,
+            Diagnostics* diag) {
+    if (shapes.empty()) return diag->Error("shapes", "no training shape; expected at least one"), false;
+    if (!ResolveLandmarks(landmarks_, head_, &lm_, diag) || !ComputeFaceFrame(lm_, &frame_, diag))
+      return false;
+    normals_ = ComputeVertexNormals(head_, VertexNormalOptions{.share_by_position = true});
+    const size_t n = head_.vertex_count();
+    for (const CalibrationShape& s : shapes) {
+      if (!s.mesh || !SameTopology(head_, *s.mesh))
+        return diag->Error(s.name, "has another topology than the neutral head (expected the "
+                                   "same vertices and triangles)"), false;
+      Target t;
+      t.t.resize(3 * n);
+      t.w.resize(n);
+      double largest = 0.0;
+      for (size_t v = 0; v < n; ++v) {
+        const float3 d = s.mesh->positions[v] - head_.positions[v];
+        t.t[3 * v] = d.x, t.t[3 * v + 1] = d.y, t.t[3 * v + 2] = d.z;
+        largest = std::max(largest, double(Length(d)));
+      }
+      if (!(largest > 0.0)) return diag->Error(s.name, "does not move: every vertex is where the "
+                                                       "neutral has it"), false;
+      for (size_t v = 0; v < n; ++v) {
+        const double len = std::sqrt(t.t[3 * v] * t.t[3 * v] + t.t[3 * v + 1] * t.t[3 * v + 1] +
+                                     t.t[3 * v + 2] * t.t[3 * v + 2]);
+        t.w[v] = len > options_.region_fraction * largest ? 1.0 : options_.outside_weight;
+        t.twt += t.w[v] * len * len;
+      }
+      targets_.push_back(std::move(t));
+    }
+    tmpl_ = tmpl;
+    const size_t m = tmpl_.muscles.size();
+    columns_.assign(m, std::vector<double>(3 * n, 0.0));
+    for (Target& t : targets_) t.g = Eigen::MatrixXd::Zero(m, m), t.h = Eigen::VectorXd::Zero(m);
+    for (size_t i = 0; i < m; ++i) {
+      if (tmpl_.muscles[i].mirrored_copy) continue;
+      std::vector<std::vector<double>> cols;
+      std::string why;
+      if (!Columns(i, tmpl_, &cols, &why, diag)) return false;
+      Store(i, cols);
+    }
+    return true;
+  }
+
+  // Mean score and per-shape scores of the current template.
+  double Objective(std::vector<double>* scores) const {
+    double sum = 0.0;
+    if (scores) scores->clear();
+    for (const Target& t : targets_) {
+      const double s = Score(t);
+      sum += s;
+      if (scores) scores->push_back(s);
+    }
+    return sum / double(targets_.size());
+  }
+
+  // Tries `candidate` for source muscle i; returns the objective (or +inf when refused) and
+  // leaves the state unchanged.
+  double Try(size_t i, const TemplateMuscle& candidate, bool* anatomy_refused) {
+    *anatomy_refused = false;
+    MuscleTemplate t = tmpl_;
+    t.muscles[i] = candidate;
+    SyncCopy(&t, i);
+    std::vector<std::vector<double>> cols;
+    std::string why;
+    Diagnostics quiet;
+    if (!Columns(i, t, &cols, &why, &quiet)) {
+      *anatomy_refused = !why.empty();
+      return INFINITY;
+    }
+    const auto saved_g = Snapshot();
+    const auto saved_cols = Pair(i);
+    Store(i, cols);
+    const double obj = Objective(nullptr);
+    Restore(saved_g, i, saved_cols);
+    return obj;
+  }
+
+  void Accept(size_t i, const TemplateMuscle& candidate) {
+    tmpl_.muscles[i] = candidate;
+    SyncCopy(&tmpl_, i);
+    std::vector<std::vector<double>> cols;
+    std::string why;
+    Diagnostics quiet;
+    Columns(i, tmpl_, &cols, &why, &quiet);
+    Store(i, cols);
+  }
+
+  const MuscleTemplate& current() const { return tmpl_; }
+
+ private:
+  // Index of the mirrored copy of source muscle i, or npos.
+  size_t CopyOf(const MuscleTemplate& t, size_t i) const {
+    return i + 1 < t.muscles.size() && t.muscles[i + 1].mirrored_copy ? i + 1 : size_t(-1);
+  }
+  void SyncCopy(MuscleTemplate* t, size_t i) const {
+    const size_t c = CopyOf(*t, i);
+    if (c != size_t(-1)) t->muscles[c] = MirrorOf(t->muscles[i], t->muscles[c].name);
+  }
+
+  // Fits source muscle i (and its copy) of `t` and computes their basis columns; refuses a
+  // muscle that the fit refuses or that breaks the anatomy (why = the reason).
+  bool Columns(size_t i, const MuscleTemplate& t, std::vector<std::vector<double>>* cols,
+               std::string* why, Diagnostics* diag) const {
+    MuscleTemplate one;
+    one.muscles.push_back(t.muscles[i]);
+    const size_t c = CopyOf(t, i);
+    if (c != size_t(-1)) one.muscles.push_back(t.muscles[c]);
+    for (const TemplateMuscle& m : one.muscles) {
+      const bool deep = m.attachment[0].depth >= options_.min_attachment_depth &&
+                        m.attachment[0].depth > m.insertion[0].depth &&
+                        m.insertion[0].depth <= options_.max_insertion_depth;
+      const bool radii = m.type == MuscleType::kLinear ? m.falloff_start < m.falloff_end
+                                                       : m.falloff_start < m.length;
+      if (!deep || !radii) return diag->Error(m.name, "outside the constraints"), false;
+    }
+    RigSpec spec;
+    FitReport report;
+    if (!FitTemplate(one, head_, landmarks_, "mm", &spec, diag, &report)) return false;
+    const size_t n = head_.vertex_count();
+    cols->assign(spec.muscles.size(), std::vector<double>(3 * n, 0.0));
+    for (size_t k = 0; k < spec.muscles.size(); ++k) {
+      const MuscleSpec& ms = spec.muscles[k];
+      if (const MuscleAnatomy* a = FindMuscleAnatomy(ms.name)) {
+        const AnatomyProbe probe = FindAnatomyProbe(*a, ms.name, head_, lm_, report.points);
+        if (probe.found) {
+          *why = CheckMuscleAnatomy(*a, ms, frame_, head_.positions[probe.vertex],
+                                    normals_[probe.vertex]);
+          if (!why->empty()) return diag->Error(ms.name, *why), false;
+        }
+      }
+      std::vector<double>& col = (*cols)[k];
+      for (size_t v = 0; v < n; ++v) {
+        const float3 d = ApplyMuscleMotion(MuscleDisplacement(ms, head_.positions[v], ms.strength),
+                                           normals_[v], ms.motion);
+        col[3 * v] = d.x, col[3 * v + 1] = d.y, col[3 * v + 2] = d.z;
+      }
+    }
+    return true;
+  }
+
+  std::vector<std::vector<double>> Pair(size_t i) const {
+    std::vector<std::vector<double>> p{columns_[i]};
+    const size_t c = CopyOf(tmpl_, i);
+    if (c != size_t(-1)) p.push_back(columns_[c]);
+    return p;
+  }
+  std::vector<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> Snapshot() const {
+    std::vector<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> s;
+    for (const Target& t : targets_) s.push_back({t.g, t.h});
+    return s;
+  }
+  void Restore(const std::vector<std::pair<Eigen::MatrixXd, Eigen::VectorXd>>& s, size_t i,
+               const std::vector<std::vector<double>>& cols) {
+    for (size_t k = 0; k < targets_.size(); ++k) targets_[k].g = s[k].first, targets_[k].h = s[k].second;
+    columns_[i] = cols[0];
+    const size_t c = CopyOf(tmpl_, i);
+    if (c != size_t(-1) && cols.size() > 1) columns_[c] = cols[1];
+  }
+
+  // Replaces the columns of source muscle i (and its copy) and their rows of every G and h.
+  void Store(size_t i, const std::vector<std::vector<double>>& cols) {
+    std::vector<size_t> changed{i};
+    const size_t c = CopyOf(tmpl_, i);
+    if (c != size_t(-1)) changed.push_back(c);
+    for (size_t k = 0; k < changed.size() && k < cols.size(); ++k) columns_[changed[k]] = cols[k];
+    const size_t n = head_.vertex_count(), m = columns_.size();
+    for (Target& t : targets_) {
+      for (size_t a : changed) {
+        const std::vector<double>& ca = columns_[a];
+        for (size_t b = 0; b < m; ++b) {
+          const std::vector<double>& cb = columns_[b];
+          double sum = 0.0;
+          for (size_t v = 0; v < n; ++v)
+            sum += t.w[v] * (ca[3 * v] * cb[3 * v] + ca[3 * v + 1] * cb[3 * v + 1] +
+                             ca[3 * v + 2] * cb[3 * v + 2]);
+          t.g(a, b) = t.g(b, a) = sum;
+        }
+        double sum = 0.0;
+        for (size_t v = 0; v < n; ++v)
+          sum += t.w[v] * (ca[3 * v] * t.t[3 * v] + ca[3 * v + 1] * t.t[3 * v + 1] +
+                           ca[3 * v + 2] * t.t[3 * v + 2]);
+        t.h(a) = sum;
+      }
+    }
+  }
+
+  // min over a in [0,1]^m of (U a - t)^T W (U a - t) / t^T W t, on the reduced system:
+  // G = L L^T, so |W^1/2 (U a - t)|^2 = |L^T a - L^-1 h|^2 + t^T W t - |L^-1 h|^2.
+  double Score(const Target& t) const {
+    const Eigen::Index m = t.g.rows();
+    Eigen::MatrixXd g = t.g;
+    const double eps = 1e-10 * std::max(1e-30, g.diagonal().maxCoeff());
+    g.diagonal().array() += eps;
+    const Eigen::LLT<Eigen::MatrixXd> llt(g);
+    const Eigen::MatrixXd r = llt.matrixU();  // L^T, upper
+    const Eigen::VectorXd c = llt.matrixL().solve(t.h);
+    const size_t cols = size_t(m);
+    std::vector<double> a(cols * cols), b(cols), lo(cols, 0.0), hi(cols, 1.0);
+    for (Eigen::Index row = 0; row < m; ++row) {
+      b[size_t(row)] = c(row);
+      for (Eigen::Index col = 0; col < m; ++col) a[size_t(row * m + col)] = r(row, col);
+    }
+    BoxLeastSquaresProblem p;
+    p.a = a.data(), p.b = b.data(), p.rows = size_t(m), p.cols = size_t(m);
+    p.lo = lo.data(), p.hi = hi.data();
+    BoxLeastSquaresResult res;
+    if (!SolveBoxLeastSquares(p, &res)) return 1.0;
+    const double residual = t.twt - c.squaredNorm() + res.residual2;
+    return std::max(0.0, residual) / t.twt;
+  }
+
+  const MeshData& head_;
+  const Landmarks& landmarks_;
+  const CalibrationOptions& options_;
+  std::vector<float3> lm_, normals_;
+  FaceFrame frame_;
+  std::vector<Target> targets_;
+  MuscleTemplate tmpl_;
+  std::vector<std::vector<double>> columns_;
+};
+
+std::vector<Param> ParamsFor(const MuscleTemplate& seed, size_t i, const CalibrationOptions& o) {
+  const TemplateMuscle& m = seed.muscles[i];
+  std::vector<Param> p;
+  const double lg = std::log(1.25), ls = std::log(1.4);
+  auto mult = [&](Kind k, double lo_f, double hi_f, double step) {
+    const double v = Get(m, k);
+    p.push_back({i, k, std::log(v * lo_f), std::log(v * hi_f), step, step / 8});
+  };
+  auto add = [&](Kind k, double lo, double hi, double step) {
+    p.push_back({i, k, lo, hi, step, step / 8});
+  };
+  mult(Kind::kStrength, 0.33, 6.0, ls);
+  if (m.type == MuscleType::kLinear) {
+    mult(Kind::kRs, 0.5, 2.5, lg);
+    mult(Kind::kRf, 0.5, 2.5, lg);
+    add(Kind::kAngle, 10.0, 80.0, 6.0);
+  } else {
+    mult(Kind::kLength, 0.6, 1.8, lg);
+    mult(Kind::kWidth, 0.6, 1.8, lg);
+    mult(Kind::kRs, 0.5, 1.8, lg);
+  }
+  const double r = o.offset_reach;
+  for (Kind k : {Kind::kInsX, Kind::kInsY, Kind::kAttX, Kind::kAttY})
+    add(k, Get(m, k) - r, Get(m, k) + r, 0.04);
+  add(Kind::kAttDepth, o.min_attachment_depth, 0.25, 0.02);
+  add(Kind::kInsDepth, 0.005, o.max_insertion_depth, 0.008);
+  if (o.calibrate_motion) add(Kind::kMotion, 0.0, 1.0, 1.0);
+  return p;
+}
+
+double Value(const TemplateMuscle& m, const Param& p) {
+  return Multiplicative(p.kind) ? std::log(Get(m, p.kind)) : Get(m, p.kind);
+}
+void SetValue(TemplateMuscle* m, const Param& p, double x) {
+  Set(m, p.kind, Multiplicative(p.kind) ? std::exp(x) : x);
+}
+
+}  // namespace
+
+bool ScoreTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
+                   const std::vector<CalibrationShape>& shapes, const CalibrationOptions& options,
+                   std::vector<double>* scores, Diagnostics* diag) {
+  Calibrator c(head, landmarks, options);
+  if (!c.Init(tmpl, shapes, diag)) return false;
+  c.Objective(scores);
+  return true;
+}
+
+bool CalibrateTemplate(const MuscleTemplate& seed, const MeshData& head,
+                       const Landmarks& landmarks, const std::vector<CalibrationShape>& shapes,
+                       const CalibrationOptions& options, MuscleTemplate* out,
+                       CalibrationReport* report, Diagnostics* diag) {
+  CalibrationReport rep;
+  for (const CalibrationShape& s : shapes) rep.shapes.push_back(s.name);
+  std::vector<size_t> sources;
+  for (size_t i = 0; i < seed.muscles.size(); ++i) {
+    if (seed.muscles[i].mirrored_copy) continue;
+    if (!options.muscles.empty() &&
+        std::find(options.muscles.begin(), options.muscles.end(), seed.muscles[i].name) ==
+            options.muscles.end())
+      continue;
+    sources.push_back(i);
+  }
+  for (const std::string& name : options.muscles) {
+    bool found = false;
+    for (size_t i : sources) found |= seed.muscles[i].name == name;
+    if (!found) {
+      diag->Error("muscles", "no source muscle named \"" + name + "\" in the template (a "
+                             "mirrored copy changes with its source)");
+      return false;
+    }
+  }
+  Calibrator c(head, landmarks, options);
+  if (!c.Init(seed, shapes, diag)) return false;
+  rep.objective_before = c.Objective(&rep.score_before);
+  double best = rep.objective_before;
+  std::vector<Param> params;
+  for (size_t i : sources)
+    for (const Param& p : ParamsFor(seed, i, options)) params.push_back(p);
+  char line[512];
+  for (int pass = 0; pass < options.passes; ++pass) {
+    int accepted = 0;
+    for (Param& p : params) {
+      if (p.step < p.min_step) continue;
+      const TemplateMuscle& now = c.current().muscles[p.muscle];
+      const double x = Value(now, p);
+      double best_x = x, best_obj = best;
+      for (double dir : {+1.0, -1.0}) {
+        double nx = p.kind == Kind::kMotion ? 1.0 - x : x + dir * p.step;
+        if (p.kind == Kind::kMotion && dir < 0) break;
+        nx = std::clamp(nx, p.lo, p.hi);
+        if (nx == x) continue;
+        TemplateMuscle cand = now;
+        SetValue(&cand, p, nx);
+        bool refused = false;
+        const double obj = c.Try(p.muscle, cand, &refused);
+        ++rep.evaluations;
+        rep.refused_anatomy += refused;
+        if (obj < best_obj - 1e-7) best_obj = obj, best_x = nx;
+      }
+      if (best_x != x) {
+        TemplateMuscle cand = c.current().muscles[p.muscle];
+        SetValue(&cand, p, best_x);
+        c.Accept(p.muscle, cand);
+        ++accepted;
+        ++rep.accepted;
+        if (options.progress) {
+          const double shown = Multiplicative(p.kind) ? std::exp(best_x) : best_x;
+          std::snprintf(line, sizeof line, "  %s %s -> %.4g: objective %.4f -> %.4f",
+                        cand.name.c_str(), KindName(p.kind), shown, best, best_obj);
+          options.progress(line);
+        }
+        best = best_obj;
+      } else if (p.kind != Kind::kMotion) {
+        p.step *= 0.5;
+      } else {
+        p.step = 0.0;  // tried both motions once
+      }
+    }
+    if (options.progress) {
+      std::snprintf(line, sizeof line, "pass %d: objective %.4f (%d changes, %d evaluations)",
+                    pass + 1, best, accepted, rep.evaluations);
+      options.progress(line);
+    }
+    if (accepted == 0) break;
+  }
+  rep.objective_after = c.Objective(&rep.score_after);
+  if (out) *out = c.current();
+  if (report) *report = rep;
+  return true;
+}
+
+}  // namespace mimetic

@@ -1,0 +1,70 @@
+// fitting/calibrate.h: calibrate a muscle template on real expression shapes
+// (`mimetic calibrate`, docs/fidelity.md "Calibration").
+//
+// Method (docs/model.md §14). The template is fitted to a neutral head; for each training
+// shape (same topology as the head) the muscles alone are solved for (bounded linear least
+// squares on the muscle basis, as `mimetic solve` does, weight 1 where the shape moves more
+// than `region_fraction` of its largest motion and `outside_weight` elsewhere). The score of a
+// shape is its residual over the neutral's (0 = reproduced, 1 = no better than not moving);
+// the objective is the mean score. A coordinate search then changes one parameter of one
+// muscle at a time (strength, fall-off radii, zone angle or sheet size, the offsets of its
+// attachment and insertion, the attachment's depth, its motion), keeps a change when the
+// objective drops, and halves a parameter's step when neither direction helps. Mirrored
+// muscles change together (the template stays left/right symmetric).
+//
+// Anatomical constraints: every parameter stays in a box around the seed (offsets within
+// `offset_reach` of the seed's, lengths and strengths within fixed factors), attachments stay
+// at least `min_attachment_depth` under the skin and deeper than the insertion, insertions
+// stay within `max_insertion_depth` of it, and a change is refused when the muscle no longer
+// moves its probe point the way fitting/anatomy.h says.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "fitting/landmarks.h"
+#include "fitting/muscle_template.h"
+#include "geometry/mesh.h"
+
+namespace mimetic {
+
+struct CalibrationShape {
+  std::string name;
+  const MeshData* mesh = nullptr;  // same vertices and triangles as the neutral head
+};
+
+struct CalibrationOptions {
+  int passes = 3;                 // coordinate-search sweeps over every parameter
+  float region_fraction = 0.02f;  // of the shape's largest motion
+  float outside_weight = 0.25f;
+  float offset_reach = 0.2f;      // units of s, around the seed's offsets
+  float min_attachment_depth = 0.03f;  // units of s
+  float max_insertion_depth = 0.04f;   // units of s
+  bool calibrate_motion = true;   // also try each muscle's other motion (chord / tangent)
+  std::vector<std::string> muscles;  // source muscle names to change; empty = every muscle
+  std::function<void(const std::string&)> progress;  // one line per accepted change / pass
+};
+
+struct CalibrationReport {
+  std::vector<std::string> shapes;
+  std::vector<double> score_before, score_after;  // per shape
+  double objective_before = 0.0, objective_after = 0.0;
+  int evaluations = 0, accepted = 0, refused_anatomy = 0;
+};
+
+// Shape scores of `tmpl` on `head` (no change): what CalibrateTemplate minimises, for reports.
+bool ScoreTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
+                   const std::vector<CalibrationShape>& shapes, const CalibrationOptions& options,
+                   std::vector<double>* scores, Diagnostics* diag);
+
+// Calibrates `seed` (thickness and wrinkles are copied unchanged). Errors: no shape, a shape
+// of another topology or that does not move, a seed the fit refuses, a muscle name in
+// options.muscles that the seed lacks. Deterministic.
+bool CalibrateTemplate(const MuscleTemplate& seed, const MeshData& head,
+                       const Landmarks& landmarks, const std::vector<CalibrationShape>& shapes,
+                       const CalibrationOptions& options, MuscleTemplate* out,
+                       CalibrationReport* report, Diagnostics* diag);
+
+}  // namespace mimetic

@@ -1,0 +1,85 @@
+// tools/ict_shapes.cpp: the table of tools/ict_shapes.h.
+#include "tools/ict_shapes.h"
+
+#include <cstring>
+
+namespace mimetic::tools {
+namespace {
+// ICT-FaceKit's shapes (ARKit names, ict-facekit/arkit/README.md) and the brow raise.
+constexpr const char* kSphincterOris =
+    "orbicularis oris, a sphincter (the rig has linear and sheet muscles only)";
+constexpr const char* kSphincterOculi =
+    "orbicularis oculi, a sphincter, and the eyelids (the rig has neither)";
+constexpr const char* kJaw = "the jaw turns (no jaw stage yet: the jaw issue adds it)";
+constexpr const char* kEyes = "the eyeballs turn; the lids follow (no eyes or lids in the rig)";
+const IctShape kShapes[] = {
+    {"browRaise (AU1+2)", "ict-facekit/ict_skin_browRaise_AU1+AU2.obj", nullptr, true},
+    {"browInnerUp_L", "ict-facekit/arkit/browInnerUp_L.obj", nullptr},
+    {"browInnerUp_R", "ict-facekit/arkit/browInnerUp_R.obj", nullptr},
+    {"browOuterUp_L", "ict-facekit/arkit/browOuterUp_L.obj", nullptr},
+    {"browOuterUp_R", "ict-facekit/arkit/browOuterUp_R.obj", nullptr},
+    {"browDown_L", "ict-facekit/arkit/browDown_L.obj", nullptr, true},
+    {"browDown_R", "ict-facekit/arkit/browDown_R.obj", nullptr},
+    {"mouthSmile_L", "ict-facekit/arkit/mouthSmile_L.obj", nullptr, true},
+    {"mouthSmile_R", "ict-facekit/arkit/mouthSmile_R.obj", nullptr},
+    {"mouthDimple_L", "ict-facekit/arkit/mouthDimple_L.obj", nullptr, true},
+    {"mouthDimple_R", "ict-facekit/arkit/mouthDimple_R.obj", nullptr},
+    {"mouthStretch_L", "ict-facekit/arkit/mouthStretch_L.obj", nullptr, true},
+    {"mouthStretch_R", "ict-facekit/arkit/mouthStretch_R.obj", nullptr},
+    {"mouthUpperUp_L", "ict-facekit/arkit/mouthUpperUp_L.obj", nullptr, true},
+    {"mouthUpperUp_R", "ict-facekit/arkit/mouthUpperUp_R.obj", nullptr},
+    {"mouthLowerDown_L", "ict-facekit/arkit/mouthLowerDown_L.obj", nullptr, true},
+    {"mouthLowerDown_R", "ict-facekit/arkit/mouthLowerDown_R.obj", nullptr},
+    {"mouthShrugUpper", "ict-facekit/arkit/mouthShrugUpper.obj", nullptr},
+    {"mouthLeft", "ict-facekit/arkit/mouthLeft.obj", nullptr},
+    {"mouthRight", "ict-facekit/arkit/mouthRight.obj", nullptr},
+    {"cheekPuff_L", "ict-facekit/arkit/cheekPuff_L.obj",
+     "air pressure pushes the cheek out; no muscle pulls it there"},
+    {"cheekPuff_R", "ict-facekit/arkit/cheekPuff_R.obj",
+     "air pressure pushes the cheek out; no muscle pulls it there"},
+    {"cheekRaiser_L", "ict-facekit/arkit/cheekRaiser_L.obj", kSphincterOculi},
+    {"cheekRaiser_R", "ict-facekit/arkit/cheekRaiser_R.obj", kSphincterOculi},
+    {"cheekSquint_L", "ict-facekit/arkit/cheekSquint_L.obj", kSphincterOculi},
+    {"cheekSquint_R", "ict-facekit/arkit/cheekSquint_R.obj", kSphincterOculi},
+    {"eyeSquint_L", "ict-facekit/arkit/eyeSquint_L.obj", kSphincterOculi},
+    {"eyeSquint_R", "ict-facekit/arkit/eyeSquint_R.obj", kSphincterOculi},
+    {"eyeBlink_L", "ict-facekit/arkit/eyeBlink_L.obj", kSphincterOculi},
+    {"eyeBlink_R", "ict-facekit/arkit/eyeBlink_R.obj", kSphincterOculi},
+    {"eyeWide_L", "ict-facekit/arkit/eyeWide_L.obj",
+     "levator palpebrae lifts the upper lid (no lids in the rig)"},
+    {"eyeWide_R", "ict-facekit/arkit/eyeWide_R.obj",
+     "levator palpebrae lifts the upper lid (no lids in the rig)"},
+    {"eyeLookDown_L", "ict-facekit/arkit/eyeLookDown_L.obj", kEyes},
+    {"eyeLookDown_R", "ict-facekit/arkit/eyeLookDown_R.obj", kEyes},
+    {"eyeLookIn_L", "ict-facekit/arkit/eyeLookIn_L.obj", kEyes},
+    {"eyeLookIn_R", "ict-facekit/arkit/eyeLookIn_R.obj", kEyes},
+    {"eyeLookOut_L", "ict-facekit/arkit/eyeLookOut_L.obj", kEyes},
+    {"eyeLookOut_R", "ict-facekit/arkit/eyeLookOut_R.obj", kEyes},
+    {"eyeLookUp_L", "ict-facekit/arkit/eyeLookUp_L.obj", kEyes},
+    {"eyeLookUp_R", "ict-facekit/arkit/eyeLookUp_R.obj", kEyes},
+    {"jawOpen", "ict-facekit/arkit/jawOpen.obj", kJaw},
+    {"jawForward", "ict-facekit/arkit/jawForward.obj", kJaw},
+    {"jawLeft", "ict-facekit/arkit/jawLeft.obj", kJaw},
+    {"jawRight", "ict-facekit/arkit/jawRight.obj", kJaw},
+    {"mouthClose", "ict-facekit/arkit/mouthClose.obj", kJaw},
+    {"mouthFunnel", "ict-facekit/arkit/mouthFunnel.obj", kSphincterOris},
+    {"mouthPucker", "ict-facekit/arkit/mouthPucker.obj", kSphincterOris},
+    {"mouthPress_L", "ict-facekit/arkit/mouthPress_L.obj", kSphincterOris},
+    {"mouthPress_R", "ict-facekit/arkit/mouthPress_R.obj", kSphincterOris},
+    {"mouthRollLower", "ict-facekit/arkit/mouthRollLower.obj", kSphincterOris},
+    {"mouthRollUpper", "ict-facekit/arkit/mouthRollUpper.obj", kSphincterOris},
+};
+
+}  // namespace
+
+span<const IctShape> IctShapes() {
+  return span<const IctShape>(kShapes, sizeof(kShapes) / sizeof(kShapes[0]));
+}
+
+const IctShape* FindIctShape(const char* name) {
+  for (const IctShape& s : kShapes)
+    if (std::strcmp(s.name, name) == 0) return &s;
+  return nullptr;
+}
+
+}  // namespace mimetic::tools
