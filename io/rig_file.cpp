@@ -35,6 +35,8 @@ constexpr int kFormatVersion = 1;
 
 // In MuscleFalloff's order.
 const std::vector<std::string> kFalloffs = {"waters", "smooth"};
+// In MuscleMotion's order.
+const std::vector<std::string> kMotions = {"chord", "tangent"};
 const std::vector<std::string> kProfiles = {
     CurveWrinkleProfileName(CurveWrinkleProfile::kBando),
     CurveWrinkleProfileName(CurveWrinkleProfile::kYangZhang),
@@ -117,7 +119,10 @@ const Object kMuscle = {
             .About("contraction at activation 1, mesh units"),
         Enum("falloff", kFalloffs, "\"waters\" or \"smooth\"")
             .About("how the influence reaches 0 at the zone's edges (docs/model.md §2-3); "
-                   "default \"waters\"")},
+                   "default \"waters\""),
+        Enum("motion", kMotions, "\"chord\" or \"tangent\"")
+            .About("\"chord\": toward the attachment (Waters); \"tangent\": that motion "
+                   "along the rest surface only (docs/model.md §2-3); default \"chord\"")},
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}},
     .description = "A muscle; names unique within the rig (reader check)."};
@@ -285,6 +290,7 @@ bool RigRules::Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkl
   m.Read("name", &out->name);
   m.Read("strength", &out->strength);
   if (size_t choice = 0; m.Choice("falloff", &choice)) out->falloff = static_cast<MuscleFalloff>(choice);
+  if (size_t choice = 0; m.Choice("motion", &choice)) out->motion = static_cast<MuscleMotion>(choice);
   bool ok = m.ok();
   if (m.variant() == "linear") {
     out->type = MuscleType::kLinear;
@@ -482,6 +488,7 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
     j["type"] = MuscleTypeName(m.type);
     j["strength"] = ShortestDecimal(m.strength);
     if (m.falloff != MuscleFalloff::kWaters) j["falloff"] = MuscleFalloffName(m.falloff);
+    if (m.motion != MuscleMotion::kChord) j["motion"] = MuscleMotionName(m.motion);
     if (m.type == MuscleType::kLinear) {
       j["attachment"] = Vec3Json(m.linear.attachment);
       j["insertion"] = Vec3Json(m.linear.insertion);
