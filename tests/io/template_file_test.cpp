@@ -267,17 +267,21 @@ TEST(MuscleTemplate, DefaultTemplateHasTheZhangAndBandoMusclesOnBothSides) {
   const char* names[] = {"frontalis_inner", "frontalis_major", "frontalis_outer",
                          "corrugator_supercilii", "procerus", "nasalis",
                          "levator_labii_alaeque_nasi", "zygomaticus_minor", "zygomaticus_major",
-                         "risorius", "depressor_anguli_oris", "mentalis"};
-  ASSERT_EQ(t.muscles.size(), 24u);
+                         "risorius", "depressor_anguli_oris", "mentalis",
+                         "levator_labii_superioris", "depressor_labii_inferioris", "buccinator",
+                         "platysma"};
+  ASSERT_EQ(t.muscles.size(), 32u);
   for (const char* n : names) {
     for (const char* side : {"_L", "_R"}) {
       bool found = false;
       for (const TemplateMuscle& m : t.muscles) {
         if (m.name != std::string(n) + side) continue;
         found = true;
-        const bool sheet = std::string(n).rfind("frontalis", 0) == 0;
+        const bool sheet = std::string(n).rfind("frontalis", 0) == 0 || std::string(n) == "platysma";
         EXPECT_EQ(m.type, sheet ? MuscleType::kSheet : MuscleType::kLinear) << m.name;
         EXPECT_GT(m.strength, 0.f) << m.name;
+        // The default template uses the C1 fall-off (docs/model.md §2-3).
+        EXPECT_EQ(m.falloff, MuscleFalloff::kSmooth) << m.name;
       }
       EXPECT_TRUE(found) << n << side;
     }
@@ -331,6 +335,71 @@ TEST(MuscleTemplate, FalloffIsReadAndMirroredCopiesShareIt) {
   EXPECT_FALSE(ParseMuscleTemplate(
       Replace(kValid, R"("strength": 0.08,)", R"("strength": 0.08, "falloff": 3,)"), &t, &bad));
   EXPECT_TRUE(bad.Contains("\"waters\" or \"smooth\"")) << bad.Format();
+}
+
+}  // namespace
+}  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+TEST(MuscleTemplate, MotionIsReadAndMirroredCopiesShareIt) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(kValid, &t, &diag)) << diag.Format();
+  for (const TemplateMuscle& m : t.muscles) EXPECT_EQ(m.motion, MuscleMotion::kChord);
+  const std::string tangent =
+      Replace(kValid, R"("mirror": true, "strength": 0.08,)",
+              R"("mirror": true, "strength": 0.08, "motion": "tangent",)");
+  ASSERT_TRUE(ParseMuscleTemplate(tangent, &t, &diag)) << diag.Format();
+  int count = 0;
+  for (const TemplateMuscle& m : t.muscles) count += m.motion == MuscleMotion::kTangent;
+  EXPECT_EQ(count, 2);
+  Diagnostics bad;
+  EXPECT_FALSE(ParseMuscleTemplate(
+      Replace(kValid, R"("strength": 0.08,)", R"("strength": 0.08, "motion": "slide",)"), &t, &bad));
+  EXPECT_TRUE(bad.Contains("\"chord\" or \"tangent\"")) << bad.Format();
+}
+
+// The writer (mimetic calibrate's output): what it writes parses back to the same template,
+// every number to its 4 significant digits, mirrored pairs written once with "mirror".
+TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
+  for (const char* file : {"/assets/head/default.template.json", "/assets/calibration/seed.template.json"}) {
+    MuscleTemplate a, b;
+    Diagnostics diag;
+    ASSERT_TRUE(LoadMuscleTemplate(test::SourceDir() + file, &a, &diag)) << diag.Format();
+    const std::string text = MuscleTemplateToJson(a);
+    ASSERT_TRUE(ParseMuscleTemplate(text, &b, &diag)) << diag.Format() << text;
+    EXPECT_EQ(b.description, a.description);
+    ASSERT_EQ(b.muscles.size(), a.muscles.size());
+    auto near = [](float x, float y) { return std::fabs(x - y) <= 5e-4f * std::max(1.f, std::fabs(x)); };
+    size_t copies = 0;
+    for (size_t i = 0; i < a.muscles.size(); ++i) {
+      const TemplateMuscle &x = a.muscles[i], &y = b.muscles[i];
+      EXPECT_EQ(x.name, y.name);
+      EXPECT_EQ(x.mirrored_copy, y.mirrored_copy) << x.name;
+      copies += y.mirrored_copy;
+      EXPECT_EQ(x.type, y.type);
+      EXPECT_EQ(x.falloff, y.falloff);
+      EXPECT_EQ(x.motion, y.motion);
+      EXPECT_TRUE(near(x.strength, y.strength)) << x.name;
+      EXPECT_TRUE(near(x.falloff_start, y.falloff_start)) << x.name;
+      EXPECT_TRUE(near(x.falloff_end, y.falloff_end)) << x.name;
+      EXPECT_TRUE(near(x.zone_angle_deg, y.zone_angle_deg)) << x.name;
+      for (int k = 0; k < 2; ++k) {
+        EXPECT_EQ(x.attachment[k].landmarks, y.attachment[k].landmarks) << x.name;
+        EXPECT_TRUE(near(x.attachment[k].offset.x, y.attachment[k].offset.x)) << x.name;
+        EXPECT_TRUE(near(x.insertion[k].offset.y, y.insertion[k].offset.y)) << x.name;
+        EXPECT_TRUE(near(x.attachment[k].depth, y.attachment[k].depth)) << x.name;
+      }
+      EXPECT_EQ(x.wrinkles.has_value(), y.wrinkles.has_value()) << x.name;
+    }
+    EXPECT_EQ(copies, a.muscles.size() / 2);
+    EXPECT_EQ(b.curve_wrinkles.size(), a.curve_wrinkles.size());
+    EXPECT_EQ(b.thickness.regions.size(), a.thickness.regions.size());
+    // Each mirrored pair appears once in the text.
+    EXPECT_EQ(text.find("\"zygomaticus_major_R\""), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -347,3 +347,64 @@ TEST(MuscleDeformJob, ValidityTable) {
 
 }  // namespace
 }  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+// docs/model.md §2-3 "Motion": a linear muscle whose attachment lies 2 under a plane z = 0.
+// Chord motion points at the attachment, so it goes into the plane; tangent motion is the
+// same vector without its z part, computed here by hand.
+TEST(MuscleMotion, TangentDropsThePartAlongTheNormal) {
+  MuscleSpec chord;
+  chord.name = "m";
+  chord.type = MuscleType::kLinear;
+  chord.strength = 1.f;
+  chord.linear.attachment = {0, 0, -2};
+  chord.linear.insertion = {10, 0, -2};
+  chord.linear.zone_angle = float(kPi / 3);
+  chord.linear.falloff_start = 5;
+  chord.linear.falloff_end = 12;
+  MuscleSpec tangent = chord;
+  tangent.motion = MuscleMotion::kTangent;
+  const std::vector<float3> rest = {{4, 0, 0}, {6, 1, 0}, {8, -1.5f, 0}};
+  const std::vector<float3> normals(rest.size(), float3{0, 0, 1});
+  const MuscleTable a = BuildMuscleTable(std::vector<MuscleSpec>{chord}, rest, normals);
+  const MuscleTable b = BuildMuscleTable(std::vector<MuscleSpec>{tangent}, rest, normals);
+  ASSERT_EQ(a.entries.size(), rest.size());
+  ASSERT_EQ(b.entries.size(), rest.size());
+  for (size_t p = 0; p < rest.size(); ++p) {
+    const float3 c = a.entries[p].displacement, t = b.entries[p].displacement;
+    // Waters (§2): toward v1 = (0, 0, -2), so z < 0 on the plane.
+    const float3 to = float3{0, 0, -2} - rest[p];
+    EXPECT_LT(c.z, 0.f) << p;
+    EXPECT_NEAR(c.x * to.z - c.z * to.x, 0.f, 1e-5f) << p;  // parallel to the chord
+    ExpectNear3(t, c.x, c.y, 0.0, 1e-6);
+  }
+  // Without normals the table keeps Waters' chord (the documented fallback).
+  const MuscleTable no_normals = BuildMuscleTable(std::vector<MuscleSpec>{tangent}, rest);
+  for (size_t p = 0; p < rest.size(); ++p)
+    ExpectNear3(no_normals.entries[p].displacement, a.entries[p].displacement.x,
+                a.entries[p].displacement.y, a.entries[p].displacement.z, 0.0);
+}
+
+TEST(MuscleMotion, TangentIsPerpendicularToAnyUnitNormal) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  for (int i = 0; i < 200; ++i) {
+    const float3 d{u(rng), u(rng), u(rng)};
+    float3 n{u(rng), u(rng), u(rng)};
+    n = n * (1.f / std::sqrt(Dot(n, n)));
+    const float3 t = ApplyMuscleMotion(d, n, MuscleMotion::kTangent);
+    EXPECT_NEAR(Dot(t, n), 0.f, 1e-6f);
+    // d = t + (d.n) n: nothing but the normal part is removed.
+    const float3 back = t + Dot(d, n) * n;
+    ExpectNear3(back, d.x, d.y, d.z, 1e-6);
+    const float3 same = ApplyMuscleMotion(d, n, MuscleMotion::kChord);
+    ExpectNear3(same, d.x, d.y, d.z, 0.0);
+  }
+  EXPECT_STREQ(MuscleMotionName(MuscleMotion::kChord), "chord");
+  EXPECT_STREQ(MuscleMotionName(MuscleMotion::kTangent), "tangent");
+}
+
+}  // namespace
+}  // namespace mimetic
