@@ -36,7 +36,7 @@ struct CalibrationShape {
 };
 
 struct CalibrationOptions {
-  int passes = 3;                 // coordinate-search sweeps over every parameter
+  int passes = 8;                 // coordinate-search sweeps over every parameter
   float region_fraction = 0.02f;  // of the shape's largest motion
   float outside_weight = 0.25f;
   float offset_reach = 0.2f;      // units of s, around the seed's offsets

@@ -36,8 +36,9 @@ const char* kCalibrateUsage =
     "  --train A,B,...    training shapes (default: the brow raise, browDown_L and the _L mouth\n"
     "                     shapes; `mimetic fidelity` reports the others as held out)\n"
     "  --muscles A,B,...  change only these source muscles (default every one)\n"
-    "  --passes N         coordinate-search sweeps (default 3, 1..20)\n"
-    "Run from the repository root. Takes about a minute a pass.\n";
+    "  --passes N         coordinate-search sweeps (default 8, 1..20; it stops early when a\n"
+    "                     sweep changes nothing)\n"
+    "Run from the repository root. Takes about a minute a pass on one core.\n";
 
 int Fail(const Diagnostics& diag, const std::string& what) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
