@@ -183,6 +183,8 @@ void CheckRefinedNormals(const Head& head, float mm, const NormalCheck& want) {
   struct Mean {
     double smooth = 0, flat = 0, weight = 0;
   } all, resolved, faces;
+  size_t turned = 0;
+  double worst_dot = 1;
   for (size_t v = nv; v < nr; ++v) {
     const double a = AngleDeg(n_smooth[v], phong(v)), b = AngleDeg(n_flat[v], phong(v));
     all.smooth += a, all.flat += b, all.weight += 1;
@@ -197,9 +199,14 @@ void CheckRefinedNormals(const Head& head, float mm, const NormalCheck& want) {
     };
     const float3 fs = face(smooth.mesh), ff = face(flat.mesh);
     const double area = Norm(ff);
+    // Turned over against the input triangle it lies in (the flat face is that triangle's).
+    turned += !(double(fs.x) * ff.x + double(fs.y) * ff.y + double(fs.z) * ff.z > 0);
+    worst_dot = std::min(worst_dot, (double(fs.x) * ff.x + double(fs.y) * ff.y + double(fs.z) * ff.z) / (Norm(fs) * area));
     faces.smooth += area * AngleDeg(fs, centre), faces.flat += area * AngleDeg(ff, centre);
     faces.weight += area;
   }
+  std::printf("%zu refined triangles turned over against their input triangle (worst dot %.3f)\n", turned, worst_dot);
+  EXPECT_EQ(turned, 0u);
   ASSERT_GT(all.weight, 10000.0);
   ASSERT_GT(resolved.weight, 0.3 * all.weight);
   std::printf("%s face refined to 1 mm, %zu new vertices, angle to the interpolated normal "
