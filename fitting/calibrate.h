@@ -1,7 +1,7 @@
 // fitting/calibrate.h: calibrate a muscle template on real expression shapes
 // (`mimetic calibrate`, docs/fidelity.md "Calibration").
 //
-// Method (docs/model.md §14). The template is fitted to a neutral head; for each training
+// Method (docs/model.md §17). The template is fitted to a neutral head; for each training
 // shape (same topology as the head) the muscles alone are solved for (bounded linear least
 // squares on the muscle basis, as `mimetic solve` does, weight 1 where the shape moves more
 // than `region_fraction` of its largest motion and `outside_weight` elsewhere). The score of a

@@ -19,6 +19,17 @@
 // Only triangles created in the previous pass (or still violating) are evaluated again: a
 // triangle kept unchanged met its targets, and its edges have not changed since.
 //
+// Placement (docs/model.md §14): every pass works on the flat positions (each new point the
+// exact midpoint of its point-edge), so the marks and the topology do not depend on where new
+// points finally go. Each new point also records its barycentric coordinates in the input
+// triangle it lies in (dyadic: the mean of its edge ends', exact in double). After the last
+// pass, with RefinePlacement::kSmooth, every new point moves from its flat position onto the
+// PN triangle of that input triangle (A. Vlachos, J. Peters, C. Boyd, J. L. Mitchell, "Curved
+// PN Triangles", Proc. I3D 2001), written as the flat (linear) position plus the cubic
+// Bernstein sum of the control points' offsets from the linear patch. A point on an input
+// edge uses the edge's cubic alone, in the order of the edge's point ids, so the two
+// triangles of the edge give it the same bits.
+//
 // OpenMesh's subdividers (OpenMesh/Tools/Subdivider: Loop, sqrt3, midpoint, LongestEdgeT) are
 // not used: they split by a fixed rule or one global edge length, on one vertex per position,
 // so they keep neither our UV/normal seams (split file vertices with their own uvs), nor the
@@ -36,6 +47,7 @@
 #include <unordered_map>
 
 #include "geometry/bounds.h"
+#include "geometry/normals.h"
 #include "geometry/topology.h"
 #include "geometry/weld.h"
 
@@ -72,8 +84,16 @@ double Distance(float3 a, float3 b) {
   return std::sqrt(x * x + y * y + z * z);
 }
 
+// Where a new point lies in the input: its input triangle and barycentric coordinates there
+// (corner k of the triangle is input_triangles[3 * triangle + k]).
+struct PointParam {
+  uint32_t triangle = kNone;
+  double bary[3] = {0, 0, 0};
+};
+
 // The refinement so far: the output mesh (file-vertex layout, vertices only appended) and the
-// welded points it lies on, with each vertex's parents and each triangle's input triangle.
+// welded points it lies on (flat positions), with each vertex's parents, each triangle's input
+// triangle and each new point's place in its input triangle.
 struct State {
   MeshData& mesh;
   std::vector<uint32_t>& pov;  // vertex -> point
@@ -82,8 +102,35 @@ struct State {
   std::vector<uint32_t>& origin;
   std::vector<uint8_t> dirty;  // per triangle: its targets must be sampled (again)
   bool has_uv = false, has_normal = false;
+  const std::vector<uint32_t>& input_triangles;  // 3 input points per input triangle
+  size_t input_points = 0;                       // points [0, input_points) are the input's
+  std::vector<PointParam> params;                // per new point (index - input_points)
 
   float2 uv_of(uint32_t v) const { return has_uv ? mesh.uvs[v] : float2{}; }
+
+  // Barycentric coordinates of point p in input triangle t (p lies in its closure: a corner,
+  // a point of one of its edges, or a point inside it).
+  void BaryIn(uint32_t p, uint32_t t, double out[3]) const {
+    const uint32_t* c = &input_triangles[3 * size_t(t)];
+    out[0] = out[1] = out[2] = 0;
+    if (p < input_points) {
+      for (int k = 0; k < 3; ++k)
+        if (c[k] == p) out[k] = 1;
+      return;
+    }
+    const PointParam& q = params[p - input_points];
+    if (q.triangle == t) {
+      for (int k = 0; k < 3; ++k) out[k] = q.bary[k];
+      return;
+    }
+    // On an edge shared with q's triangle: carry the two non-zero coordinates by point.
+    const uint32_t* d = &input_triangles[3 * size_t(q.triangle)];
+    for (int j = 0; j < 3; ++j) {
+      if (q.bary[j] == 0) continue;
+      for (int k = 0; k < 3; ++k)
+        if (c[k] == d[j]) out[k] = q.bary[j];
+    }
+  }
 };
 
 // One pass's view of the current triangles: point-edges, their lengths, targets and marks.
@@ -284,7 +331,17 @@ void SplitMarked(const Pass& pass, size_t new_count, State* s) {
     if (!pass.marked[e]) continue;
     mid_point[e] = static_cast<uint32_t>(s->points.size());
     const uint64_t key = pass.et.keys[e];
-    s->points.push_back(Midpoint(s->points[EdgeKeyLow(key)], s->points[EdgeKeyHigh(key)]));
+    const uint32_t lo = EdgeKeyLow(key), hi = EdgeKeyHigh(key);
+    s->points.push_back(Midpoint(s->points[lo], s->points[hi]));
+    // Its place in the input: the mean of its ends' coordinates in the input triangle of a
+    // triangle using the edge (any: on an input edge the coordinates carry by point).
+    PointParam param;
+    param.triangle = s->origin[pass.et.corners[pass.et.start[e]] / 3];
+    double ba[3], bb[3];
+    s->BaryIn(lo, param.triangle, ba);
+    s->BaryIn(hi, param.triangle, bb);
+    for (int k = 0; k < 3; ++k) param.bary[k] = 0.5 * (ba[k] + bb[k]);
+    s->params.push_back(param);
   }
   std::unordered_map<uint64_t, uint32_t> mid_vertex;
   mid_vertex.reserve(2 * (new_count - nt));
@@ -352,6 +409,63 @@ void SplitMarked(const Pass& pass, size_t new_count, State* s) {
   s->dirty = std::move(next_dirty);
 }
 
+// The offset of a PN edge control point from the linear patch: b_ij - (2 P_i + P_j) / 3 =
+// -((P_j - P_i) . N_i) N_i / 3 (Vlachos et al. 2001), in double.
+void EdgeControlOffset(const float3& pi, const float3& pj, const float3& ni, double out[3]) {
+  const double w = (double(pj.x) - pi.x) * ni.x + (double(pj.y) - pi.y) * ni.y +
+                   (double(pj.z) - pi.z) * ni.z;
+  out[0] = -w * ni.x / 3.0;
+  out[1] = -w * ni.y / 3.0;
+  out[2] = -w * ni.z / 3.0;
+}
+
+// docs/model.md §14: moves every new point from its flat position onto the PN triangle of its
+// input triangle, normals = the input's area-weighted point normals. Input points stay.
+void PlaceOnPnTriangles(State* s) {
+  const size_t np = s->input_points;
+  const std::vector<float3> normals = ComputeVertexNormals(
+      span<const float3>(s->points.data(), np), span<const uint32_t>(s->input_triangles));
+  for (size_t i = 0; i < s->params.size(); ++i) {
+    const PointParam& q = s->params[i];
+    const uint32_t* c = &s->input_triangles[3 * size_t(q.triangle)];
+    double d[3] = {0, 0, 0};
+    int zero = -1, zeros = 0;
+    for (int k = 0; k < 3; ++k)
+      if (q.bary[k] == 0) zero = k, ++zeros;
+    if (zeros == 1) {
+      // On the input edge opposite corner `zero`: the edge's cubic, ends in point-id order.
+      uint32_t lo = c[(zero + 1) % 3], hi = c[(zero + 2) % 3];
+      double t = q.bary[(zero + 2) % 3];  // the coordinate of hi
+      if (lo > hi) std::swap(lo, hi), t = q.bary[(zero + 1) % 3];
+      double a[3], b[3];
+      EdgeControlOffset(s->points[lo], s->points[hi], normals[lo], a);
+      EdgeControlOffset(s->points[hi], s->points[lo], normals[hi], b);
+      const double wa = 3 * (1 - t) * (1 - t) * t, wb = 3 * (1 - t) * t * t;
+      for (int k = 0; k < 3; ++k) d[k] = wa * a[k] + wb * b[k];
+    } else {
+      // Inside: the six edge control offsets and the centre's, 1.5 times their mean
+      // (b111 = E + (E - V) / 2, and the linear patch's six edge points average to V).
+      const double u[3] = {q.bary[0], q.bary[1], q.bary[2]};
+      double centre[3] = {0, 0, 0};
+      for (int i0 = 0; i0 < 3; ++i0) {
+        for (int j0 : {(i0 + 1) % 3, (i0 + 2) % 3}) {
+          double o[3];
+          EdgeControlOffset(s->points[c[i0]], s->points[c[j0]], normals[c[i0]], o);
+          const double w = 3 * u[i0] * u[i0] * u[j0];  // b_(2 at i0, 1 at j0)
+          for (int k = 0; k < 3; ++k) d[k] += w * o[k], centre[k] += o[k] / 6.0;
+        }
+      }
+      const double w111 = 6 * u[0] * u[1] * u[2];
+      for (int k = 0; k < 3; ++k) d[k] += w111 * 1.5 * centre[k];
+    }
+    float3& p = s->points[np + i];
+    p = {static_cast<float>(double(p.x) + d[0]), static_cast<float>(double(p.y) + d[1]),
+         static_cast<float>(double(p.z) + d[2])};
+  }
+  for (size_t v = 0; v < s->mesh.positions.size(); ++v)
+    if (s->pov[v] >= np) s->mesh.positions[v] = s->points[s->pov[v]];
+}
+
 }  // namespace
 
 bool RefineMesh(const MeshData& in, const EdgeLengthField& max_edge, const RefineOptions& options,
@@ -378,7 +492,8 @@ bool RefineMesh(const MeshData& in, const EdgeLengthField& max_edge, const Refin
       return false;
     }
     State s{out->mesh, welded.point_of_vertex, welded.points, out->parents, out->triangle_origin,
-            std::vector<uint8_t>(in.triangle_count(), 1), !in.uvs.empty(), !in.normals.empty()};
+            std::vector<uint8_t>(in.triangle_count(), 1), !in.uvs.empty(), !in.normals.empty(),
+            welded.triangles, welded.points.size(), {}};
     // The shortest edge that is split: 2e-4 of the bounding-box diagonal, 8 weld tolerances.
     const double bbox_diag = ComputeBounds(welded.points).Diagonal();
     const double min_split = std::max(kMinSplitFraction * bbox_diag,
@@ -425,6 +540,8 @@ bool RefineMesh(const MeshData& in, const EdgeLengthField& max_edge, const Refin
       SplitMarked(pass, new_count, &s);
       ++out->passes;
     }
+    // 7. Placement: new points onto the input's smooth surface (docs/model.md §14).
+    if (options.placement == RefinePlacement::kSmooth && !s.params.empty()) PlaceOnPnTriangles(&s);
     // NaN samples of the field: one warning with the first place.
     if (field.nan_count > 0) {
       diag->Warning(where, "the edge-length field returned NaN at " +

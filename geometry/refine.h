@@ -9,7 +9,10 @@
 // Method: conforming longest-edge bisection (Rivara 1984; "4-T" partition), decided on the
 // welded topology so that both sides of a UV/normal seam split identically. Triangles whose
 // edges all meet the field, and that no neighbour's split reaches, keep their vertices and
-// their index order.
+// their index order. New points are placed on a smooth surface through the input points, the
+// PN triangle (curved point-normal triangle, Vlachos et al. 2001) of the input triangle they
+// lie in (docs/model.md §14), so the refined rest pose is not faceted and the input vertices
+// stay where they were (RefinePlacement).
 #pragma once
 
 #include <cstddef>
@@ -38,7 +41,21 @@ inline constexpr float kDefaultRefineWidthFraction = 0.25f;
 // (every point of a triangle is within 2/3 of its longest edge from its centroid).
 using EdgeLengthField = std::function<float(float3 position, float2 uv)>;
 
+// Where a new point goes (docs/model.md §14).
+enum class RefinePlacement {
+  // On the PN triangle (Vlachos et al. 2001) of the input triangle it lies in: a cubic patch
+  // through the triangle's corners, tangent there to the planes of the input's area-weighted
+  // point normals (geometry/normals.h); its edges depend only on the edge's two ends and their
+  // normals, so neighbouring patches meet without cracks. Interpolating: input points keep
+  // their exact position. On a flat region (all normals perpendicular to it) this is the flat
+  // position, bit for bit.
+  kSmooth,
+  // On the input's flat triangles: the exact midpoint of the edge (docs/model.md §11).
+  kFlat,
+};
+
 struct RefineOptions {
+  RefinePlacement placement = RefinePlacement::kSmooth;
   int max_passes = 8;                // >= 0; each pass bisects every marked edge once
   size_t max_triangles = 4'000'000;  // a pass that would exceed this is not run
   float weld_tolerance = 0.f;        // as WeldMesh: mesh units; <= 0: 1e-6 of the bbox diagonal
@@ -50,11 +67,16 @@ struct RefineResult {
   // Triangles appear in the order of the input triangles they come from; an unsplit triangle
   // keeps its indices in the same order.
   MeshData mesh;
-  // One per output vertex: the two earlier vertices it is the midpoint of, or (v, v) for an
-  // input vertex v. Any per-vertex attribute carries by value = (value[a] + value[b]) / 2,
-  // applied in vertex order (CarryAttribute). uvs are carried by this rule; normals are the
-  // normalised average; a new vertex's position is the midpoint of its welded edge (the same
-  // bits for every file vertex of one point, so the result welds exactly).
+  // One per output vertex: the two earlier vertices whose edge it splits, in parameter space
+  // the midpoint (its barycentric coordinates in its input triangle are the mean of theirs),
+  // or (v, v) for an input vertex v. Any per-vertex attribute carries by value = (value[a] +
+  // value[b]) / 2, applied in vertex order (CarryAttribute): the attribute interpolated
+  // linearly over the input triangle. uvs are carried by this rule; normals are the
+  // normalised average. A new vertex's position is, with RefinePlacement::kFlat, the midpoint
+  // of its welded edge, and with kSmooth (the default) that flat position moved onto the
+  // input triangle's PN patch (docs/model.md §14); either way the same bits for every file
+  // vertex of one point, so the result welds exactly. Which edges split is decided on the
+  // flat positions, so the topology (indices, parents, origins) does not depend on placement.
   std::vector<std::pair<uint32_t, uint32_t>> parents;
   // One per output triangle: the input triangle it lies in.
   std::vector<uint32_t> triangle_origin;

@@ -28,7 +28,7 @@ const char* kCalibrateUsage =
     "tests/data/landmarks/ict_facekit.landmarks.json), then changes one muscle parameter at a\n"
     "time (strength, fall-off radii, zone angle or sheet size, the offsets of its attachment\n"
     "and insertion, their depths, its motion) while the mean score over the training shapes\n"
-    "drops (score = the muscles-alone solve's residual over the neutral's; docs/model.md §14).\n"
+    "drops (score = the muscles-alone solve's residual over the neutral's; docs/model.md §17).\n"
     "Mirrored muscles change together; attachments stay on the bone side, insertions in the\n"
     "skin, and a change that makes a muscle pull against its anatomy is refused\n"
     "(fitting/anatomy.h). Writes the calibrated template to --out (atomically).\n\n"

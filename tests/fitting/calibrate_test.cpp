@@ -1,4 +1,4 @@
-// CalibrateTemplate (`mimetic calibrate`, docs/model.md §14): recovery of known muscle
+// CalibrateTemplate (`mimetic calibrate`, docs/model.md §17): recovery of known muscle
 // parameters from shapes made by the runtime with them, the anatomical constraints, and the
 // refusal of a seed whose muscle pulls against its anatomy (fitting/anatomy.h).
 #include <gtest/gtest.h>

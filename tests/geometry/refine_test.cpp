@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -17,6 +18,7 @@
 
 #include "core/diagnostics.h"
 #include "geometry/mesh.h"
+#include "geometry/normals.h"
 #include "geometry/refine.h"
 #include "geometry/weld.h"
 
@@ -85,6 +87,64 @@ double Area3D(const MeshData& m, size_t t) {
   const double w[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
   const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
   return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+// The unit icosahedron subdivided `levels` times 1-to-4, every vertex on the unit sphere
+// (counter-clockwise seen from outside). levels 2: 162 vertices, 320 triangles.
+MeshData IcoSphere(int levels) {
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  std::vector<std::array<double, 3>> p = {{-1, g, 0}, {1, g, 0},  {-1, -g, 0}, {1, -g, 0},
+                                          {0, -1, g}, {0, 1, g},  {0, -1, -g}, {0, 1, -g},
+                                          {g, 0, -1}, {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<uint32_t> f = {0, 11, 5,  0, 5,  1,  0, 1, 7,  0, 7,  10, 0, 10, 11,
+                             1, 5,  9,  5, 11, 4,  11, 10, 2, 10, 7, 6,  7, 1,  8,
+                             3, 9,  4,  3, 4,  2,  3, 2, 6,  3, 6,  8,  3, 8,  9,
+                             4, 9,  5,  2, 4,  11, 6, 2, 10, 8, 6,  7,  9, 8,  1};
+  auto unit = [](std::array<double, 3> a) {
+    const double l = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    return std::array<double, 3>{a[0] / l, a[1] / l, a[2] / l};
+  };
+  for (auto& q : p) q = unit(q);
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+    auto m = [&](uint32_t a, uint32_t b) {
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      p.push_back(unit({p[a][0] + p[b][0], p[a][1] + p[b][1], p[a][2] + p[b][2]}));
+      return mid[key] = uint32_t(p.size() - 1);
+    };
+    std::vector<uint32_t> next;
+    for (size_t t = 0; t < f.size(); t += 3) {
+      const uint32_t a = f[t], b = f[t + 1], c = f[t + 2];
+      const uint32_t ab = m(a, b), bc = m(b, c), ca = m(c, a);
+      next.insert(next.end(), {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca});
+    }
+    f = std::move(next);
+  }
+  MeshData mesh;
+  for (const auto& q : p) mesh.positions.push_back({float(q[0]), float(q[1]), float(q[2])});
+  mesh.indices = f;
+  return mesh;
+}
+
+double Norm(float3 p) { return std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z); }
+
+double AngleDeg(float3 a, float3 b) {
+  const double c = (double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z) / (Norm(a) * Norm(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+// The flat positions of a refinement (every new vertex the midpoint of its parents' flat
+// positions, i.e. on the input's flat triangles), computed from the parents alone.
+std::vector<float3> FlatPositions(const RefineResult& r, const MeshData& in) {
+  std::vector<float> x(in.vertex_count()), y(x.size()), z(x.size());
+  for (size_t v = 0; v < in.vertex_count(); ++v)
+    x[v] = in.positions[v].x, y[v] = in.positions[v].y, z[v] = in.positions[v].z;
+  const std::vector<float> cx = CarryAttribute(r, x), cy = CarryAttribute(r, y), cz = CarryAttribute(r, z);
+  std::vector<float3> out(cx.size());
+  for (size_t v = 0; v < out.size(); ++v) out[v] = {cx[v], cy[v], cz[v]};
+  return out;
 }
 
 // Smallest interior angle of triangle t, in degrees.
@@ -291,7 +351,11 @@ TEST(Refine, ClosedSurfaceStaysClosed) {
   m.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
   RefineResult r;
   Diagnostics diag;
-  ASSERT_TRUE(RefineMesh(m, [](float3, float2) { return 0.2f; }, {}, &r, &diag)) << diag.Format();
+  // Flat placement: the children tile the octahedron's faces (the smooth placement rounds it;
+  // see the sphere tests below), so area and the bisection angle bound hold exactly.
+  RefineOptions flat;
+  flat.placement = RefinePlacement::kFlat;
+  ASSERT_TRUE(RefineMesh(m, [](float3, float2) { return 0.2f; }, flat, &r, &diag)) << diag.Format();
   EXPECT_TRUE(diag.empty()) << diag.Format();
   EXPECT_TRUE(r.bound_met);
   double area = 0, longest = 0, min_angle = 180;
@@ -311,6 +375,145 @@ TEST(Refine, ClosedSurfaceStaysClosed) {
   EXPECT_EQ(topo.boundary_edges, 0u);
   EXPECT_EQ(topo.max_edge_use, 2u);
   EXPECT_EQ(int64_t(topo.points) - int64_t(topo.edges) + int64_t(r.mesh.triangle_count()), 2);
+}
+
+// docs/model.md §14. One pass with every edge marked: each new vertex splits an input edge (a,
+// b) of the icosphere, half angle phi. The flat midpoint lies 1 - cos(phi) inside the sphere.
+// The PN edge cubic's midpoint is (a + b)/2 + ((a - b).na na + (b - a).nb nb)/8; with radial
+// normals that is (a + b)/2 (1 + sin^2(phi)/2), radius cos(phi) (1 + sin^2(phi)/2) = 1 -
+// (3/8) phi^4 + O(phi^6). A normal off by delta changes each of the two offset terms by at
+// most 2 |a - b| delta / 8, so |r - 1| <= |1 - cos(phi)(1 + sin^2(phi)/2)| + |a - b| delta / 2.
+TEST(Refine, SmoothEdgeMidpointsLieOnTheSphereWithinThePnBound) {
+  const MeshData in = IcoSphere(2);
+  ASSERT_EQ(in.vertex_count(), 162u);
+  // The input's own area-weighted normals against the true (radial) ones.
+  const std::vector<float3> n = ComputeVertexNormals(in);
+  double delta = 0;
+  for (size_t v = 0; v < in.vertex_count(); ++v)
+    delta = std::max(delta, AngleDeg(n[v], in.positions[v]) * M_PI / 180.0);
+  RefineOptions one;
+  one.max_passes = 1;
+  RefineResult r;
+  Diagnostics diag;
+  ASSERT_TRUE(RefineMesh(in, [](float3, float2) { return 0.01f; }, one, &r, &diag)) << diag.Format();
+  ASSERT_EQ(r.passes, 1u);
+  ASSERT_EQ(r.mesh.vertex_count(), 162u + 480u);  // one new vertex per input edge (E = 480)
+  for (size_t v = 0; v < in.vertex_count(); ++v) ASSERT_EQ(r.mesh.positions[v], in.positions[v]);
+  double worst_smooth = 0, worst_flat = 0, worst_excess = -1;
+  for (size_t v = in.vertex_count(); v < r.mesh.vertex_count(); ++v) {
+    const auto [a, b] = r.parents[v];
+    ASSERT_LT(a, in.vertex_count());
+    ASSERT_LT(b, in.vertex_count());
+    const float3 pa = in.positions[a], pb = in.positions[b];
+    const double chord = Edge(in, a, b), phi = std::asin(std::min(1.0, chord / 2));
+    const double flat_error = 1 - std::cos(phi);
+    const double bound = std::fabs(1 - std::cos(phi) * (1 + std::sin(phi) * std::sin(phi) / 2)) +
+                         chord * delta / 2 + 1e-6;
+    const double error = std::fabs(Norm(r.mesh.positions[v]) - 1);
+    worst_excess = std::max(worst_excess, error - bound);
+    worst_smooth = std::max(worst_smooth, error);
+    worst_flat = std::max(worst_flat, flat_error);
+    ASSERT_LE(error, bound) << "vertex " << v << " between " << a << " and " << b;
+    ASSERT_LT(error, 0.2 * flat_error) << "vertex " << v;
+    // And it is the point the flat placement puts at the midpoint, moved outward only.
+    const float3 mid{0.5f * (pa.x + pb.x), 0.5f * (pa.y + pb.y), 0.5f * (pa.z + pb.z)};
+    EXPECT_GT(Norm(r.mesh.positions[v]), Norm(mid)) << v;
+  }
+  std::printf("icosphere(2) edge midpoints: normal error %.3g deg, worst |r - 1| smooth %.3g, "
+              "flat %.3g\n", delta * 180 / M_PI, worst_smooth, worst_flat);
+}
+
+// docs/model.md §14. Several passes (points inside input triangles too): the refined rest
+// pose's normals at the new vertices against the input's interpolated vertex normals (the
+// normalised linear interpolation of its area-weighted normals, carried by the parents) and
+// against the sphere's true normal; flat placement for comparison. On flat placement a new
+// vertex inside a triangle has that face's normal, off by up to half the angle between
+// neighbouring faces (about 6 degrees here); on the PN patch it follows the surface.
+TEST(Refine, SmoothRestNormalsFollowTheInputsInterpolatedNormals) {
+  const MeshData in = IcoSphere(2);
+  RefineResult smooth, flat;
+  RefineOptions flat_options;
+  flat_options.placement = RefinePlacement::kFlat;
+  Diagnostics diag;
+  auto field = [](float3, float2) { return 0.06f; };
+  ASSERT_TRUE(RefineMesh(in, field, {}, &smooth, &diag)) << diag.Format();
+  ASSERT_TRUE(RefineMesh(in, field, flat_options, &flat, &diag)) << diag.Format();
+  ASSERT_GE(smooth.passes, 3u);
+  // The same topology either way; flat = the midpoints computed from the parents.
+  ASSERT_EQ(smooth.mesh.indices, flat.mesh.indices);
+  ASSERT_EQ(smooth.parents, flat.parents);
+  const std::vector<float3> expected_flat = FlatPositions(smooth, in);
+  for (size_t v = 0; v < in.vertex_count(); ++v) ASSERT_EQ(smooth.mesh.positions[v], in.positions[v]);
+  for (size_t v = 0; v < flat.mesh.vertex_count(); ++v)
+    ASSERT_LT(Length(flat.mesh.positions[v] - expected_flat[v]), 1e-6f) << v;
+
+  const std::vector<float3> n_in = ComputeVertexNormals(in);
+  std::vector<float> nx(in.vertex_count()), ny(nx.size()), nz(nx.size());
+  for (size_t v = 0; v < in.vertex_count(); ++v) nx[v] = n_in[v].x, ny[v] = n_in[v].y, nz[v] = n_in[v].z;
+  const std::vector<float> cx = CarryAttribute(smooth, nx), cy = CarryAttribute(smooth, ny),
+                           cz = CarryAttribute(smooth, nz);
+  const std::vector<float3> n_smooth = ComputeVertexNormals(smooth.mesh),
+                            n_flat = ComputeVertexNormals(flat.mesh);
+  double sum_smooth = 0, sum_flat = 0, sum_true_smooth = 0, sum_true_flat = 0, max_smooth = 0;
+  double r_smooth = 0, r_flat = 0;
+  size_t count = 0, closer = 0;
+  for (size_t v = in.vertex_count(); v < smooth.mesh.vertex_count(); ++v) {
+    const float3 phong{cx[v], cy[v], cz[v]};
+    const float3 p = smooth.mesh.positions[v], q = flat.mesh.positions[v];
+    sum_smooth += AngleDeg(n_smooth[v], phong);
+    sum_flat += AngleDeg(n_flat[v], phong);
+    max_smooth = std::max(max_smooth, AngleDeg(n_smooth[v], phong));
+    sum_true_smooth += AngleDeg(n_smooth[v], p);  // the sphere's normal at p is p
+    sum_true_flat += AngleDeg(n_flat[v], q);
+    r_smooth = std::max(r_smooth, std::fabs(Norm(p) - 1));
+    r_flat = std::max(r_flat, std::fabs(Norm(q) - 1));
+    closer += std::fabs(Norm(p) - 1) < std::fabs(Norm(q) - 1);
+    ++count;
+  }
+  ASSERT_GT(count, 1000u);
+  const double mean_smooth = sum_smooth / count, mean_flat = sum_flat / count;
+  std::printf("icosphere(2), %zu new vertices: mean angle to the interpolated normal %.3f deg "
+              "smooth (max %.3f), %.3f flat; to the sphere's %.3f smooth, %.3f flat; worst "
+              "|r - 1| %.3g smooth, %.3g flat; %zu closer to the sphere\n",
+              count, mean_smooth, max_smooth, mean_flat, sum_true_smooth / count,
+              sum_true_flat / count, r_smooth, r_flat, closer);
+  EXPECT_LT(mean_smooth, 2.0);
+  EXPECT_LT(mean_smooth, 0.25 * mean_flat);
+  EXPECT_LT(sum_true_smooth, 0.25 * sum_true_flat);
+  EXPECT_LT(r_smooth, 0.25 * r_flat);
+  EXPECT_EQ(closer, count);  // every new vertex nearer the sphere than its flat position
+}
+
+// The smooth placement on a curved sheet with a uv seam: the two file vertices of a seam
+// point get the same bits (the point is placed once, on the welded edge), so it welds
+// without a crack; and on the flat grid the placement is the flat one, bit for bit.
+TEST(Refine, SmoothPlacementKeepsSeamsClosedAndPlanesFlat) {
+  MeshData in = Grid(20, 10);
+  for (float3& p : in.positions) p.z = 0.02f * ((p.x - 10) * (p.x - 10) + (p.y - 10) * (p.y - 10));
+  RefineResult r;
+  Diagnostics diag;
+  ASSERT_TRUE(RefineMesh(in, DiscField, {}, &r, &diag)) << diag.Format();
+  WeldedMesh w;
+  Diagnostics weld_diag;
+  ASSERT_TRUE(WeldMesh(r.mesh, 1e-7f, &w, &weld_diag)) << weld_diag.Format();
+  const Topology topo = WeldedTopology(w);
+  EXPECT_EQ(topo.boundary_edges, 80u);
+  EXPECT_EQ(topo.max_edge_use, 2u);
+  const std::vector<float3> flat = FlatPositions(r, in);
+  size_t moved = 0;
+  for (size_t v = in.vertex_count(); v < r.mesh.vertex_count(); ++v)
+    moved += Length(r.mesh.positions[v] - flat[v]) > 1e-5f;
+  EXPECT_GT(moved, (r.mesh.vertex_count() - in.vertex_count()) / 2);  // curved: most move
+
+  const MeshData plane = Grid(20, 10);
+  RefineResult a, b;
+  RefineOptions flat_options;
+  flat_options.placement = RefinePlacement::kFlat;
+  ASSERT_TRUE(RefineMesh(plane, DiscField, {}, &a, nullptr));
+  ASSERT_TRUE(RefineMesh(plane, DiscField, flat_options, &b, nullptr));
+  ASSERT_EQ(a.mesh.vertex_count(), b.mesh.vertex_count());
+  EXPECT_EQ(0, std::memcmp(a.mesh.positions.data(), b.mesh.positions.data(),
+                           a.mesh.positions.size() * sizeof(float3)));
 }
 
 TEST(Refine, Deterministic) {

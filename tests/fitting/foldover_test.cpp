@@ -1,0 +1,269 @@
+// No fold-overs (issue #10 item 4, docs/model.md §16): on the default rig
+// (assets/head/sample_head.rig.json) and on the default template fitted to the ICT-FaceKit
+// neutral, no triangle of the output turns over against its rest orientation at any
+// activation in [0, 1]. Sampled: every corner of the activation cube of each region (the
+// muscles of one brow, of one side of the mouth, across the midline of the brows and of the
+// chin, where muscles of both sides overlap), and 300 random poses of all muscles (a fixed
+// seed, uniform in [0, 1]^24). A triangle flips when dot(n_posed, n_rest) <= 0 (unit face
+// normals); the test reports the worst (smallest) dot product seen. The muscle stage (the sum
+// of the muscles, skin layers off) must never flip one; the same check with the skin layers on
+// fails today (docs/model.md §16 has the numbers) and is disabled until they limit their
+// displacement along the normals.
+// Lives in tests/fitting (not tests/rig) because it reads the rig file (io) and fits the
+// template (fitting); the link lists in tests/CMakeLists.txt keep tests/rig off io.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fitting/fit.h"
+#include "fitting/landmarks.h"
+#include "fitting/muscle_template.h"
+#include "geometry/mesh.h"
+#include "io/landmarks_file.h"
+#include "io/mesh_io.h"
+#include "io/rig_loader.h"
+#include "io/template_file.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/runtime/evaluate_job.h"
+#include "test_support.h"
+
+namespace mimetic {
+namespace {
+
+// The regions whose activation cube corners are sampled: muscle names (each must exist).
+struct Region {
+  const char* name;
+  std::vector<std::string> muscles;
+};
+
+std::vector<Region> Regions() {
+  std::vector<Region> out;
+  for (const char* side : {"_L", "_R"}) {
+    const std::string s = side;
+    out.push_back({s == "_L" ? "brow_L" : "brow_R",
+                   {"frontalis_inner" + s, "frontalis_major" + s, "frontalis_outer" + s,
+                    "corrugator_supercilii" + s, "procerus" + s}});
+    out.push_back({s == "_L" ? "mouth_L" : "mouth_R",
+                   {"nasalis" + s, "levator_labii_alaeque_nasi" + s, "zygomaticus_minor" + s,
+                    "zygomaticus_major" + s, "risorius" + s, "depressor_anguli_oris" + s,
+                    "mentalis" + s}});
+  }
+  out.push_back({"glabella (both sides)",
+                 {"frontalis_inner_L", "frontalis_inner_R", "corrugator_supercilii_L",
+                  "corrugator_supercilii_R", "procerus_L", "procerus_R"}});
+  out.push_back({"nose and upper lip (both sides)",
+                 {"nasalis_L", "nasalis_R", "levator_labii_alaeque_nasi_L",
+                  "levator_labii_alaeque_nasi_R", "zygomaticus_minor_L", "zygomaticus_minor_R"}});
+  out.push_back({"chin (both sides)",
+                 {"mentalis_L", "mentalis_R", "depressor_anguli_oris_L", "depressor_anguli_oris_R"}});
+  return out;
+}
+
+// Worst face-normal agreement over the poses, with where it happened.
+struct Worst {
+  double dot = 1;
+  uint32_t triangle = 0;
+  std::string pose;
+  size_t flips = 0;  // (pose, triangle) pairs with dot <= 0
+  size_t poses = 0;
+};
+
+class FoldOverChecker {
+ public:
+  explicit FoldOverChecker(const Rig& rig)
+      : rig_(rig), context_(rig), positions_(size_t(rig.vertex_count()) * 3) {
+    const MeshData rest = RestMesh(rig);
+    indices_ = rest.indices;
+    rest_normals_.resize(indices_.size() / 3);
+    for (size_t t = 0; t < rest_normals_.size(); ++t) {
+      const float3 a = rest.positions[indices_[3 * t]], b = rest.positions[indices_[3 * t + 1]],
+                   c = rest.positions[indices_[3 * t + 2]];
+      rest_normals_[t] = UnitCross(a, b, c);
+    }
+  }
+
+  void Check(const std::vector<float>& activations, const SkinLayers& layers,
+             const std::string& pose, Worst* worst) {
+    EvaluateJob job;
+    job.rig = &rig_;
+    job.context = &context_;
+    job.activations = activations;
+    job.out_positions = positions_;
+    job.layers = layers;
+    ASSERT_TRUE(job.Run());
+    ++worst->poses;
+    auto at = [&](uint32_t v) {
+      return float3{positions_[3 * size_t(v)], positions_[3 * size_t(v) + 1], positions_[3 * size_t(v) + 2]};
+    };
+    for (size_t t = 0; t < rest_normals_.size(); ++t) {
+      const std::array<double, 3> n =
+          UnitCross(at(indices_[3 * t]), at(indices_[3 * t + 1]), at(indices_[3 * t + 2]));
+      const std::array<double, 3>& r = rest_normals_[t];
+      const double dot = n[0] * r[0] + n[1] * r[1] + n[2] * r[2];
+      if (dot <= 0) ++worst->flips;
+      if (dot < worst->dot) {
+        worst->dot = dot;
+        worst->triangle = uint32_t(t);
+        worst->pose = pose;
+      }
+    }
+  }
+
+ private:
+  static std::array<double, 3> UnitCross(float3 a, float3 b, float3 c) {
+    const double u[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+    const double w[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+    std::array<double, 3> n = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                               u[0] * w[1] - u[1] * w[0]};
+    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& x : n) x = l > 0 ? x / l : 0;  // a collapsed triangle counts as dot 0: a flip
+    return n;
+  }
+
+  const Rig& rig_;
+  EvaluateContext context_;
+  std::vector<float> positions_;
+  std::vector<uint32_t> indices_;
+  std::vector<std::array<double, 3>> rest_normals_;
+};
+
+// The poses: every cube corner of every region, 300 random poses, everything at 1.
+std::vector<std::pair<std::string, std::vector<float>>> Poses(const Rig& rig) {
+  std::vector<std::pair<std::string, std::vector<float>>> poses;
+  const uint32_t n = rig.muscle_count();
+  for (const Region& region : Regions()) {
+    std::vector<int> ids;
+    for (const std::string& name : region.muscles) {
+      const int m = rig.FindMuscle(name);
+      EXPECT_GE(m, 0) << "no muscle " << name;
+      if (m < 0) return {};
+      ids.push_back(m);
+    }
+    for (uint32_t corner = 1; corner < (1u << ids.size()); ++corner) {
+      std::vector<float> a(n, 0.f);
+      std::string pose = region.name + std::string(" corner");
+      for (size_t k = 0; k < ids.size(); ++k) {
+        if (!(corner >> k & 1u)) continue;
+        a[size_t(ids[k])] = 1.f;
+        pose += " " + region.muscles[k];
+      }
+      poses.emplace_back(pose, a);
+    }
+  }
+  // Random poses: uniform in [0, 1] from the raw 32-bit output of mt19937 (the engine's
+  // sequence is fixed by the standard; std's distributions are not).
+  std::mt19937 rng(20261201u);
+  for (int i = 0; i < 300; ++i) {
+    std::vector<float> a(n);
+    for (float& x : a) x = float(rng() >> 8) * (1.f / 16777216.f);
+    a[size_t(i) % n] = 1.f;  // one muscle at its full strength in each
+    poses.emplace_back("random pose " + std::to_string(i), a);
+  }
+  poses.emplace_back("all muscles at 1", std::vector<float>(n, 1.f));
+  return poses;
+}
+
+Worst Sample(const Rig& rig, const SkinLayers& layers, const char* label, const char* what) {
+  FoldOverChecker checker(rig);
+  Worst worst;
+  for (const auto& [pose, a] : Poses(rig)) checker.Check(a, layers, pose, &worst);
+  std::printf("%s, %s: %zu poses, %u triangles; worst dot(n_posed, n_rest) %.4f (%s, output "
+              "triangle %u); %zu flipped (pose, triangle) pairs\n",
+              label, what, worst.poses, uint32_t(rig.vertex_indices().size() / 3), worst.dot,
+              worst.pose.c_str(), worst.triangle, worst.flips);
+  return worst;
+}
+
+SkinLayers MusclesOnly() {
+  SkinLayers l;
+  l.thickness = l.muscle_wrinkles = l.curve_wrinkles = false;
+  return l;
+}
+
+// The muscle stage: the summed displacement of every sampled pose keeps every triangle's
+// orientation (docs/model.md §16: no saturation is needed with the default template).
+void CheckMuscleSums(const Rig& rig, const char* label, double min_dot) {
+  const Worst w = Sample(rig, MusclesOnly(), label, "muscles");
+  EXPECT_EQ(w.flips, 0u) << label << ": worst " << w.pose;
+  EXPECT_GT(w.dot, min_dot) << label << ": worst " << w.pose;
+}
+
+// Every skin layer on (and each alone, to say which folds): docs/model.md §16 measures that
+// the thickness and curve-wrinkle layers turn triangles over at creases of the muscle-deformed
+// skin, so this check is disabled until the skin layers limit their normal displacement.
+void CheckSkinLayers(const Rig& rig, const char* label) {
+  const char* names[3] = {"thickness alone", "muscle wrinkles alone", "curve wrinkles alone"};
+  for (int l = 0; l < 3; ++l) {
+    SkinLayers one = MusclesOnly();
+    (l == 0 ? one.thickness : l == 1 ? one.muscle_wrinkles : one.curve_wrinkles) = true;
+    Sample(rig, one, label, names[l]);
+  }
+  const Worst w = Sample(rig, SkinLayers{}, label, "every layer");
+  EXPECT_EQ(w.flips, 0u) << label << ": worst " << w.pose;
+  EXPECT_GT(w.dot, 0.0) << label << ": worst " << w.pose;
+}
+
+const Rig& DefaultRig() {
+  static const LoadedRig* head = [] {
+    auto* h = new LoadedRig;
+    Diagnostics diag;
+    EXPECT_TRUE(LoadRig(test::SourceDir() + "/assets/head/sample_head.rig.json", h, &diag))
+        << diag.Format();
+    return h;
+  }();
+  return head->rig;
+}
+
+// The default template fitted to the ICT-FaceKit neutral (docs/fitting.md), or null when
+// ../shared is absent.
+const Rig* IctRig() {
+  static const Rig* rig = []() -> const Rig* {
+    const std::string shared = test::SharedDir();
+    MeshData mesh;
+    Diagnostics diag;
+    if (shared.empty() ||
+        !ImportMesh(shared + "/data/ict-facekit/ict_skin_neutral.obj", "", &mesh, &diag))
+      return nullptr;
+    MuscleTemplate tmpl;
+    Landmarks landmarks;
+    EXPECT_TRUE(LoadMuscleTemplate(test::SourceDir() + "/assets/head/default.template.json", &tmpl, &diag));
+    EXPECT_TRUE(LoadLandmarks(test::SourceDir() + "/tests/data/landmarks/ict_facekit.landmarks.json",
+                              &landmarks, &diag));
+    RigSpec spec;
+    auto* r = new Rig;
+    EXPECT_TRUE(FitTemplate(tmpl, mesh, landmarks, "cm", &spec, &diag)) << diag.Format();
+    EXPECT_TRUE(BuildRig(spec, mesh, {}, r, &diag)) << diag.Format();
+    return r;
+  }();
+  return rig;
+}
+
+TEST(FoldOver, DefaultRigMuscleSumsNeverFlipATriangle) {
+  CheckMuscleSums(DefaultRig(), "sample head rig", 0.3);
+}
+
+TEST(FoldOver, IctFittedRigMuscleSumsNeverFlipATriangle) {
+  const Rig* rig = IctRig();
+  if (!rig) GTEST_SKIP() << "../shared/data/ict-facekit is absent: the ICT-fitted rig is not checked";
+  CheckMuscleSums(*rig, "ICT-fitted rig", 0.3);
+}
+
+// Disabled: fails today (docs/model.md §16); run with --gtest_also_run_disabled_tests.
+TEST(FoldOver, DISABLED_DefaultRigSkinLayersNeverFlipATriangle) {
+  CheckSkinLayers(DefaultRig(), "sample head rig");
+}
+
+TEST(FoldOver, DISABLED_IctFittedRigSkinLayersNeverFlipATriangle) {
+  const Rig* rig = IctRig();
+  if (!rig) GTEST_SKIP() << "../shared/data/ict-facekit is absent: the ICT-fitted rig is not checked";
+  CheckSkinLayers(*rig, "ICT-fitted rig");
+}
+
+}  // namespace
+}  // namespace mimetic
