@@ -11,6 +11,7 @@
 #include "geometry/mesh.h"
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
+#include "muscles/offline/muscle_builder.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
@@ -116,14 +117,17 @@ int CmdInfo(const Args& args) {
               rig.layers().thickness ? "on" : "off", rig.layers().muscle_wrinkles ? "on" : "off",
               rig.layers().curve_wrinkles ? "on" : "off");
   std::printf("muscles:    %u\n", rig.muscle_count());
+  const std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles());
+  std::vector<const RigMuscleWrinkles*> wrinkles_of(rig.muscle_count(), nullptr);
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
+    if (w.muscle < wrinkles_of.size()) wrinkles_of[w.muscle] = &w;
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     const MuscleSpec& ms = loaded.spec.muscles[m];
     std::printf("  %-28s %-6s strength %-8.4g moves %u points", ms.name.c_str(),
-                MuscleTypeName(ms.type), ms.strength, rig.muscles().CountInfluenced(m));
-    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
-      if (w.muscle == m)
-        std::printf(", wrinkles on %u (half cycle %.3g %s)", w.row_count(), w.half_cycle,
-                    loaded.spec.units.c_str());
+                MuscleTypeName(ms.type), ms.strength, influenced[m]);
+    if (const RigMuscleWrinkles* w = wrinkles_of[m])
+      std::printf(", wrinkles on %u (half cycle %.3g %s)", w->row_count(), w->half_cycle,
+                  loaded.spec.units.c_str());
     std::printf("\n");
   }
   // A muscle that moves almost none of the mesh's own vertices is usually misplaced for this

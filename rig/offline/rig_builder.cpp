@@ -271,8 +271,9 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
 
   for (const MuscleSpec& m : spec.muscles) rig.muscle_names.push_back(m.name);
   rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points);
+  const std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
-    if (rig.muscles.CountInfluenced(m) == 0 && spec.muscles[m].strength > 0.f)
+    if (influenced[m] == 0 && spec.muscles[m].strength > 0.f)
       diag->Warning("muscles[" + std::to_string(m) + "] (" + spec.muscles[m].name + ")",
                     "reaches no vertex of the mesh: check its position and fall-off radii "
                     "against the mesh's units and placement");
