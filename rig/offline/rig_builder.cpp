@@ -6,6 +6,7 @@
 #include <string>
 
 #include "muscles/offline/muscle_builder.h"
+#include "geometry/orientation.h"
 #include "geometry/refine.h"
 #include "geometry/topology.h"
 #include "geometry/weld.h"
@@ -351,8 +352,25 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 }  // namespace
 
-bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOptions& options,
+bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildOptions& options,
               Rig* out, Diagnostics* diag) {
+  // Consistent winding first (geometry/orientation.h): a minority of reversed triangles is
+  // turned round with a warning, so that the posed normals point one way; the output's index
+  // buffer is the corrected one.
+  MeshData reoriented;
+  const MeshData* file_ptr = &file_mesh_in;
+  {
+    std::vector<uint32_t> fixed;
+    if (!MakeWindingConsistent(file_mesh_in, options.weld_tolerance, file_mesh_in.source, &fixed,
+                               diag))
+      return false;
+    if (!fixed.empty()) {
+      reoriented = file_mesh_in;
+      reoriented.indices = std::move(fixed);
+      file_ptr = &reoriented;
+    }
+  }
+  const MeshData& file_mesh = *file_ptr;
   // Refine where wrinkles act (docs/model.md §11); everything below runs on the refined layout.
   const MeshData* mesh_ptr = &file_mesh;
   const RigSpec* spec_ptr = &spec_in;
