@@ -357,6 +357,8 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
 
   RigSpec spec;
   spec.units = units;
+  // What ties the per-vertex thickness and the curves' texture coordinates to this mesh.
+  spec.mesh_fingerprint = ComputeMeshFingerprint(head);
   const float s = frame.scale;
   bool ok = true;
   for (size_t i = 0; i < tmpl.muscles.size(); ++i) {

@@ -94,7 +94,7 @@ struct FitReport {
 
 // Places `tmpl` on `head` (units `units`: "mm", "cm", "dm", "m" or "in"; written into the
 // rig). Fills every field of `out` except `file`, `mesh_path` and `mesh_name`, which the
-// caller sets. Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.
+// caller sets; `mesh_fingerprint` is `head`'s (geometry/fingerprint.h). Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.
 // Muscle wrinkle blocks go to `muscle_wrinkles` (depth and h_c times s; empty when no muscle
 // has one); each curve wrinkle's control points are placed like muscle points (depth 0) and
 // replaced by the texture coordinates of the surface hit (barycentric in the hit triangle),

@@ -354,6 +354,28 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildOptions& options,
               Rig* out, Diagnostics* diag) {
+  // The mesh the per-vertex and texture-space data were made for (geometry/fingerprint.h).
+  {
+    const bool per_vertex = spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex;
+    const bool image = spec_in.thickness.kind == ThicknessSpec::Kind::kImage;
+    const bool curves = !spec_in.curve_wrinkles.empty();
+    if (!spec_in.mesh_fingerprint.empty() && (per_vertex || image || curves)) {
+      const std::string why =
+          FingerprintMismatch(spec_in.mesh_fingerprint, file_mesh_in, image || curves);
+      if (!why.empty()) {
+        std::string data = per_vertex ? "per-vertex thickness" : (image ? "thickness image" : "");
+        if (curves) data += std::string(data.empty() ? "" : " and ") + "curve wrinkles";
+        const std::string mesh_name = file_mesh_in.source.empty() ? "the mesh" : file_mesh_in.source;
+        diag->Error("mesh.fingerprint",
+                    "'" + mesh_name + "' is not the mesh this rig's " + data + " (" +
+                        (per_vertex ? "one value per vertex" : "texture space") +
+                        ") was made for: " + why + "; refit the rig on this mesh (mimetic fit "
+                        "TEMPLATE --mesh " + mesh_name + " --landmarks LANDMARKS --out RIG, "
+                        "docs/fitting.md), or point mesh.path at the mesh it was fitted to");
+        return false;
+      }
+    }
+  }
   // Consistent winding first (geometry/orientation.h): a minority of reversed triangles is
   // turned round with a warning, so that the posed normals point one way; the output's index
   // buffer is the corrected one.

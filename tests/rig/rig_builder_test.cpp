@@ -1,5 +1,6 @@
 // BuildRig's checks of the mesh against the rig (issue 11): inconsistent triangle winding is
-// turned round with a warning.
+// turned round with a warning, and per-vertex or texture-space data made for another vertex
+// layout (mesh.fingerprint) is refused with how to refit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "content/procedural.h"
+#include "geometry/fingerprint.h"
 #include "rig/offline/rig_builder.h"
 
 namespace mimetic {
@@ -51,6 +53,109 @@ TEST(BuildRigWinding, EveryOtherTriangleFlippedIsTurnedBackWithAWarning) {
   Diagnostics quiet;
   ASSERT_TRUE(BuildRig(Spec(), good, {}, &rig, &quiet));
   EXPECT_FALSE(quiet.Contains("wound")) << quiet.Format();
+}
+
+// The surface's vertices in reverse order (the same head re-exported by another tool), its
+// indices remapped: the same shape, every per-vertex value now on another vertex.
+MeshData Reordered(const MeshData& m) {
+  MeshData r = m;
+  const uint32_t n = uint32_t(m.vertex_count());
+  for (uint32_t v = 0; v < n; ++v) {
+    r.positions[v] = m.positions[n - 1 - v];
+    r.uvs[v] = m.uvs[n - 1 - v];
+  }
+  for (uint32_t& i : r.indices) i = n - 1 - i;
+  return r;
+}
+
+RigSpec PerVertexSpec(const MeshData& mesh) {
+  RigSpec spec = Spec();
+  spec.thickness.kind = ThicknessSpec::Kind::kPerVertex;
+  for (size_t v = 0; v < mesh.vertex_count(); ++v)
+    spec.thickness.per_vertex.push_back(float(v % kSide) * 0.1f);  // varies across x
+  spec.mesh_fingerprint = ComputeMeshFingerprint(mesh);
+  return spec;
+}
+
+TEST(BuildRigFingerprint, PerVertexThicknessOnAReorderedMeshIsRefusedWithHowToRefit) {
+  const MeshData mesh = Surface();
+  const RigSpec spec = PerVertexSpec(mesh);
+  Rig rig;
+  Diagnostics ok;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &ok)) << ok.Format();
+  Diagnostics diag;
+  EXPECT_FALSE(BuildRig(spec, Reordered(mesh), {}, &rig, &diag));
+  ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+  EXPECT_EQ(diag.items()[0].where, "mesh.fingerprint");
+  const std::string& what = diag.items()[0].what;
+  EXPECT_EQ(what.rfind("'surface.obj' is not the mesh this rig's per-vertex thickness (one value "
+                       "per vertex) was made for: its triangles use other vertices",
+                       0),
+            0u)
+      << what;
+  EXPECT_NE(what.find("refit the rig on this mesh (mimetic fit TEMPLATE --mesh surface.obj "
+                      "--landmarks LANDMARKS --out RIG"),
+            std::string::npos)
+      << what;
+  // A rig written before fingerprints (none stored) is bound by the vertex count only, as it
+  // was: it builds.
+  RigSpec old = spec;
+  old.mesh_fingerprint = {};
+  Diagnostics quiet;
+  EXPECT_TRUE(BuildRig(old, Reordered(mesh), {}, &rig, &quiet)) << quiet.Format();
+}
+
+TEST(BuildRigFingerprint, MovedVertexAndOtherCountsAreNamed) {
+  const MeshData mesh = Surface();
+  const RigSpec spec = PerVertexSpec(mesh);
+  Rig rig;
+  {
+    // Same indices, vertex 0 somewhere else (the first sample).
+    MeshData moved = mesh;
+    moved.positions[0] = moved.positions[0] + float3{0.f, 0.f, 5.f};
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, moved, {}, &rig, &diag));
+    EXPECT_TRUE(diag.Contains("vertex 0 is at (-50, 50, 5) where the rig has (-50, 50, 0)"))
+        << diag.Format();
+  }
+  {
+    // A vertex in the middle of the range but not sampled moves: the data stays on the right
+    // vertices (a sculpted shape), nothing to say.
+    MeshData sculpted = mesh;
+    const std::vector<uint64_t> sampled = FingerprintSampleVertices(mesh.vertex_count(), 16);
+    uint32_t v = 5;
+    while (std::find(sampled.begin(), sampled.end(), v) != sampled.end()) ++v;
+    sculpted.positions[v].z += 1.f;
+    Diagnostics diag;
+    EXPECT_TRUE(BuildRig(spec, sculpted, {}, &rig, &diag)) << diag.Format();
+  }
+}
+
+TEST(BuildRigFingerprint, ImageThicknessOnFlippedVIsRefused) {
+  const MeshData mesh = Surface();
+  RigSpec spec = Spec();
+  spec.thickness.kind = ThicknessSpec::Kind::kImage;
+  spec.thickness.image.width = spec.thickness.image.height = 4;
+  spec.thickness.image.pixels = std::vector<uint8_t>(16, 128);
+  spec.thickness.image_path = "t.png";
+  spec.thickness.min = 0.f;
+  spec.thickness.max = 2.f;
+  spec.mesh_fingerprint = ComputeMeshFingerprint(mesh);
+  MeshData flipped = mesh;
+  for (float2& uv : flipped.uvs) uv.y = 1.f - uv.y;
+  Rig rig;
+  Diagnostics ok;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &ok)) << ok.Format();
+  Diagnostics diag;
+  EXPECT_FALSE(BuildRig(spec, flipped, {}, &rig, &diag));
+  ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+  EXPECT_TRUE(diag.Contains("is not the mesh this rig's thickness image (texture space) was "
+                            "made for: vertex 0 has texture coordinates (0, 1) where the rig has "
+                            "(0, 0) (v flipped: v -> 1 - v)"))
+      << diag.Format();
+  // Per-vertex data does not care about texture coordinates: flipped v builds.
+  Diagnostics quiet;
+  EXPECT_TRUE(BuildRig(PerVertexSpec(mesh), flipped, {}, &rig, &quiet)) << quiet.Format();
 }
 
 }  // namespace
