@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
 #include "muscles/offline/muscle_builder.h"
 #include "geometry/orientation.h"
 #include "geometry/refine.h"
+#include "geometry/refine_estimate.h"
 #include "geometry/topology.h"
 #include "geometry/weld.h"
 #include "rig/runtime/evaluate_job.h"
@@ -242,6 +244,82 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   };
 }
 
+std::string Short(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// Issue 11: a wrinkle count near 2^31, a curve width of 0.01 mm or an edge_fraction of 1e-30
+// drove refinement to millions of triangles and tens of seconds. Estimate first; refuse when
+// the estimate passes the stated growth, naming the key that asks for the smallest edges (each
+// wrinkle's estimate alone; refinement.edge_fraction when the default 0.25 would fit).
+bool CheckRefinementGrowth(const RigSpec& spec, const MeshData& mesh,
+                           const EdgeLengthField& field, const RefineOptions& options,
+                           Diagnostics* diag) {
+  const double input = double(mesh.triangle_count());
+  const double limit = std::min(std::max(kMaxRefinementGrowth * input, kMinRefinementLimit),
+                                double(options.max_triangles));
+  const double estimate = EstimateRefinedTriangles(mesh, field, options);
+  if (estimate <= limit) return true;
+  // Which wrinkle: each alone.
+  std::string where = "refinement", detail;
+  double worst = -1;
+  RigSpec alone = spec;
+  alone.curve_wrinkles.clear();
+  alone.muscle_wrinkles.assign(spec.muscle_wrinkles.size(), std::nullopt);
+  if (spec.layers.muscle_wrinkles)
+    for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
+      if (!spec.muscle_wrinkles[m]) continue;
+      alone.muscle_wrinkles[m] = spec.muscle_wrinkles[m];
+      const double e = EstimateRefinedTriangles(mesh, MakeRefinementField(alone, mesh), options);
+      alone.muscle_wrinkles[m].reset();
+      if (e <= worst) continue;
+      worst = e;
+      const MuscleWrinkleSpec& w = *spec.muscle_wrinkles[m];
+      const float u = SampleMuscleWrinkleRegion(w, WrinkleGeometryOf(spec.muscles[m]), {}).half_cycle;
+      where = "muscles[" + std::to_string(m) + "].wrinkles.count";
+      detail = "muscles[" + std::to_string(m) + "].wrinkles (" + spec.muscles[m].name + ", count " +
+               std::to_string(w.count) + ") makes furrows " + Short(u) + " wide, refined to edges of " +
+               Short(spec.refinement.edge_fraction * u) + ", and alone would give about " +
+               Short(e) + " triangles";
+    }
+  alone.muscle_wrinkles.assign(spec.muscle_wrinkles.size(), std::nullopt);
+  if (spec.layers.curve_wrinkles)
+    for (size_t c = 0; c < spec.curve_wrinkles.size(); ++c) {
+      alone.curve_wrinkles = {spec.curve_wrinkles[c]};
+      const double e = EstimateRefinedTriangles(mesh, MakeRefinementField(alone, mesh), options);
+      if (e <= worst) continue;
+      worst = e;
+      const float w = spec.curve_wrinkles[c].spec.width;
+      where = "curve_wrinkles[" + std::to_string(c) + "].width";
+      detail = "curve_wrinkles[" + std::to_string(c) + "] (" + spec.curve_wrinkles[c].name +
+               ", width " + Short(w) + ") is refined to edges of " +
+               Short(spec.refinement.edge_fraction * w) + " and alone would give about " +
+               Short(e) + " triangles";
+    }
+  if (spec.refinement.edge_fraction < kDefaultRefineWidthFraction) {
+    RigSpec usual = spec;
+    usual.refinement.edge_fraction = kDefaultRefineWidthFraction;
+    if (EstimateRefinedTriangles(mesh, MakeRefinementField(usual, mesh), options) <= limit) {
+      where = "refinement.edge_fraction";
+      detail = "refinement.edge_fraction " + Short(spec.refinement.edge_fraction) +
+               " asks for edges that short; the default " + Short(kDefaultRefineWidthFraction) +
+               " would stay within the limit";
+    }
+  }
+  diag->Error(where, "refinement where wrinkles act would grow the mesh from " +
+                         std::to_string(mesh.triangle_count()) + " to about " + Short(estimate) +
+                         " triangles, more than the limit of " + Short(limit) + " (" +
+                         Short(kMaxRefinementGrowth) + "x the mesh's triangles, at least " +
+                         Short(kMinRefinementLimit) + ", at most " +
+                         Short(double(options.max_triangles)) + "; docs/model.md §11)" +
+                         (detail.empty() ? "" : ": " + detail) +
+                         "; use fewer or wider wrinkles, a larger refinement.edge_fraction, or "
+                         "\"refinement\": {\"enabled\": false}");
+  return false;
+}
+
 bool NeedsRefinement(const RigSpec& spec) {
   if (!spec.refinement.enabled) return false;
   bool any = spec.layers.curve_wrinkles && !spec.curve_wrinkles.empty();
@@ -408,9 +486,10 @@ bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildO
     }
     RefineOptions refine_options;
     refine_options.weld_tolerance = options.weld_tolerance;
+    const EdgeLengthField field = MakeRefinementField(spec_in, file_mesh);
+    if (!CheckRefinementGrowth(spec_in, file_mesh, field, refine_options, diag)) return false;
     Diagnostics refine_diag;
-    const bool refined_ok = RefineMesh(file_mesh, MakeRefinementField(spec_in, file_mesh),
-                                       refine_options, &refined, &refine_diag);
+    const bool refined_ok = RefineMesh(file_mesh, field, refine_options, &refined, &refine_diag);
     diag->Append(refine_diag, file_mesh.source);
     if (!refined_ok) return false;
     mesh_ptr = &refined.mesh;

@@ -11,6 +11,15 @@
 
 namespace mimetic {
 
+// Refinement where wrinkles act (docs/model.md §11) may grow the mesh to at most
+// kMaxRefinementGrowth times its triangles, or kMinRefinementLimit triangles where that is more
+// (a coarse mesh under a narrow wrinkle legitimately grows 30x and stays cheap), and never past
+// RefineOptions::max_triangles (4 million): BuildRig estimates the refined size before refining
+// (geometry/refine_estimate.h) and refuses a rig that would exceed it, naming the key that asks
+// for the smallest edges.
+inline constexpr double kMaxRefinementGrowth = 16.0;
+inline constexpr double kMinRefinementLimit = 500'000.0;
+
 struct BuildOptions {
   float weld_tolerance = 0.f;  // mesh units; <= 0: 1e-6 of the bounding-box diagonal
 };
@@ -18,7 +27,11 @@ struct BuildOptions {
 // Welds and validates the mesh (weld.h), resolves the skin thickness per point (constant;
 // per file vertex, averaged over a point's vertices; or sampled bilinearly from a grayscale
 // image at the vertices' UVs, black = min, white = max, v = 0 on the image's top row as in
-// glTF), and compiles the muscle influence tables. Returns false with every problem recorded.
+// glTF), and compiles the muscle influence tables. Before that: the mesh must match the rig's
+// fingerprint where the rig has per-vertex or texture-space data (geometry/fingerprint.h), its
+// winding is made consistent (geometry/orientation.h, a warning), and refinement that would
+// grow the mesh past kMaxRefinementGrowth is an error. Returns false with every problem
+// recorded.
 bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& options, Rig* out,
               Diagnostics* diag);
 

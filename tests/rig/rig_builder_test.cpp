@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -156,6 +157,75 @@ TEST(BuildRigFingerprint, ImageThicknessOnFlippedVIsRefused) {
   // Per-vertex data does not care about texture coordinates: flipped v builds.
   Diagnostics quiet;
   EXPECT_TRUE(BuildRig(PerVertexSpec(mesh), flipped, {}, &rig, &quiet)) << quiet.Format();
+}
+
+// Refinement that would grow the mesh past kMaxRefinementGrowth (16x) is an error naming the
+// key, found before refining (issue 11: legal but tiny values took tens of seconds).
+RigSpec CurveSpec(float width) {
+  RigSpec spec = Spec();
+  NamedCurveWrinkle c;
+  c.name = "fold";
+  c.spec.control[0] = {0.3f, 0.5f};
+  c.spec.control[1] = {0.4f, 0.5f};
+  c.spec.control[2] = {0.6f, 0.5f};
+  c.spec.control[3] = {0.7f, 0.5f};
+  c.spec.depth = 1.f;
+  c.spec.width = width;
+  spec.curve_wrinkles.push_back(c);
+  return spec;
+}
+
+TEST(BuildRigRefinement, TinyValuesAreRefusedBeforeRefiningNamingTheKey) {
+  const MeshData mesh = Surface();  // 800 triangles: the limit is 500,000 (16x would be 12,800)
+  Rig rig;
+  {
+    // A sensible curve (width 3, edges 0.75 on a 5 mm grid) refines and builds.
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(CurveSpec(3.f), mesh, {}, &rig, &diag)) << diag.Format();
+    EXPECT_GT(rig.triangle_count(), 800u);
+    EXPECT_EQ(rig.triangle_count(), 29512u);  // 37x: more than 16x, allowed on a small mesh
+  }
+  {
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(CurveSpec(0.01f), mesh, {}, &rig, &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "curve_wrinkles[0].width");
+    EXPECT_EQ(diag.items()[0].what.rfind("refinement where wrinkles act would grow the mesh "
+                                         "from 800 to about ", 0), 0u) << diag.Format();
+    EXPECT_TRUE(diag.Contains("more than the limit of 5e+05 (16x the mesh's triangles, at least "
+                              "5e+05, at most 4e+06; docs/model.md §11): curve_wrinkles[0] (fold, "
+                              "width 0.01) is refined to edges of 0.0025"))
+        << diag.Format();
+  }
+  {
+    RigSpec spec = CurveSpec(3.f);
+    spec.refinement.edge_fraction = 1e-30f;
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "refinement.edge_fraction");
+    EXPECT_TRUE(diag.Contains("refinement.edge_fraction 1e-30 asks for edges that short; the "
+                              "default 0.25 would stay within the limit"))
+        << diag.Format();
+  }
+  {
+    RigSpec spec = Spec();
+    MuscleWrinkleSpec w;
+    w.count = 2147483647;
+    w.depth = 1.f;
+    spec.muscle_wrinkles.assign(spec.muscles.size(), std::nullopt);
+    spec.muscle_wrinkles[1] = w;
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "muscles[1].wrinkles.count");
+    EXPECT_TRUE(diag.Contains("muscles[1].wrinkles (muscle_01, count 2147483647) makes furrows"))
+        << diag.Format();
+    // Refinement off: the same rig builds (no refinement to bound).
+    spec.refinement.enabled = false;
+    Diagnostics off;
+    EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &off)) << off.Format();
+  }
 }
 
 }  // namespace
