@@ -207,6 +207,13 @@ int CmdEval(const Args& args) {
     std::fprintf(stderr, "mimetic eval: evaluation failed (internal error: job did not validate)\n");
     return 1;
   }
+  // Non-finite output is an error naming the rig key that causes it (issue 11).
+  if (Diagnostics bad; !CheckPosedFinite(rig, loaded.spec, activations, layers, posed, &bad)) {
+    diag.Append(bad, parsed.positional[0]);
+    PrintDiagnostics(diag);
+    std::fprintf(stderr, "mimetic eval: the posed mesh is not finite; nothing was written\n");
+    return 1;
+  }
 
   float max_disp = 0.f;
   uint32_t max_vertex = 0;

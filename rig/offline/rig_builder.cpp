@@ -7,6 +7,7 @@
 #include <string>
 
 #include "muscles/offline/muscle_builder.h"
+#include "geometry/bounds.h"
 #include "geometry/orientation.h"
 #include "geometry/refine.h"
 #include "geometry/refine_estimate.h"
@@ -250,6 +251,111 @@ std::string Short(double v) {
   return buf;
 }
 
+double MmPerUnit(const std::string& units) {
+  if (units == "cm") return 10.0;
+  if (units == "dm") return 100.0;
+  if (units == "m") return 1000.0;
+  if (units == "in") return 25.4;
+  return 1.0;
+}
+
+// Issue 11: finite but absurd values (coordinates at 1e38, a thickness or wrinkle depth of
+// 3e38) are errors naming the key, checked against the mesh's size.
+bool ValidateMagnitudes(const RigSpec& spec, const MeshData& mesh, Diagnostics* diag) {
+  const size_t errors_before = diag->ErrorCount();
+  const std::string units = spec.units.empty() ? "mm" : spec.units;
+  const double max_coordinate = kMaxCoordinateMm / MmPerUnit(units);
+  const std::string mesh_name = mesh.source.empty() ? "the mesh" : mesh.source;
+  {
+    size_t far = 0, first = 0;
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const float3 p = mesh.positions[v];
+      const double c[3] = {p.x, p.y, p.z};
+      if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) continue;  // weld's
+      if (std::max({std::fabs(c[0]), std::fabs(c[1]), std::fabs(c[2])}) > max_coordinate) {
+        if (far++ == 0) first = v;
+      }
+    }
+    if (far > 0) {
+      const float3 p = mesh.positions[first];
+      diag->Error(mesh_name, std::to_string(far) + " vertices have a coordinate beyond " +
+                                 Short(max_coordinate) + " " + units + " (" +
+                                 Short(kMaxCoordinateMm / 1e6) + " km; first: vertex " +
+                                 std::to_string(first) + " at (" + Short(p.x) + ", " + Short(p.y) +
+                                 ", " + Short(p.z) + ")); expected a head-sized mesh in " + units);
+      return false;
+    }
+  }
+  const BoundingBox box = ComputeBounds(mesh.positions);
+  const double size = box.Diagonal();
+  if (!(size > 0.0) || !std::isfinite(size)) return true;  // WeldMesh reports the mesh
+  const double centre[3] = {0.5 * (box.lo[0] + box.hi[0]), 0.5 * (box.lo[1] + box.hi[1]),
+                            0.5 * (box.lo[2] + box.hi[2])};
+  const double limit = kMaxLengthFactor * size;
+  const std::string about = "more than " + Short(kMaxLengthFactor) + " times the mesh's size "
+                            "(bounding-box diagonal " + Short(size) + " " + units + ")";
+  auto length = [&](const std::string& where, float value) {
+    if (double(value) <= limit) return;
+    diag->Error(where, "is " + Short(value) + " " + units + ", " + about +
+                           "; expected a length at most " + Short(limit) + " " + units);
+  };
+  auto point = [&](const std::string& where, float3 p) {
+    const double d = std::hypot(double(p.x) - centre[0], double(p.y) - centre[1],
+                                double(p.z) - centre[2]);
+    if (d <= limit && std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) <= max_coordinate)
+      return;
+    diag->Error(where, "(" + Short(p.x) + ", " + Short(p.y) + ", " + Short(p.z) + ") is " +
+                           Short(d) + " " + units + " from the mesh's centre, " + about +
+                           "; expected a point near the mesh, in its units and frame");
+  };
+  const ThicknessSpec& t = spec.thickness;
+  switch (t.kind) {
+    case ThicknessSpec::Kind::kConstant: length("thickness.value", t.value); break;
+    case ThicknessSpec::Kind::kPerVertex: {
+      CappedErrors capped(diag, "thickness.values", "thickness values too large");
+      for (size_t v = 0; v < t.per_vertex.size(); ++v)
+        if (double(t.per_vertex[v]) > limit)
+          capped.Add("thickness.values[" + std::to_string(v) + "]",
+                     "is " + Short(t.per_vertex[v]) + " " + units + ", " + about +
+                         "; expected a length at most " + Short(limit) + " " + units);
+      break;
+    }
+    case ThicknessSpec::Kind::kImage:
+      length("thickness.min", t.min);
+      length("thickness.max", t.max);
+      break;
+  }
+  for (size_t m = 0; m < spec.muscles.size(); ++m) {
+    const MuscleSpec& ms = spec.muscles[m];
+    const std::string at = "muscles[" + std::to_string(m) + "]";
+    length(at + ".strength", ms.strength);
+    if (ms.type == MuscleType::kLinear) {
+      point(at + ".attachment", ms.linear.attachment);
+      point(at + ".insertion", ms.linear.insertion);
+      length(at + ".falloff_start", ms.linear.falloff_start);
+      length(at + ".falloff_end", ms.linear.falloff_end);
+    } else {
+      for (int k = 0; k < 2; ++k) {
+        point(at + ".attachment[" + std::to_string(k) + "]", ms.sheet.attachment[k]);
+        point(at + ".insertion[" + std::to_string(k) + "]", ms.sheet.insertion[k]);
+      }
+      length(at + ".length", ms.sheet.length);
+      length(at + ".width", ms.sheet.width);
+      length(at + ".falloff_start", ms.sheet.falloff_start);
+    }
+    if (m < spec.muscle_wrinkles.size() && spec.muscle_wrinkles[m]) {
+      length(at + ".wrinkles.depth", spec.muscle_wrinkles[m]->depth);
+      length(at + ".wrinkles.h_c", spec.muscle_wrinkles[m]->h_c);
+    }
+  }
+  for (size_t c = 0; c < spec.curve_wrinkles.size(); ++c) {
+    const std::string at = "curve_wrinkles[" + std::to_string(c) + "]";
+    length(at + ".depth", spec.curve_wrinkles[c].spec.depth);
+    length(at + ".width", spec.curve_wrinkles[c].spec.width);
+  }
+  return diag->ErrorCount() == errors_before;
+}
+
 // Issue 11: a wrinkle count near 2^31, a curve width of 0.01 mm or an edge_fraction of 1e-30
 // drove refinement to millions of triangles and tens of seconds. Estimate first; refuse when
 // the estimate passes the stated growth, naming the key that asks for the smallest edges (each
@@ -432,6 +538,7 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildOptions& options,
               Rig* out, Diagnostics* diag) {
+  if (options.check_magnitudes && !ValidateMagnitudes(spec_in, file_mesh_in, diag)) return false;
   // The mesh the per-vertex and texture-space data were made for (geometry/fingerprint.h).
   {
     const bool per_vertex = spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex;
@@ -563,6 +670,118 @@ bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& 
   if (posed.positions.empty() || !job.Run()) return false;
   *out = std::move(posed);
   return true;
+}
+
+namespace {
+
+// The first output vertex whose position or normal is not finite; -1 when none.
+int64_t FirstNonFinite(const MeshData& m) {
+  for (size_t v = 0; v < m.positions.size(); ++v)
+    if (!IsFinite(m.positions[v]) || (v < m.normals.size() && !IsFinite(m.normals[v])))
+      return int64_t(v);
+  return -1;
+}
+
+}  // namespace
+
+bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> activations,
+                      const SkinLayers& layers, const MeshData& posed, Diagnostics* diag) {
+  const int64_t bad = FirstNonFinite(posed);
+  if (bad < 0) return true;
+  auto finite_with = [&](span<const float> a, const SkinLayers& l) {
+    MeshData m;
+    return PosedMesh(rig, a, l, &m) && FirstNonFinite(m) < 0;
+  };
+  auto muscle_name = [&](size_t m) {
+    return "muscles[" + std::to_string(m) + "] (" +
+           (m < spec.muscles.size() ? spec.muscles[m].name : rig.muscle_names()[m]) + ")";
+  };
+  // The active muscle that, alone at its activation, gives non-finite output; -1 when none.
+  std::vector<float> one(rig.muscle_count(), 0.f);
+  auto culprit = [&](const SkinLayers& l) -> int64_t {
+    for (uint32_t m = 0; m < rig.muscle_count() && m < activations.size(); ++m) {
+      if (activations[m] == 0.f) continue;
+      std::fill(one.begin(), one.end(), 0.f);
+      one[m] = activations[m];
+      if (!finite_with(one, l)) return m;
+    }
+    return -1;
+  };
+  const SkinLayers none{.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
+  const SkinLayers thick{.thickness = layers.thickness, .muscle_wrinkles = false,
+                         .curve_wrinkles = false};
+  const SkinLayers wrinkled{.thickness = layers.thickness,
+                            .muscle_wrinkles = layers.muscle_wrinkles, .curve_wrinkles = false};
+  // How far the muscles alone move the skin: a finite but absurd motion (more than
+  // kMaxLengthFactor times the mesh's size) that a skin layer then overflows is the muscle's.
+  const MeshData rest = RestMesh(rig);
+  const double limit = kMaxLengthFactor * ComputeBounds(rest.positions).Diagonal();
+  auto largest_motion = [&](span<const float> a) {
+    MeshData m;
+    double d = 0;
+    if (!PosedMesh(rig, a, none, &m)) return d;
+    for (size_t v = 0; v < m.positions.size() && v < rest.positions.size(); ++v)
+      d = std::max(d, std::hypot(double(m.positions[v].x) - rest.positions[v].x,
+                                 double(m.positions[v].y) - rest.positions[v].y,
+                                 double(m.positions[v].z) - rest.positions[v].z));
+    return d;
+  };
+  int64_t wild = -1;
+  double wild_motion = 0;
+  if (largest_motion(activations) > limit)
+    for (uint32_t m = 0; m < rig.muscle_count() && m < activations.size() && wild < 0; ++m) {
+      if (activations[m] == 0.f) continue;
+      std::fill(one.begin(), one.end(), 0.f);
+      one[m] = activations[m];
+      if (const double d = largest_motion(one); d > limit) wild = m, wild_motion = d;
+    }
+  std::string where, what;
+  if (wild >= 0 && finite_with(activations, none)) {
+    where = "muscles[" + std::to_string(wild) + "]";
+    what = muscle_name(size_t(wild)) + " alone moves the skin by " + Short(wild_motion) + " " +
+           (spec.units.empty() ? "mm" : spec.units) + ", more than " + Short(kMaxLengthFactor) +
+           " times the mesh's size, and the skin layers then overflow: check its strength";
+  } else if (!finite_with(activations, none)) {
+    const int64_t m = culprit(none);
+    where = m >= 0 ? "muscles[" + std::to_string(m) + "]" : "muscles";
+    what = m >= 0 ? "the muscles alone move it there: " + muscle_name(size_t(m)) +
+                        " alone does, at activation " + Short(activations[size_t(m)]) +
+                        "; check its strength and fall-off radii"
+                  : "the muscles alone move it there (together, none alone): check their "
+                    "strengths";
+  } else if (layers.thickness && rig.layers().thickness && !finite_with(activations, thick)) {
+    where = "thickness";
+    what = "the thickness layer does (docs/model.md §4): check the thickness values";
+  } else if (layers.muscle_wrinkles && rig.layers().muscle_wrinkles &&
+             !finite_with(activations, wrinkled)) {
+    const int64_t m = culprit(wrinkled);
+    where = m >= 0 ? "muscles[" + std::to_string(m) + "].wrinkles" : "muscles";
+    what = m >= 0 ? "the muscle wrinkles do: those of " + muscle_name(size_t(m)) +
+                        "; check their depth and count"
+                  : "the muscle wrinkles do (together, none alone): check their depths";
+  } else if (layers.curve_wrinkles && rig.layers().curve_wrinkles) {
+    // The curve wrinkles that reach the first bad vertex's point.
+    const RigCurveWrinkles& c = rig.curve_wrinkles();
+    const uint32_t point = size_t(bad) < rig.vertex_points().size() ? rig.vertex_points()[size_t(bad)] : 0;
+    std::vector<uint32_t> reach;
+    for (uint32_t row = 0; row < c.row_count(); ++row)
+      if (c.points[row] == point)
+        for (uint32_t k = c.offsets[row]; k < c.offsets[row + 1]; ++k)
+          if (std::find(reach.begin(), reach.end(), c.entries[k].wrinkle) == reach.end())
+            reach.push_back(c.entries[k].wrinkle);
+    where = reach.empty() ? "curve_wrinkles" : "curve_wrinkles[" + std::to_string(reach[0]) + "]";
+    what = "the curve wrinkles do";
+    for (size_t i = 0; i < reach.size(); ++i)
+      what += std::string(i ? ", " : ": ") + "curve_wrinkles[" + std::to_string(reach[i]) + "] (" +
+              (reach[i] < c.names.size() ? c.names[reach[i]] : std::string("?")) + ")";
+    what += "; check their depth and width";
+  } else {
+    where = "rig";
+    what = "no part of the rig alone does (internal error)";
+  }
+  diag->Error(where, "the evaluation gives non-finite positions or normals (first: output vertex " +
+                         std::to_string(bad) + "): " + what);
+  return false;
 }
 
 }  // namespace mimetic

@@ -228,5 +228,117 @@ TEST(BuildRigRefinement, TinyValuesAreRefusedBeforeRefiningNamingTheKey) {
   }
 }
 
+// Finite but absurd values are errors naming the key, against the mesh's size (the surface is
+// 100 x 100 with a 10 bulge: bounding-box diagonal sqrt(100^2 + 100^2 + 10^2) = 141.8).
+TEST(BuildRigMagnitudes, AbsurdValuesAreRefusedNamingTheKey) {
+  const MeshData mesh = Surface();
+  Rig rig;
+  auto refused = [&](const RigSpec& spec, const MeshData& m, const std::string& where,
+                     const std::string& what) {
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, m, {}, &rig, &diag)) << where;
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, where) << diag.Format();
+    EXPECT_NE(diag.items()[0].what.find(what), std::string::npos) << diag.Format();
+  };
+  {
+    RigSpec spec = Spec();
+    spec.thickness.value = 3e38f;
+    refused(spec, mesh, "thickness.value",
+            "is 3e+38 mm, more than 10 times the mesh's size (bounding-box diagonal 142 mm); "
+            "expected a length at most 1.42e+03 mm");
+  }
+  {
+    RigSpec spec = Spec();
+    spec.muscles[2].strength = 1500.f;  // just over 10 x 141.8
+    refused(spec, mesh, "muscles[2].strength", "is 1.5e+03 mm, more than 10 times");
+  }
+  {
+    RigSpec spec = Spec();
+    spec.muscles[0].linear.attachment = {1e38f, 0.f, 0.f};
+    refused(spec, mesh, "muscles[0].attachment",
+            "(1e+38, 0, 0) is 1e+38 mm from the mesh's centre, more than 10 times");
+  }
+  {
+    RigSpec spec = Spec();
+    MuscleWrinkleSpec w;
+    w.depth = 3e38f;
+    spec.muscle_wrinkles.assign(spec.muscles.size(), std::nullopt);
+    spec.muscle_wrinkles[1] = w;
+    refused(spec, mesh, "muscles[1].wrinkles.depth", "is 3e+38 mm");
+  }
+  {
+    RigSpec spec = Spec();
+    spec.units = "cm";  // 1e6 mm = 1e5 cm
+    MeshData far = mesh;
+    far.positions[7].x = 1e38f;
+    refused(spec, far, "surface.obj",
+            "1 vertices have a coordinate beyond 1e+05 cm (1 km; first: vertex 7 at (1e+38, ");
+  }
+  {
+    // At the limits, fine.
+    RigSpec spec = Spec();
+    spec.thickness.value = 1400.f;
+    Diagnostics diag;
+    EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  }
+}
+
+// The offline guard on an evaluation's output: a rig built without the magnitude checks (the
+// only way to get one that evaluates to inf) is caught and the key named.
+TEST(CheckPosedFinite, NamesTheKeyThatMakesTheOutputNonFinite) {
+  const MeshData mesh = Surface();
+  BuildOptions unchecked;
+  unchecked.check_magnitudes = false;
+  Rig rig;
+  {
+    RigSpec spec = Spec();
+    spec.muscles[3].strength = 3e38f;
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(spec, mesh, unchecked, &rig, &diag)) << diag.Format();
+    std::vector<float> act(rig.muscle_count(), 0.f);
+    act[1] = 0.5f;
+    act[3] = 1.f;
+    MeshData posed;
+    ASSERT_TRUE(PosedMesh(rig, act, {}, &posed));
+    Diagnostics bad;
+    EXPECT_FALSE(CheckPosedFinite(rig, spec, act, {}, posed, &bad));
+    ASSERT_EQ(bad.ErrorCount(), 1u) << bad.Format();
+    EXPECT_EQ(bad.items()[0].where, "muscles[3]");
+    EXPECT_NE(bad.items()[0].what.find("muscles[3] (muscle_03) alone moves the skin by "),
+              std::string::npos)
+        << bad.Format();
+    EXPECT_NE(bad.items()[0].what.find("more than 10 times the mesh's size, and the skin layers "
+                                       "then overflow: check its strength"),
+              std::string::npos)
+        << bad.Format();
+    // At rest the same rig is finite: nothing to say.
+    const std::vector<float> rest(rig.muscle_count(), 0.f);
+    ASSERT_TRUE(PosedMesh(rig, rest, {}, &posed));
+    Diagnostics quiet;
+    EXPECT_TRUE(CheckPosedFinite(rig, spec, rest, {}, posed, &quiet));
+    EXPECT_TRUE(quiet.empty());
+  }
+  {
+    // Strong muscles (40 mm, area ratios well below 1/2) under a thickness of 3e38: the
+    // muscles' motion is finite and sensible; (1/r - 1) h overflows.
+    RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.3f, 40.f);
+    spec.thickness.value = 3e38f;
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(spec, mesh, unchecked, &rig, &diag)) << diag.Format();
+    const std::vector<float> act(rig.muscle_count(), 1.f);
+    MeshData posed;
+    ASSERT_TRUE(PosedMesh(rig, act, {}, &posed));
+    Diagnostics bad;
+    EXPECT_FALSE(CheckPosedFinite(rig, spec, act, {}, posed, &bad));
+    ASSERT_EQ(bad.ErrorCount(), 1u) << bad.Format();
+    EXPECT_EQ(bad.items()[0].where, "thickness");
+    EXPECT_NE(bad.items()[0].what.find("the evaluation gives non-finite positions or normals "
+                                       "(first: output vertex "),
+              std::string::npos)
+        << bad.Format();
+  }
+}
+
 }  // namespace
 }  // namespace mimetic
