@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -133,6 +135,147 @@ bool ResolveLandmarks(const Landmarks& landmarks, const MeshData& head, std::vec
 }
 
 // ---------------------------------------------------------------------------------------------
+// Landmark sanity
+
+namespace {
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// The largest distance from a landmark to the surface, and which landmark.
+float WorstDistance(const std::vector<float3>& lm, const SurfaceQuery& query, int* worst) {
+  float d = 0.f;
+  *worst = 0;
+  for (size_t i = 0; i < lm.size(); ++i) {
+    const SurfaceQuery::Hit h = query.Nearest(lm[i]);
+    const float t = h.found ? h.t : kInf;
+    if (!(t <= d)) d = t, *worst = int(i);
+  }
+  return d;
+}
+
+}  // namespace
+
+bool CheckLandmarksOnHead(const std::vector<float3>& lm, const MeshData& head,
+                          const SurfaceQuery& query, Diagnostics* diag) {
+  if (lm.size() != size_t(kTemplateLandmarkCount)) return true;  // ComputeFaceFrame says so
+  const BoundingBox box = ComputeBounds(head.positions);
+  const float diagonal = Length(box.Hi() - box.Lo());
+  const float3 centre = (box.Hi() + box.Lo()) * 0.5f;
+  const float tol = kLandmarkSurfaceTolerance * diagonal;
+  int worst = 0;
+  const float off = WorstDistance(lm, query, &worst);
+  const std::string mesh_name = head.source.empty() ? std::string("the mesh") : head.source;
+  if (!(off <= tol)) {
+    auto fits = [&](auto&& transform) {
+      std::vector<float3> t(lm.size());
+      for (size_t i = 0; i < lm.size(); ++i) t[i] = transform(lm[i]);
+      int w = 0;
+      return WorstDistance(t, query, &w) <= tol;
+    };
+    // Another unit: landmarks at f times the mesh's coordinates.
+    static const double kFactors[] = {10, 100, 1000, 25.4, 2.54, 0.1, 0.01, 0.001, 1 / 25.4, 1 / 2.54};
+    for (double f : kFactors) {
+      if (!fits([&](float3 p) { return p * float(1.0 / f); })) continue;
+      diag->Error("landmarks",
+                  "landmarks are about " + Num(f) + "x the mesh size: another unit? " +
+                      (f > 1 ? "divided by " + Num(f) : "multiplied by " + Num(1 / f)) +
+                      " they lie on " + mesh_name + "; give the landmarks in the mesh's units "
+                      "(landmark " + std::to_string(worst) + ", " + Ibug68Name(worst) + ", is " +
+                      Num(off) + " from the surface, " + Num(100.0 * off / diagonal) +
+                      "% of the mesh's size)");
+      return false;
+    }
+    // Upside down or mirrored coordinates (image rows grow downward; another handedness).
+    for (int axis = 1; axis >= 0; --axis)
+      for (int about = 0; about < 2; ++about) {
+        const float c = about ? (axis ? centre.y : centre.x) : 0.f;
+        const bool ok = fits([&](float3 p) {
+          if (axis) p.y = 2.f * c - p.y;
+          else p.x = 2.f * c - p.x;
+          return p;
+        });
+        if (!ok) continue;
+        const std::string coord = axis ? "y" : "x";
+        const std::string mirror = (about ? coord + " mirrored about the mesh's centre (" +
+                                                coord + " = " + Num(c) + ")"
+                                          : coord + " negated");
+        diag->Error("landmarks",
+                    std::string(axis ? "landmarks look upside down: " : "landmarks look mirrored left/right: ") +
+                        "with " + mirror + " they lie on " + mesh_name + ", as they are they do not "
+                        "(landmark " + std::to_string(worst) + ", " + Ibug68Name(worst) + ", is " +
+                        Num(off) + " from the surface); " +
+                        (axis ? "flip y of the landmarks (image coordinates grow downward; the mesh's +y is up)"
+                              : "mirror x of the landmarks (the subject's right is at -x: docs/landmarks-format.md, Sides)"));
+        return false;
+      }
+    diag->Error("landmarks",
+                "landmark " + std::to_string(worst) + " (" + Ibug68Name(worst) + ") is " + Num(off) +
+                    " from the surface of " + mesh_name + ", " + Num(100.0 * off / diagonal) +
+                    "% of the mesh's size (bounding-box diagonal " + Num(diagonal) +
+                    "); expected every landmark on the surface (within " +
+                    Num(100.0 * kLandmarkSurfaceTolerance) + "%): are these the landmarks of this "
+                    "mesh, in its units and placement?");
+    return false;
+  }
+
+  // Does the frame's z point out of the face? Count the landmarks seen first along -z from in
+  // front of the face, and along +z from behind it.
+  FaceFrame frame;
+  Diagnostics ignored;
+  if (!ComputeFaceFrame(lm, &frame, &ignored)) return true;  // the caller reports the frame
+  const float reach = 2.f * diagonal + 4.f * frame.scale;
+  const float seen = std::max(0.1f * frame.scale, 0.01f * diagonal);
+  int front = 0, back = 0;
+  double normal_sum = 0;
+  for (const float3& p : lm) {
+    const SurfaceQuery::Hit f = query.Raycast(p + frame.z * reach, -frame.z);
+    const SurfaceQuery::Hit b = query.Raycast(p - frame.z * reach, frame.z);
+    front += f.found && Length(f.point - p) <= seen;
+    back += b.found && Length(b.point - p) <= seen;
+    const SurfaceQuery::Hit n = query.Nearest(p);
+    if (n.found) normal_sum += Dot(query.NormalAt(n.triangle, n.point), frame.z);
+  }
+  const int count = int(lm.size());
+  bool inward = false;
+  std::string evidence;
+  if (back > front + count / 4) {
+    inward = true;
+    evidence = "seen along -z of the frame, from in front of the face, only " + std::to_string(front) +
+               " of 68 landmarks are not hidden behind other surface; seen from behind, " +
+               std::to_string(back) + " are";
+  } else if (std::abs(back - front) <= count / 4 && normal_sum < 0) {
+    inward = true;  // open at the back: the mesh's winding says where out is
+    evidence = "the mesh's outward normals at the landmarks point against the frame's z (mean "
+               "cosine " + Num(normal_sum / count) + ")";
+  }
+  if (!inward) {
+    if (frame.y.y < -0.5f && frame.x.x < -0.5f)
+      diag->Warning("landmarks", "the landmarks' up (chin 8 to nose bridge 27) runs along -y of " +
+                                     mesh_name + " and their left along -x: the head, or the "
+                                     "landmarks, are upside down (rotated 180 degrees)");
+    return true;
+  }
+  const std::string frame_says = "the face frame they give points into the head (" + evidence + ")";
+  if (frame.y.y < 0.f && std::fabs(frame.y.y) > std::fabs(frame.x.x) * 0.5f) {
+    diag->Error("landmarks", "landmarks look upside down: the chin (8) is above the nose bridge "
+                             "(27) along the mesh's y (" + Num(lm[8].y) + " > " + Num(lm[27].y) +
+                             "), and " + frame_says + "; flip the landmarks top to bottom "
+                             "(image coordinates grow downward; the mesh's +y is up)");
+    return false;
+  }
+  diag->Error("landmarks",
+              "landmarks look mirrored left/right: the subject's left outer eye corner (45) is "
+              "on the subject's right of the face, and " + frame_says + "; swap the left and "
+              "right landmarks (iBUG \"right\" is the subject's right, at -x for a head facing "
+              "+z: docs/landmarks-format.md, Sides) or mirror their x");
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
 // FitTemplate
 
 namespace {
@@ -205,6 +348,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
 
   const BoundingBox box = ComputeBounds(head.positions);
   const SurfaceQuery query(head);
+  if (!CheckLandmarksOnHead(lm, head, query, diag)) return false;
   FitReport local_report;
   Placer placer{frame, lm, query, 2.f * Length(box.Hi() - box.Lo()) + 4.f * frame.scale, diag,
                 report ? &local_report : nullptr};
@@ -213,6 +357,8 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
 
   RigSpec spec;
   spec.units = units;
+  // What ties the per-vertex thickness and the curves' texture coordinates to this mesh.
+  spec.mesh_fingerprint = ComputeMeshFingerprint(head);
   const float s = frame.scale;
   bool ok = true;
   for (size_t i = 0; i < tmpl.muscles.size(); ++i) {

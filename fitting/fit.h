@@ -46,6 +46,25 @@ bool ComputeFaceFrame(const std::vector<float3>& landmarks, FaceFrame* out, Diag
 bool ResolveLandmarks(const Landmarks& landmarks, const MeshData& head,
                       std::vector<float3>* out, Diagnostics* diag);
 
+// Checks that 68 landmark positions belong to `head` as it lies (issue 11: mirrored,
+// upside-down or other-unit landmarks used to place every muscle on the back of the head or
+// around the nose without a word). Errors (where = "landmarks"), each saying what looks wrong:
+//   - a landmark farther from the surface than kLandmarkSurfaceTolerance of the mesh's
+//     bounding-box diagonal, naming the worst one; and when the landmarks, scaled by a unit
+//     factor (10, 100, 1000, 25.4, 2.54 or their inverses), negated in y or in x (about 0 or
+//     the mesh's centre), would lie on the surface, that diagnosis instead ("landmarks are about
+//     10x the mesh size: another unit? ...", "landmarks look upside down: ...");
+//   - a face frame (ComputeFaceFrame) whose z points into the head: seen along -z of the frame
+//     most landmarks are hidden behind other surface, and seen along +z (from behind) they are
+//     not; for a mesh open at the back (a face mask) the mesh's own normals (its winding) there
+//     decide. Reported as upside down when the frame's up runs along -y of the mesh (heads face
+//     +z with +y up), else as mirrored left/right (iBUG "right" is the subject's right:
+//     docs/landmarks-format.md, Sides).
+// Needs a valid frame (ComputeFaceFrame first). `query` is a SurfaceQuery of `head`.
+inline constexpr float kLandmarkSurfaceTolerance = 0.05f;
+bool CheckLandmarksOnHead(const std::vector<float3>& landmarks, const MeshData& head,
+                          const SurfaceQuery& query, Diagnostics* diag);
+
 // The ray casts and nearest-point queries that place points on the head: SurfaceQuery,
 // geometry/surface_query.h (included above).
 
@@ -75,13 +94,13 @@ struct FitReport {
 
 // Places `tmpl` on `head` (units `units`: "mm", "cm", "dm", "m" or "in"; written into the
 // rig). Fills every field of `out` except `file`, `mesh_path` and `mesh_name`, which the
-// caller sets. Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.
+// caller sets; `mesh_fingerprint` is `head`'s (geometry/fingerprint.h). Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.
 // Muscle wrinkle blocks go to `muscle_wrinkles` (depth and h_c times s; empty when no muscle
 // has one); each curve wrinkle's control points are placed like muscle points (depth 0) and
 // replaced by the texture coordinates of the surface hit (barycentric in the hit triangle),
 // depth and width times s.
-// Errors: landmarks count != 68, a vertex index out of range, a degenerate frame, unknown
-// units, a point that found no surface (ray missed and nearest surface point farther than
+// Errors: landmarks count != 68, a vertex index out of range, a degenerate frame, landmarks
+// that do not belong to the head as it lies (CheckLandmarksOnHead), unknown units, a point that found no surface (ray missed and nearest surface point farther than
 // 0.5 s), a linear muscle whose attachment and insertion coincide, curve wrinkles on a head
 // without texture coordinates, a curve whose control points' uvs lie more than 0.5 apart in u
 // or v (the curve would cross a UV seam), a wrinkle the wrinkle module's checks refuse.

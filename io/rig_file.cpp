@@ -48,10 +48,31 @@ const std::vector<std::string> kModulations = {
 // ---------------------------------------------------------------------------------------------
 // The tables.
 
+// geometry/fingerprint.h: what ties per-vertex and texture-space data to the mesh.
+const Object kFingerprint = {
+    .owner = "mesh.fingerprint",
+    .fields = {
+        Integer("vertices", "an integer >= 1").Min(1).Required().About("the mesh's vertex count"),
+        Integer("triangles", "an integer >= 0").Min(0).Required()
+            .About("the mesh's triangle count"),
+        String("index_hash", "a string of 16 lowercase hex digits (FNV-1a 64 of the indices)")
+            .NonEmpty().Required(),
+        Array("positions", Numbers("", 3), "array of up to 16 points [x, y, z]")
+            .NonEmpty().Required()
+            .About("positions of the sampled vertices floor(k (vertices - 1) / (n - 1))"),
+        Array("uvs", Numbers("", 2, "array of 2 numbers [u, v]"),
+              "array of [u, v], one per position")
+            .About("texture coordinates of the sampled vertices; absent when the mesh has none")},
+    .description = "The mesh the per-vertex and texture-space data were made for "
+                   "(geometry/fingerprint.h); written by mimetic fit."};
+
 const Object kMesh = {"mesh", {
     String("path", "non-empty string (.obj, .gltf or .glb file, relative to the rig file's "
                    "directory)").NonEmpty().Required(),
-    String("name", "string (glTF mesh name)").About("glTF mesh name; absent = the first mesh")}};
+    String("name", "string (glTF mesh name)").About("glTF mesh name; absent = the first mesh"),
+    ObjectOf("fingerprint", kFingerprint, "object {\"vertices\": ..., \"triangles\": ..., "
+             "\"index_hash\": ..., \"positions\": [...], \"uvs\": [...]}")
+        .About("the mesh the per-vertex and texture-space data were made for")}};
 
 // docs/model.md §4: skin thickness h, mesh units; absent = constant 0.
 const Object kConstantThickness = {"constant thickness", {
@@ -206,6 +227,7 @@ class RigRules {
     return false;
   }
   void Thickness(const View& t, ThicknessSpec* out);
+  void Fingerprint(const View& f, MeshFingerprint* out);
   bool Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkleSpec>* wrinkles);
   bool Linear(const View& m, LinearMuscleSpec* out);
   bool Sheet(const View& m, SheetMuscleSpec* out);
@@ -236,6 +258,7 @@ void RigRules::Root(const View& top, RigSpec* spec) {
   std::string s;
   if (mesh.Read("path", &s)) spec->mesh_path = JoinPath(base_dir_, s);
   mesh.Read("name", &spec->mesh_name);
+  if (mesh.Has("fingerprint")) Fingerprint(mesh.Member("fingerprint"), &spec->mesh_fingerprint);
   top.Read("units", &spec->units);
   if (top.Has("thickness")) Thickness(top.Member("thickness"), &spec->thickness);
 
@@ -266,6 +289,39 @@ void RigRules::Root(const View& top, RigSpec* spec) {
   const View refinement = top.Member("refinement");
   refinement.Read("enabled", &spec->refinement.enabled);
   refinement.Read("edge_fraction", &spec->refinement.edge_fraction);
+}
+
+void RigRules::Fingerprint(const View& f, MeshFingerprint* out) {
+  if (!f.ok()) return;
+  MeshFingerprint fp;
+  int64_t n = 0;
+  if (f.Read("vertices", &n)) fp.vertices = uint64_t(n);
+  if (f.Read("triangles", &n)) fp.triangles = uint64_t(n);
+  std::string hash;
+  if (f.Read("index_hash", &hash) && !ParseFingerprintHash(hash, &fp.index_hash)) {
+    Fail(f.Path("index_hash"), "is " + Quoted(hash) + "; expected 16 lowercase hex digits");
+    return;
+  }
+  f.Read("positions", &fp.positions);
+  f.Read("uvs", &fp.uvs);
+  if (fp.positions.size() > kFingerprintSamples) {
+    Fail(f.Path("positions"), "has " + std::to_string(fp.positions.size()) +
+                                  " entries; expected at most " +
+                                  std::to_string(kFingerprintSamples));
+    return;
+  }
+  if (fp.positions.size() > fp.vertices) {
+    Fail(f.Path("positions"), "has " + std::to_string(fp.positions.size()) +
+                                  " entries for a mesh of " + std::to_string(fp.vertices) +
+                                  " vertices; expected at most one per vertex");
+    return;
+  }
+  if (f.Has("uvs") && fp.uvs.size() != fp.positions.size()) {
+    Fail(f.Path("uvs"), "has " + std::to_string(fp.uvs.size()) + " entries; expected one per "
+                        "position (" + std::to_string(fp.positions.size()) + ")");
+    return;
+  }
+  *out = std::move(fp);
 }
 
 void RigRules::Thickness(const View& t, ThicknessSpec* out) {
@@ -455,6 +511,19 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
   ordered_json mesh;
   mesh["path"] = spec.mesh_path.empty() ? std::string() : PathForFile(spec.mesh_path, dir);
   if (!spec.mesh_name.empty()) mesh["name"] = spec.mesh_name;
+  if (const MeshFingerprint& f = spec.mesh_fingerprint; !f.empty()) {
+    ordered_json fp;
+    fp["vertices"] = f.vertices;
+    fp["triangles"] = f.triangles;
+    fp["index_hash"] = FingerprintHashText(f.index_hash);
+    ordered_json positions = ordered_json::array(), uvs = ordered_json::array();
+    for (const float3& p : f.positions)
+      positions.push_back({ShortestDecimal(p.x), ShortestDecimal(p.y), ShortestDecimal(p.z)});
+    for (const float2& u : f.uvs) uvs.push_back({ShortestDecimal(u.x), ShortestDecimal(u.y)});
+    fp["positions"] = std::move(positions);
+    if (!f.uvs.empty()) fp["uvs"] = std::move(uvs);
+    mesh["fingerprint"] = std::move(fp);
+  }
   root["mesh"] = std::move(mesh);
   root["units"] = spec.units;
 

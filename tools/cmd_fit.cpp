@@ -107,6 +107,12 @@ int CmdFit(const Args& args) {
     diag.Append(lm_diag, lm_path);
     return Fail(diag, "landmarks do not define a face frame");
   }
+  // Before guessing units from them: are they this mesh's, as it lies (mirrored, upside down,
+  // another unit)? FitTemplate checks again (and reports warnings); an error stops here.
+  if (Diagnostics check; !CheckLandmarksOnHead(points, head, SurfaceQuery(head), &check)) {
+    diag.Append(check, lm_path);
+    return Fail(diag, "the landmarks do not match the mesh");
+  }
   if (units.empty()) {
     units = GuessUnits(frame.scale);
     std::printf("units:      %s (guessed: the outer eye corners are %.4g apart; pass --units to "

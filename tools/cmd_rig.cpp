@@ -11,6 +11,7 @@
 #include "geometry/mesh.h"
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
+#include "muscles/offline/muscle_builder.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
@@ -116,14 +117,17 @@ int CmdInfo(const Args& args) {
               rig.layers().thickness ? "on" : "off", rig.layers().muscle_wrinkles ? "on" : "off",
               rig.layers().curve_wrinkles ? "on" : "off");
   std::printf("muscles:    %u\n", rig.muscle_count());
+  const std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles());
+  std::vector<const RigMuscleWrinkles*> wrinkles_of(rig.muscle_count(), nullptr);
+  for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
+    if (w.muscle < wrinkles_of.size()) wrinkles_of[w.muscle] = &w;
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     const MuscleSpec& ms = loaded.spec.muscles[m];
     std::printf("  %-28s %-6s strength %-8.4g moves %u points", ms.name.c_str(),
-                MuscleTypeName(ms.type), ms.strength, rig.muscles().CountInfluenced(m));
-    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
-      if (w.muscle == m)
-        std::printf(", wrinkles on %u (half cycle %.3g %s)", w.row_count(), w.half_cycle,
-                    loaded.spec.units.c_str());
+                MuscleTypeName(ms.type), ms.strength, influenced[m]);
+    if (const RigMuscleWrinkles* w = wrinkles_of[m])
+      std::printf(", wrinkles on %u (half cycle %.3g %s)", w->row_count(), w->half_cycle,
+                  loaded.spec.units.c_str());
     std::printf("\n");
   }
   // A muscle that moves almost none of the mesh's own vertices is usually misplaced for this
@@ -201,6 +205,13 @@ int CmdEval(const Args& args) {
                           .curve_wrinkles = !parsed.flags.count("no-curve-wrinkles")};
   if (!PosedMesh(rig, activations, layers, &posed)) {
     std::fprintf(stderr, "mimetic eval: evaluation failed (internal error: job did not validate)\n");
+    return 1;
+  }
+  // Non-finite output is an error naming the rig key that causes it (issue 11).
+  if (Diagnostics bad; !CheckPosedFinite(rig, loaded.spec, activations, layers, posed, &bad)) {
+    diag.Append(bad, parsed.positional[0]);
+    PrintDiagnostics(diag);
+    std::fprintf(stderr, "mimetic eval: the posed mesh is not finite; nothing was written\n");
     return 1;
   }
 

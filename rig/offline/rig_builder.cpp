@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
 #include "muscles/offline/muscle_builder.h"
 #include "geometry/normals.h"
+#include "geometry/bounds.h"
+#include "geometry/orientation.h"
 #include "geometry/refine.h"
+#include "geometry/refine_estimate.h"
 #include "geometry/topology.h"
 #include "geometry/weld.h"
 #include "rig/runtime/evaluate_job.h"
@@ -242,6 +246,187 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   };
 }
 
+std::string Short(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+double MmPerUnit(const std::string& units) {
+  if (units == "cm") return 10.0;
+  if (units == "dm") return 100.0;
+  if (units == "m") return 1000.0;
+  if (units == "in") return 25.4;
+  return 1.0;
+}
+
+// Issue 11: finite but absurd values (coordinates at 1e38, a thickness or wrinkle depth of
+// 3e38) are errors naming the key, checked against the mesh's size.
+bool ValidateMagnitudes(const RigSpec& spec, const MeshData& mesh, Diagnostics* diag) {
+  const size_t errors_before = diag->ErrorCount();
+  const std::string units = spec.units.empty() ? "mm" : spec.units;
+  const double max_coordinate = kMaxCoordinateMm / MmPerUnit(units);
+  const std::string mesh_name = mesh.source.empty() ? "the mesh" : mesh.source;
+  {
+    size_t far = 0, first = 0;
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const float3 p = mesh.positions[v];
+      const double c[3] = {p.x, p.y, p.z};
+      if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) continue;  // weld's
+      if (std::max({std::fabs(c[0]), std::fabs(c[1]), std::fabs(c[2])}) > max_coordinate) {
+        if (far++ == 0) first = v;
+      }
+    }
+    if (far > 0) {
+      const float3 p = mesh.positions[first];
+      diag->Error(mesh_name, std::to_string(far) + " vertices have a coordinate beyond " +
+                                 Short(max_coordinate) + " " + units + " (" +
+                                 Short(kMaxCoordinateMm / 1e6) + " km; first: vertex " +
+                                 std::to_string(first) + " at (" + Short(p.x) + ", " + Short(p.y) +
+                                 ", " + Short(p.z) + ")); expected a head-sized mesh in " + units);
+      return false;
+    }
+  }
+  const BoundingBox box = ComputeBounds(mesh.positions);
+  const double size = box.Diagonal();
+  if (!(size > 0.0) || !std::isfinite(size)) return true;  // WeldMesh reports the mesh
+  const double centre[3] = {0.5 * (box.lo[0] + box.hi[0]), 0.5 * (box.lo[1] + box.hi[1]),
+                            0.5 * (box.lo[2] + box.hi[2])};
+  const double limit = kMaxLengthFactor * size;
+  const std::string about = "more than " + Short(kMaxLengthFactor) + " times the mesh's size "
+                            "(bounding-box diagonal " + Short(size) + " " + units + ")";
+  auto length = [&](const std::string& where, float value) {
+    if (double(value) <= limit) return;
+    diag->Error(where, "is " + Short(value) + " " + units + ", " + about +
+                           "; expected a length at most " + Short(limit) + " " + units);
+  };
+  auto point = [&](const std::string& where, float3 p) {
+    const double d = std::hypot(double(p.x) - centre[0], double(p.y) - centre[1],
+                                double(p.z) - centre[2]);
+    if (d <= limit && std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) <= max_coordinate)
+      return;
+    diag->Error(where, "(" + Short(p.x) + ", " + Short(p.y) + ", " + Short(p.z) + ") is " +
+                           Short(d) + " " + units + " from the mesh's centre, " + about +
+                           "; expected a point near the mesh, in its units and frame");
+  };
+  const ThicknessSpec& t = spec.thickness;
+  switch (t.kind) {
+    case ThicknessSpec::Kind::kConstant: length("thickness.value", t.value); break;
+    case ThicknessSpec::Kind::kPerVertex: {
+      CappedErrors capped(diag, "thickness.values", "thickness values too large");
+      for (size_t v = 0; v < t.per_vertex.size(); ++v)
+        if (double(t.per_vertex[v]) > limit)
+          capped.Add("thickness.values[" + std::to_string(v) + "]",
+                     "is " + Short(t.per_vertex[v]) + " " + units + ", " + about +
+                         "; expected a length at most " + Short(limit) + " " + units);
+      break;
+    }
+    case ThicknessSpec::Kind::kImage:
+      length("thickness.min", t.min);
+      length("thickness.max", t.max);
+      break;
+  }
+  for (size_t m = 0; m < spec.muscles.size(); ++m) {
+    const MuscleSpec& ms = spec.muscles[m];
+    const std::string at = "muscles[" + std::to_string(m) + "]";
+    length(at + ".strength", ms.strength);
+    if (ms.type == MuscleType::kLinear) {
+      point(at + ".attachment", ms.linear.attachment);
+      point(at + ".insertion", ms.linear.insertion);
+      length(at + ".falloff_start", ms.linear.falloff_start);
+      length(at + ".falloff_end", ms.linear.falloff_end);
+    } else {
+      for (int k = 0; k < 2; ++k) {
+        point(at + ".attachment[" + std::to_string(k) + "]", ms.sheet.attachment[k]);
+        point(at + ".insertion[" + std::to_string(k) + "]", ms.sheet.insertion[k]);
+      }
+      length(at + ".length", ms.sheet.length);
+      length(at + ".width", ms.sheet.width);
+      length(at + ".falloff_start", ms.sheet.falloff_start);
+    }
+    if (m < spec.muscle_wrinkles.size() && spec.muscle_wrinkles[m]) {
+      length(at + ".wrinkles.depth", spec.muscle_wrinkles[m]->depth);
+      length(at + ".wrinkles.h_c", spec.muscle_wrinkles[m]->h_c);
+    }
+  }
+  for (size_t c = 0; c < spec.curve_wrinkles.size(); ++c) {
+    const std::string at = "curve_wrinkles[" + std::to_string(c) + "]";
+    length(at + ".depth", spec.curve_wrinkles[c].spec.depth);
+    length(at + ".width", spec.curve_wrinkles[c].spec.width);
+  }
+  return diag->ErrorCount() == errors_before;
+}
+
+// Issue 11: a wrinkle count near 2^31, a curve width of 0.01 mm or an edge_fraction of 1e-30
+// drove refinement to millions of triangles and tens of seconds. Estimate first; refuse when
+// the estimate passes the stated growth, naming the key that asks for the smallest edges (each
+// wrinkle's estimate alone; refinement.edge_fraction when the default 0.25 would fit).
+bool CheckRefinementGrowth(const RigSpec& spec, const MeshData& mesh,
+                           const EdgeLengthField& field, const RefineOptions& options,
+                           Diagnostics* diag) {
+  const double input = double(mesh.triangle_count());
+  const double limit = std::min(std::max(kMaxRefinementGrowth * input, kMinRefinementLimit),
+                                double(options.max_triangles));
+  const double estimate = EstimateRefinedTriangles(mesh, field, options);
+  if (estimate <= limit) return true;
+  // Which wrinkle: each alone.
+  std::string where = "refinement", detail;
+  double worst = -1;
+  RigSpec alone = spec;
+  alone.curve_wrinkles.clear();
+  alone.muscle_wrinkles.assign(spec.muscle_wrinkles.size(), std::nullopt);
+  if (spec.layers.muscle_wrinkles)
+    for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
+      if (!spec.muscle_wrinkles[m]) continue;
+      alone.muscle_wrinkles[m] = spec.muscle_wrinkles[m];
+      const double e = EstimateRefinedTriangles(mesh, MakeRefinementField(alone, mesh), options);
+      alone.muscle_wrinkles[m].reset();
+      if (e <= worst) continue;
+      worst = e;
+      const MuscleWrinkleSpec& w = *spec.muscle_wrinkles[m];
+      const float u = SampleMuscleWrinkleRegion(w, WrinkleGeometryOf(spec.muscles[m]), {}).half_cycle;
+      where = "muscles[" + std::to_string(m) + "].wrinkles.count";
+      detail = "muscles[" + std::to_string(m) + "].wrinkles (" + spec.muscles[m].name + ", count " +
+               std::to_string(w.count) + ") makes furrows " + Short(u) + " wide, refined to edges of " +
+               Short(spec.refinement.edge_fraction * u) + ", and alone would give about " +
+               Short(e) + " triangles";
+    }
+  alone.muscle_wrinkles.assign(spec.muscle_wrinkles.size(), std::nullopt);
+  if (spec.layers.curve_wrinkles)
+    for (size_t c = 0; c < spec.curve_wrinkles.size(); ++c) {
+      alone.curve_wrinkles = {spec.curve_wrinkles[c]};
+      const double e = EstimateRefinedTriangles(mesh, MakeRefinementField(alone, mesh), options);
+      if (e <= worst) continue;
+      worst = e;
+      const float w = spec.curve_wrinkles[c].spec.width;
+      where = "curve_wrinkles[" + std::to_string(c) + "].width";
+      detail = "curve_wrinkles[" + std::to_string(c) + "] (" + spec.curve_wrinkles[c].name +
+               ", width " + Short(w) + ") is refined to edges of " +
+               Short(spec.refinement.edge_fraction * w) + " and alone would give about " +
+               Short(e) + " triangles";
+    }
+  if (spec.refinement.edge_fraction < kDefaultRefineWidthFraction) {
+    RigSpec usual = spec;
+    usual.refinement.edge_fraction = kDefaultRefineWidthFraction;
+    if (EstimateRefinedTriangles(mesh, MakeRefinementField(usual, mesh), options) <= limit) {
+      where = "refinement.edge_fraction";
+      detail = "refinement.edge_fraction " + Short(spec.refinement.edge_fraction) +
+               " asks for edges that short; the default " + Short(kDefaultRefineWidthFraction) +
+               " would stay within the limit";
+    }
+  }
+  diag->Error(where, "refinement where wrinkles act would grow the mesh from " +
+                         std::to_string(mesh.triangle_count()) + " to about " + Short(estimate) +
+                         " triangles, more than the limit of " + Short(limit) + " (" +
+                         Short(kMaxRefinementGrowth) + "x the mesh's triangles, at least " +
+                         Short(kMinRefinementLimit) + ", at most " +
+                         Short(double(options.max_triangles)) + "; docs/model.md §11)" +
+                         (detail.empty() ? "" : ": " + detail) +
+                         "; use fewer or wider wrinkles, a larger refinement.edge_fraction, or "
+                         "\"refinement\": {\"enabled\": false}");
+  return false;
+}
+
 bool NeedsRefinement(const RigSpec& spec) {
   if (!spec.refinement.enabled) return false;
   bool any = spec.layers.curve_wrinkles && !spec.curve_wrinkles.empty();
@@ -279,8 +464,9 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
                                          span<const uint32_t>(rig.triangles))
                   : std::vector<float3>();
   rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points, rest_normals);
+  const std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
-    if (rig.muscles.CountInfluenced(m) == 0 && spec.muscles[m].strength > 0.f)
+    if (influenced[m] == 0 && spec.muscles[m].strength > 0.f)
       diag->Warning("muscles[" + std::to_string(m) + "] (" + spec.muscles[m].name + ")",
                     "reaches no vertex of the mesh: check its position and fall-off radii "
                     "against the mesh's units and placement");
@@ -358,8 +544,48 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 }  // namespace
 
-bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOptions& options,
+bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildOptions& options,
               Rig* out, Diagnostics* diag) {
+  if (options.check_magnitudes && !ValidateMagnitudes(spec_in, file_mesh_in, diag)) return false;
+  // The mesh the per-vertex and texture-space data were made for (geometry/fingerprint.h).
+  {
+    const bool per_vertex = spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex;
+    const bool image = spec_in.thickness.kind == ThicknessSpec::Kind::kImage;
+    const bool curves = !spec_in.curve_wrinkles.empty();
+    if (!spec_in.mesh_fingerprint.empty() && (per_vertex || image || curves)) {
+      const std::string why =
+          FingerprintMismatch(spec_in.mesh_fingerprint, file_mesh_in, image || curves);
+      if (!why.empty()) {
+        std::string data = per_vertex ? "per-vertex thickness" : (image ? "thickness image" : "");
+        if (curves) data += std::string(data.empty() ? "" : " and ") + "curve wrinkles";
+        const std::string mesh_name = file_mesh_in.source.empty() ? "the mesh" : file_mesh_in.source;
+        diag->Error("mesh.fingerprint",
+                    "'" + mesh_name + "' is not the mesh this rig's " + data + " (" +
+                        (per_vertex ? "one value per vertex" : "texture space") +
+                        ") was made for: " + why + "; refit the rig on this mesh (mimetic fit "
+                        "TEMPLATE --mesh " + mesh_name + " --landmarks LANDMARKS --out RIG, "
+                        "docs/fitting.md), or point mesh.path at the mesh it was fitted to");
+        return false;
+      }
+    }
+  }
+  // Consistent winding first (geometry/orientation.h): a minority of reversed triangles is
+  // turned round with a warning, so that the posed normals point one way; the output's index
+  // buffer is the corrected one.
+  MeshData reoriented;
+  const MeshData* file_ptr = &file_mesh_in;
+  {
+    std::vector<uint32_t> fixed;
+    if (!MakeWindingConsistent(file_mesh_in, options.weld_tolerance, file_mesh_in.source, &fixed,
+                               diag))
+      return false;
+    if (!fixed.empty()) {
+      reoriented = file_mesh_in;
+      reoriented.indices = std::move(fixed);
+      file_ptr = &reoriented;
+    }
+  }
+  const MeshData& file_mesh = *file_ptr;
   // Refine where wrinkles act (docs/model.md §11); everything below runs on the refined layout.
   const MeshData* mesh_ptr = &file_mesh;
   const RigSpec* spec_ptr = &spec_in;
@@ -375,9 +601,10 @@ bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh, const BuildOpti
     }
     RefineOptions refine_options;
     refine_options.weld_tolerance = options.weld_tolerance;
+    const EdgeLengthField field = MakeRefinementField(spec_in, file_mesh);
+    if (!CheckRefinementGrowth(spec_in, file_mesh, field, refine_options, diag)) return false;
     Diagnostics refine_diag;
-    const bool refined_ok = RefineMesh(file_mesh, MakeRefinementField(spec_in, file_mesh),
-                                       refine_options, &refined, &refine_diag);
+    const bool refined_ok = RefineMesh(file_mesh, field, refine_options, &refined, &refine_diag);
     diag->Append(refine_diag, file_mesh.source);
     if (!refined_ok) return false;
     mesh_ptr = &refined.mesh;
@@ -451,6 +678,118 @@ bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& 
   if (posed.positions.empty() || !job.Run()) return false;
   *out = std::move(posed);
   return true;
+}
+
+namespace {
+
+// The first output vertex whose position or normal is not finite; -1 when none.
+int64_t FirstNonFinite(const MeshData& m) {
+  for (size_t v = 0; v < m.positions.size(); ++v)
+    if (!IsFinite(m.positions[v]) || (v < m.normals.size() && !IsFinite(m.normals[v])))
+      return int64_t(v);
+  return -1;
+}
+
+}  // namespace
+
+bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> activations,
+                      const SkinLayers& layers, const MeshData& posed, Diagnostics* diag) {
+  const int64_t bad = FirstNonFinite(posed);
+  if (bad < 0) return true;
+  auto finite_with = [&](span<const float> a, const SkinLayers& l) {
+    MeshData m;
+    return PosedMesh(rig, a, l, &m) && FirstNonFinite(m) < 0;
+  };
+  auto muscle_name = [&](size_t m) {
+    return "muscles[" + std::to_string(m) + "] (" +
+           (m < spec.muscles.size() ? spec.muscles[m].name : rig.muscle_names()[m]) + ")";
+  };
+  // The active muscle that, alone at its activation, gives non-finite output; -1 when none.
+  std::vector<float> one(rig.muscle_count(), 0.f);
+  auto culprit = [&](const SkinLayers& l) -> int64_t {
+    for (uint32_t m = 0; m < rig.muscle_count() && m < activations.size(); ++m) {
+      if (activations[m] == 0.f) continue;
+      std::fill(one.begin(), one.end(), 0.f);
+      one[m] = activations[m];
+      if (!finite_with(one, l)) return m;
+    }
+    return -1;
+  };
+  const SkinLayers none{.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
+  const SkinLayers thick{.thickness = layers.thickness, .muscle_wrinkles = false,
+                         .curve_wrinkles = false};
+  const SkinLayers wrinkled{.thickness = layers.thickness,
+                            .muscle_wrinkles = layers.muscle_wrinkles, .curve_wrinkles = false};
+  // How far the muscles alone move the skin: a finite but absurd motion (more than
+  // kMaxLengthFactor times the mesh's size) that a skin layer then overflows is the muscle's.
+  const MeshData rest = RestMesh(rig);
+  const double limit = kMaxLengthFactor * ComputeBounds(rest.positions).Diagonal();
+  auto largest_motion = [&](span<const float> a) {
+    MeshData m;
+    double d = 0;
+    if (!PosedMesh(rig, a, none, &m)) return d;
+    for (size_t v = 0; v < m.positions.size() && v < rest.positions.size(); ++v)
+      d = std::max(d, std::hypot(double(m.positions[v].x) - rest.positions[v].x,
+                                 double(m.positions[v].y) - rest.positions[v].y,
+                                 double(m.positions[v].z) - rest.positions[v].z));
+    return d;
+  };
+  int64_t wild = -1;
+  double wild_motion = 0;
+  if (largest_motion(activations) > limit)
+    for (uint32_t m = 0; m < rig.muscle_count() && m < activations.size() && wild < 0; ++m) {
+      if (activations[m] == 0.f) continue;
+      std::fill(one.begin(), one.end(), 0.f);
+      one[m] = activations[m];
+      if (const double d = largest_motion(one); d > limit) wild = m, wild_motion = d;
+    }
+  std::string where, what;
+  if (wild >= 0 && finite_with(activations, none)) {
+    where = "muscles[" + std::to_string(wild) + "]";
+    what = muscle_name(size_t(wild)) + " alone moves the skin by " + Short(wild_motion) + " " +
+           (spec.units.empty() ? "mm" : spec.units) + ", more than " + Short(kMaxLengthFactor) +
+           " times the mesh's size, and the skin layers then overflow: check its strength";
+  } else if (!finite_with(activations, none)) {
+    const int64_t m = culprit(none);
+    where = m >= 0 ? "muscles[" + std::to_string(m) + "]" : "muscles";
+    what = m >= 0 ? "the muscles alone move it there: " + muscle_name(size_t(m)) +
+                        " alone does, at activation " + Short(activations[size_t(m)]) +
+                        "; check its strength and fall-off radii"
+                  : "the muscles alone move it there (together, none alone): check their "
+                    "strengths";
+  } else if (layers.thickness && rig.layers().thickness && !finite_with(activations, thick)) {
+    where = "thickness";
+    what = "the thickness layer does (docs/model.md §4): check the thickness values";
+  } else if (layers.muscle_wrinkles && rig.layers().muscle_wrinkles &&
+             !finite_with(activations, wrinkled)) {
+    const int64_t m = culprit(wrinkled);
+    where = m >= 0 ? "muscles[" + std::to_string(m) + "].wrinkles" : "muscles";
+    what = m >= 0 ? "the muscle wrinkles do: those of " + muscle_name(size_t(m)) +
+                        "; check their depth and count"
+                  : "the muscle wrinkles do (together, none alone): check their depths";
+  } else if (layers.curve_wrinkles && rig.layers().curve_wrinkles) {
+    // The curve wrinkles that reach the first bad vertex's point.
+    const RigCurveWrinkles& c = rig.curve_wrinkles();
+    const uint32_t point = size_t(bad) < rig.vertex_points().size() ? rig.vertex_points()[size_t(bad)] : 0;
+    std::vector<uint32_t> reach;
+    for (uint32_t row = 0; row < c.row_count(); ++row)
+      if (c.points[row] == point)
+        for (uint32_t k = c.offsets[row]; k < c.offsets[row + 1]; ++k)
+          if (std::find(reach.begin(), reach.end(), c.entries[k].wrinkle) == reach.end())
+            reach.push_back(c.entries[k].wrinkle);
+    where = reach.empty() ? "curve_wrinkles" : "curve_wrinkles[" + std::to_string(reach[0]) + "]";
+    what = "the curve wrinkles do";
+    for (size_t i = 0; i < reach.size(); ++i)
+      what += std::string(i ? ", " : ": ") + "curve_wrinkles[" + std::to_string(reach[i]) + "] (" +
+              (reach[i] < c.names.size() ? c.names[reach[i]] : std::string("?")) + ")";
+    what += "; check their depth and width";
+  } else {
+    where = "rig";
+    what = "no part of the rig alone does (internal error)";
+  }
+  diag->Error(where, "the evaluation gives non-finite positions or normals (first: output vertex " +
+                         std::to_string(bad) + "): " + what);
+  return false;
 }
 
 }  // namespace mimetic

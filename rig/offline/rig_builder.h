@@ -11,14 +11,38 @@
 
 namespace mimetic {
 
+// Refinement where wrinkles act (docs/model.md §11) may grow the mesh to at most
+// kMaxRefinementGrowth times its triangles, or kMinRefinementLimit triangles where that is more
+// (a coarse mesh under a narrow wrinkle legitimately grows 30x and stays cheap), and never past
+// RefineOptions::max_triangles (4 million): BuildRig estimates the refined size before refining
+// (geometry/refine_estimate.h) and refuses a rig that would exceed it, naming the key that asks
+// for the smallest edges.
+inline constexpr double kMaxRefinementGrowth = 16.0;
+inline constexpr double kMinRefinementLimit = 500'000.0;
+
+// Magnitudes BuildRig accepts (issue 11: a thickness of 3e38 validated and evaluated to
+// inf): mesh coordinates at most kMaxCoordinateMm millimetres (in the rig's units) from 0;
+// lengths in the rig (thickness, strengths, fall-off radii, sheet sizes, wrinkle depths and
+// widths) at most kMaxLengthFactor times the mesh's bounding-box diagonal; muscle points at
+// most that far from the bounding box's centre. Errors name the key (`muscles[2].strength`).
+inline constexpr double kMaxCoordinateMm = 1e6;
+inline constexpr double kMaxLengthFactor = 10.0;
+
 struct BuildOptions {
   float weld_tolerance = 0.f;  // mesh units; <= 0: 1e-6 of the bounding-box diagonal
+  // The magnitude checks above (kMaxCoordinateMm, kMaxLengthFactor). Only tests of the
+  // evaluation's own guard (CheckPosedFinite) turn them off.
+  bool check_magnitudes = true;
 };
 
 // Welds and validates the mesh (weld.h), resolves the skin thickness per point (constant;
 // per file vertex, averaged over a point's vertices; or sampled bilinearly from a grayscale
 // image at the vertices' UVs, black = min, white = max, v = 0 on the image's top row as in
-// glTF), and compiles the muscle influence tables. Returns false with every problem recorded.
+// glTF), and compiles the muscle influence tables. Before that: the mesh must match the rig's
+// fingerprint where the rig has per-vertex or texture-space data (geometry/fingerprint.h), its
+// winding is made consistent (geometry/orientation.h, a warning), and refinement that would
+// grow the mesh past kMaxRefinementGrowth is an error. Returns false with every problem
+// recorded.
 bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& options, Rig* out,
               Diagnostics* diag);
 
@@ -32,5 +56,16 @@ MeshData RestMesh(const Rig& rig);
 // false (and leaves `out` alone) when the job does not validate.
 bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& layers,
                MeshData* out);
+
+// Offline check of what an evaluation gave (PosedMesh's `posed`, `activations` and `layers`
+// as passed to it): true when every position and normal is finite. Otherwise records one error
+// naming the rig key that makes them non-finite, found by evaluating again with less (the
+// per-frame code stays as it is: exception- and allocation-free): the muscles alone, then each
+// active muscle alone (`muscles[i]`); with the thickness layer (`thickness`); with the muscle
+// wrinkles, each active muscle's alone (`muscles[i].wrinkles`); with the curve wrinkles, the
+// curve wrinkles that reach the first bad point (`curve_wrinkles[j]`). `spec` is the rig's
+// spec (for its key names; muscle i of the rig is muscles[i] of the file).
+bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> activations,
+                      const SkinLayers& layers, const MeshData& posed, Diagnostics* diag);
 
 }  // namespace mimetic

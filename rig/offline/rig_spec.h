@@ -8,6 +8,7 @@
 
 #include "core/diagnostics.h"
 #include "core/image.h"
+#include "geometry/fingerprint.h"
 #include "muscles/offline/muscle_spec.h"
 #include "rig/runtime/skin_layers.h"
 #include "wrinkles/offline/wrinkle_spec.h"
@@ -41,6 +42,11 @@ struct RigSpec {
   std::string file;        // the rig file this came from ("" when parsed from text)
   std::string mesh_path;   // resolved against the rig file's directory
   std::string mesh_name;   // glTF mesh name; "" = first mesh
+  // The mesh the per-vertex and texture-space data were made for (`mesh.fingerprint`,
+  // geometry/fingerprint.h); empty in files written before it existed. BuildRig refuses a mesh
+  // that does not match it when the rig has per-vertex thickness (positions and indices) or a
+  // thickness image or curve wrinkles (texture coordinates too).
+  MeshFingerprint mesh_fingerprint;
   std::string units;       // "mm", "cm", "dm", "m" or "in"
   ThicknessSpec thickness;
   std::vector<MuscleSpec> muscles;

@@ -349,8 +349,93 @@ TEST(FitTemplate, ReportsBadLandmarksAndUnits) {
     std::vector<float3> pts = Head().landmarks;
     for (float3& p : pts) p = p + float3{5000.f, 0.f, 0.f};
     EXPECT_FALSE(FitTemplate(t, Head().mesh, PointLandmarks(pts), "mm", &spec, &diag));
-    EXPECT_TRUE(diag.Contains("found no surface")) << diag.Format();
-    EXPECT_GE(diag.ErrorCount(), t.muscles.size());  // every point, not only the first
+    EXPECT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_TRUE(diag.Contains("from the surface of")) << diag.Format();
+    EXPECT_TRUE(diag.Contains("expected every landmark on the surface (within 5%)")) << diag.Format();
+  }
+}
+
+// Issue 11: the most common landmark mistakes, made from the sample head's good landmarks.
+// Each is refused with one error that says what looks wrong; the good ones pass silently.
+TEST(CheckLandmarksOnHead, SaysWhatIsWrongWithMirroredUpsideDownAndOtherUnitLandmarks) {
+  const MeshData& mesh = Head().mesh;
+  const SurfaceQuery query(mesh);
+  auto check = [&](std::vector<float3> pts, Diagnostics* diag) {
+    return CheckLandmarksOnHead(pts, mesh, query, diag);
+  };
+  auto transformed = [&](auto&& f) {
+    std::vector<float3> pts = Head().landmarks;
+    for (float3& p : pts) p = f(p);
+    return pts;
+  };
+  {
+    Diagnostics diag;
+    EXPECT_TRUE(check(Head().landmarks, &diag));
+    EXPECT_TRUE(diag.empty()) << diag.Format();
+  }
+  {
+    // Mirrored in x: on the (symmetric) surface still, but every label on the other side.
+    Diagnostics diag;
+    EXPECT_FALSE(check(transformed([](float3 p) { return float3{-p.x, p.y, p.z}; }), &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "landmarks");
+    EXPECT_EQ(diag.items()[0].what.rfind("landmarks look mirrored left/right: ", 0), 0u) << diag.Format();
+    EXPECT_TRUE(diag.Contains("points into the head")) << diag.Format();
+    EXPECT_TRUE(diag.Contains("swap the left and right landmarks")) << diag.Format();
+  }
+  {
+    // Mirrored labels (what an annotator's left/right mix-up gives): the same diagnosis.
+    std::vector<float3> pts(68);
+    for (int i = 0; i < 68; ++i) pts[size_t(i)] = Head().landmarks[size_t(IbugMirrorLandmark(i))];
+    Diagnostics diag;
+    EXPECT_FALSE(check(pts, &diag));
+    EXPECT_TRUE(diag.Contains("landmarks look mirrored left/right")) << diag.Format();
+  }
+  {
+    Diagnostics diag;
+    EXPECT_FALSE(check(transformed([](float3 p) { return float3{p.x, -p.y, p.z}; }), &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].what.rfind("landmarks look upside down: with y negated they lie on", 0), 0u)
+        << diag.Format();
+    EXPECT_TRUE(diag.Contains("flip y of the landmarks")) << diag.Format();
+  }
+  {
+    Diagnostics diag;
+    EXPECT_FALSE(check(transformed([](float3 p) { return p * 10.f; }), &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].what.rfind("landmarks are about 10x the mesh size: another unit? "
+                                         "divided by 10 they lie on",
+                                         0),
+              0u)
+        << diag.Format();
+  }
+  {
+    Diagnostics diag;
+    EXPECT_FALSE(check(transformed([](float3 p) { return p * 0.1f; }), &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].what.rfind("landmarks are about 0.1x the mesh size: another unit? "
+                                         "multiplied by 10 they lie on",
+                                         0),
+              0u)
+        << diag.Format();
+  }
+  {
+    // One landmark off the face: named, with how far.
+    std::vector<float3> pts = Head().landmarks;
+    pts[30] = pts[30] + float3{0.f, 0.f, 60.f};
+    Diagnostics diag;
+    EXPECT_FALSE(check(pts, &diag));
+    EXPECT_TRUE(diag.Contains("landmark 30 (nose tip (pronasale)) is 60")) << diag.Format();
+  }
+  {
+    // FitTemplate refuses them too, before placing anything.
+    RigSpec spec;
+    Diagnostics diag;
+    EXPECT_FALSE(FitTemplate(LoadDefaultTemplate(), mesh,
+                             PointLandmarks(transformed([](float3 p) { return float3{-p.x, p.y, p.z}; })),
+                             "mm", &spec, &diag));
+    EXPECT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_TRUE(diag.Contains("landmarks look mirrored left/right")) << diag.Format();
   }
 }
 
@@ -596,6 +681,30 @@ void CheckAnatomy(const RealHead& head, const std::string& name) {
             << name << " " << muscle << ": vertical motion " << local.y << " of strength " << k;
       }
     }
+  }
+}
+
+TEST(FitRealHeads, TheirLandmarksPassTheSanityChecks) {
+  for (const auto& [mesh_rel, lm_name] : std::vector<std::pair<std::string, std::string>>{
+           {"ict-facekit/ict_skin_neutral.obj", "ict_facekit.landmarks.json"},
+           {"makehuman/makehuman_head_hm08_crop.obj", "makehuman_hm08.landmarks.json"}}) {
+    RealHead head;
+    if (!LoadRealHead(mesh_rel, lm_name, &head)) {
+      std::printf("../shared/data/%s is absent: its landmarks are not checked\n", mesh_rel.c_str());
+      continue;
+    }
+    if (head.mesh.vertex_count() == 0) continue;  // absent (LoadRealHead reported it)
+    std::vector<float3> pts;
+    Diagnostics diag;
+    ASSERT_TRUE(ResolveLandmarks(head.landmarks, head.mesh, &pts, &diag)) << diag.Format();
+    EXPECT_TRUE(CheckLandmarksOnHead(pts, head.mesh, SurfaceQuery(head.mesh), &diag)) << diag.Format();
+    EXPECT_TRUE(diag.empty()) << mesh_rel << ": " << diag.Format();
+    // And mirrored (labels swapped left/right) they are refused.
+    std::vector<float3> swapped(68);
+    for (int i = 0; i < 68; ++i) swapped[size_t(i)] = pts[size_t(IbugMirrorLandmark(i))];
+    Diagnostics bad;
+    EXPECT_FALSE(CheckLandmarksOnHead(swapped, head.mesh, SurfaceQuery(head.mesh), &bad));
+    EXPECT_TRUE(bad.Contains("landmarks look mirrored left/right")) << mesh_rel << ": " << bad.Format();
   }
 }
 
@@ -861,6 +970,29 @@ TEST(FitCli, WritesARigThatLoadsAndReportsBadInput) {
   std::nth_element(diff.begin(), diff.begin() + diff.size() / 2, diff.end());
   EXPECT_LT(diff[diff.size() / 2], 0.1f * loaded.spec.thickness.max);
 
+  // Issue 11: the rig carries the head's fingerprint: the same head with flipped v (what an OBJ
+  // round trip does) is refused by every command that loads the rig, with how to refit.
+  EXPECT_NE(text.find("\"fingerprint\""), std::string::npos);
+  {
+    MeshData flipped = Head().mesh;
+    for (float2& uv : flipped.uvs) uv.y = 1.f - uv.y;
+    ASSERT_TRUE(ExportMesh(dir + "/flipped.glb", flipped, &diag)) << diag.Format();
+    std::string rig_text = text;
+    rig_text.replace(rig_text.find("\"head.glb\""), 10, "\"flipped.glb\"");
+    std::ofstream(dir + "/flipped.rig.json") << rig_text;
+    r = test::RunTool({"validate", dir + "/flipped.rig.json"});
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("mesh.fingerprint: '" + dir + "/flipped.glb' is not the mesh this "
+                            "rig's thickness image and curve wrinkles (texture space) was made "
+                            "for: vertex 0 has texture coordinates"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("(v flipped: v -> 1 - v); refit the rig on this mesh (mimetic fit "
+                            "TEMPLATE --mesh " + dir + "/flipped.glb"),
+              std::string::npos)
+        << r.output;
+  }
+
   // Bad landmark file: exit 1 with the file's problem.
   std::ofstream(dir + "/bad.landmarks.json") << R"({"format": "mimetic-landmarks", "version": 1, "points": [[0, 0, 0]]})";
   r = test::RunTool({"fit", TemplatePath(), "--mesh", dir + "/head.glb", "--landmarks",
@@ -888,6 +1020,21 @@ TEST(FitCli, WritesARigThatLoadsAndReportsBadInput) {
   EXPECT_NE(r.output.find("missing --out"), std::string::npos) << r.output;
   r = test::RunTool({"fit", TemplatePath(), "--mesh", "m.glb", "--landmarks", "l.json", "--out", "o.json", "--units", "parsec"});
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  // Issue 11: mirrored and other-unit landmarks: exit 1, the landmark file and the diagnosis.
+  for (const auto& [name, scale_x, scale, expect] :
+       std::vector<std::tuple<std::string, float, float, std::string>>{
+           {"mirrored", -1.f, 1.f, "landmarks look mirrored left/right"},
+           {"cm", 1.f, 0.1f, "landmarks are about 0.1x the mesh size: another unit?"}}) {
+    Landmarks wrong = lm;
+    for (float3& p : wrong.points) p = float3{p.x * scale_x, p.y, p.z} * scale;
+    const std::string path = dir + "/" + name + ".landmarks.json";
+    ASSERT_TRUE(SaveLandmarks(path, wrong, &diag)) << diag.Format();
+    r = test::RunTool({"fit", TemplatePath(), "--mesh", dir + "/head.glb", "--landmarks", path,
+                       "--out", dir + "/x.rig.json"});
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find(path + ": landmarks: " + expect), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("the landmarks do not match the mesh"), std::string::npos) << r.output;
+  }
   r = test::RunTool({"fit", "--help"});
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("--landmarks"), std::string::npos);

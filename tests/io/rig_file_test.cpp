@@ -1413,3 +1413,72 @@ TEST(RigJsonTest, MuscleFalloffKinds) {
 
 }  // namespace
 }  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+// mesh.fingerprint (geometry/fingerprint.h, issue 11): saved and read back exactly; a bad one
+// is reported with its path.
+TEST(RigJsonTest, MeshFingerprintRoundTripAndBadInputs) {
+  const std::string dir = test::TempDir();
+  RigSpec spec;
+  spec.mesh_path = dir + "/head.glb";
+  spec.units = "mm";
+  spec.thickness.kind = ThicknessSpec::Kind::kPerVertex;
+  spec.thickness.per_vertex = {0.5f, 1.f, 2.f};
+  spec.mesh_fingerprint.vertices = 3;
+  spec.mesh_fingerprint.triangles = 1;
+  spec.mesh_fingerprint.index_hash = 0x0123456789abcdefull;
+  spec.mesh_fingerprint.positions = {{0.1f, -2.f, 3e3f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}};
+  spec.mesh_fingerprint.uvs = {{0.f, 0.f}, {1.f, 0.f}, {0.25f, 0.75f}};
+  const std::string path = dir + "/f.rig.json";
+  Diagnostics diag;
+  ASSERT_TRUE(SaveRigSpec(path, spec, &diag)) << diag.Format();
+  const std::string text = ReadText(path);
+  EXPECT_NE(text.find(R"("index_hash": "0123456789abcdef")"), std::string::npos) << text;
+  RigSpec loaded;
+  ASSERT_TRUE(LoadRigSpec(path, &loaded, &diag)) << diag.Format();
+  const MeshFingerprint& f = loaded.mesh_fingerprint;
+  EXPECT_EQ(f.vertices, 3u);
+  EXPECT_EQ(f.triangles, 1u);
+  EXPECT_EQ(f.index_hash, 0x0123456789abcdefull);
+  ASSERT_EQ(f.positions.size(), 3u);
+  EXPECT_EQ(f.positions[0], (float3{0.1f, -2.f, 3e3f}));
+  ASSERT_EQ(f.uvs.size(), 3u);
+  EXPECT_EQ(f.uvs[2].y, 0.75f);
+  // Without a fingerprint (files before it): none written, none read.
+  spec.mesh_fingerprint = {};
+  ASSERT_TRUE(SaveRigSpec(path, spec, &diag)) << diag.Format();
+  EXPECT_EQ(ReadText(path).find("fingerprint"), std::string::npos);
+
+  const std::string fp = R"("fingerprint": {"vertices": 3, "triangles": 1, "index_hash": "0123456789abcdef", "positions": [[0, 0, 0], [1, 0, 0]]})";
+  auto doc = [&](const std::string& from, const std::string& to) {
+    return Top(R"("mesh": {"path": "surface.obj"})",
+               R"("mesh": {"path": "surface.obj", )" + Replace(fp, from, to) + "}");
+  };
+  {
+    RigSpec s;
+    Diagnostics d;
+    EXPECT_TRUE(ParseRigSpec(doc("", ""), "", &s, &d)) << d.Format();
+    EXPECT_EQ(s.mesh_fingerprint.positions.size(), 2u);
+  }
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {doc("0123456789abcdef", "0123456789ABCDEF"),
+       "mesh.fingerprint.index_hash: is \"0123456789ABCDEF\"; expected 16 lowercase hex digits"},
+      {doc("\"vertices\": 3", "\"vertices\": 0"), "mesh.fingerprint.vertices"},
+      {doc("\"vertices\": 3", "\"vertices\": 1"),
+       "mesh.fingerprint.positions: has 2 entries for a mesh of 1 vertices"},
+      {doc("[[0, 0, 0], [1, 0, 0]]", "[[0, 0, 0], [1, 0, 0]], \"uvs\": [[0, 0]]"),
+       "mesh.fingerprint.uvs: has 1 entries; expected one per position (2)"},
+      {doc(", \"triangles\": 1", ""), "mesh.fingerprint.triangles"},
+  };
+  for (const auto& [text_in, expect] : bad) {
+    RigSpec s;
+    Diagnostics d;
+    EXPECT_FALSE(ParseRigSpec(text_in, "", &s, &d)) << text_in;
+    EXPECT_NE(d.Format().find(expect), std::string::npos) << expect << "\n" << d.Format();
+  }
+}
+
+}  // namespace
+}  // namespace mimetic

@@ -1,9 +1,11 @@
 // Known answers for Waters' muscles, computed by hand from docs/model.md §2-3.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "muscles/offline/muscle_builder.h"
@@ -404,6 +406,114 @@ TEST(MuscleMotion, TangentIsPerpendicularToAnyUnitNormal) {
   }
   EXPECT_STREQ(MuscleMotionName(MuscleMotion::kChord), "chord");
   EXPECT_STREQ(MuscleMotionName(MuscleMotion::kTangent), "tangent");
+}
+
+// Random linear and sheet muscles over a grid: the table is, entry for entry and bit for bit,
+// what evaluating every muscle at every point gives (the grid search may skip only points that
+// no muscle can reach).
+TEST(MuscleTable, SameEntriesAsEvaluatingEveryPair) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> pos(-6.f, 26.f), size(0.5f, 12.f);
+  std::vector<MuscleSpec> muscles;
+  for (int m = 0; m < 200; ++m) {
+    MuscleSpec s;
+    s.name = "m" + std::to_string(m);
+    s.strength = 1.f + float(m % 3);
+    if (m % 2 == 0) {
+      s.type = MuscleType::kLinear;
+      s.linear.attachment = {pos(rng), pos(rng) - 10.f, size(rng) - 6.f};
+      s.linear.insertion = {pos(rng), pos(rng) - 10.f, 0.3f};
+      s.linear.zone_angle = 0.2f + 0.002f * float(m);
+      s.linear.falloff_start = size(rng) * 0.5f;
+      s.linear.falloff_end = s.linear.falloff_start + size(rng);
+    } else {
+      s.type = MuscleType::kSheet;
+      const float3 a = {pos(rng), pos(rng) - 10.f, 0.f}, i = {pos(rng), pos(rng) - 10.f, 1.f};
+      s.sheet.attachment[0] = a;
+      s.sheet.attachment[1] = a + float3{0.f, 3.f, 0.f};
+      s.sheet.insertion[0] = i;
+      s.sheet.insertion[1] = i + float3{0.f, 3.f, 0.f};
+      s.sheet.length = size(rng);
+      s.sheet.width = size(rng);
+      s.sheet.falloff_start = 0.4f * s.sheet.length;
+    }
+    muscles.push_back(s);
+  }
+  const std::vector<float3> rest = GridPoints();
+  const MuscleTable table = BuildMuscleTable(muscles, rest);
+  ASSERT_EQ(table.offsets.size(), rest.size() + 1);
+  std::vector<MuscleInfluence> expect;
+  std::vector<uint32_t> expect_offsets = {0};
+  for (const float3& p : rest) {
+    for (uint32_t m = 0; m < muscles.size(); ++m) {
+      const float3 d = MuscleDisplacement(muscles[m], p, muscles[m].strength);
+      if (d.x != 0.f || d.y != 0.f || d.z != 0.f) expect.push_back({m, d});
+    }
+    expect_offsets.push_back(uint32_t(expect.size()));
+  }
+  EXPECT_EQ(table.offsets, expect_offsets);
+  ASSERT_EQ(table.entries.size(), expect.size());
+  ASSERT_GT(expect.size(), 1000u);
+  for (size_t e = 0; e < expect.size(); ++e) {
+    EXPECT_EQ(table.entries[e].muscle, expect[e].muscle) << e;
+    EXPECT_EQ(std::memcmp(&table.entries[e].displacement, &expect[e].displacement, 12), 0) << e;
+  }
+}
+
+// 5000 tiny muscles (issue 11: thousands of muscles took quadratic time in the number of
+// influences). Grid points (i, j, 0), 0 <= i, j <= 100; a linear muscle over every cell with
+// i + j even, attachment 1 above the cell's centre, axis straight down, Rs = 0.5, Rf = 1.5: it
+// reaches the plane within sqrt(1.5^2 - 1) = 1.118 of the centre, i.e. exactly the cell's 4
+// corners (0.707 away; the next points are 1.58 away), at 35 degrees from the axis (< 80).
+TEST(MuscleTable, FiveThousandTinyMusclesEachMoveTheirFourCorners) {
+  constexpr int n = 100;
+  std::vector<float3> rest;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) rest.push_back({float(i), float(j), 0.f});
+  std::vector<MuscleSpec> muscles;
+  std::vector<int> muscle_of_cell(n * n, -1);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if ((i + j) % 2) continue;
+      MuscleSpec s;
+      s.name = "tiny_" + std::to_string(muscles.size());
+      s.type = MuscleType::kLinear;
+      s.strength = 0.25f;
+      s.linear.attachment = {float(i) + 0.5f, float(j) + 0.5f, 1.f};
+      s.linear.insertion = {float(i) + 0.5f, float(j) + 0.5f, 0.f};
+      s.linear.zone_angle = 80.f * kPi / 180.f;
+      s.linear.falloff_start = 0.5f;
+      s.linear.falloff_end = 1.5f;
+      muscle_of_cell[j * n + i] = int(muscles.size());
+      muscles.push_back(s);
+    }
+  ASSERT_EQ(muscles.size(), 5000u);
+  const MuscleTable table = BuildMuscleTable(muscles, rest);
+  ASSERT_EQ(table.point_count(), rest.size());
+  EXPECT_EQ(table.entries.size(), 4u * 5000u);
+  const std::vector<uint32_t> counts = CountInfluencedPoints(table);
+  ASSERT_EQ(counts.size(), 5000u);
+  for (uint32_t m = 0; m < 5000; ++m) EXPECT_EQ(counts[m], 4u) << m;
+  // Point (i, j) is a corner of cells (i-1..i, j-1..j): its muscles, ascending.
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const uint32_t p = uint32_t(j * (n + 1) + i);
+      std::vector<uint32_t> want;
+      for (int cj = j - 1; cj <= j; ++cj)
+        for (int ci = i - 1; ci <= i; ++ci)
+          if (ci >= 0 && cj >= 0 && ci < n && cj < n && muscle_of_cell[cj * n + ci] >= 0)
+            want.push_back(uint32_t(muscle_of_cell[cj * n + ci]));
+      std::sort(want.begin(), want.end());
+      std::vector<uint32_t> got;
+      for (uint32_t k = table.offsets[p]; k < table.offsets[p + 1]; ++k) {
+        got.push_back(table.entries[k].muscle);
+        const float3 d = MuscleDisplacement(muscles[table.entries[k].muscle], rest[p], 0.25f);
+        EXPECT_EQ(table.entries[k].displacement, d) << p;
+        // Toward the attachment: up, and toward the cell's centre.
+        EXPECT_GT(table.entries[k].displacement.z, 0.f);
+      }
+      ASSERT_EQ(got, want) << "point (" << i << ", " << j << ")";
+    }
 }
 
 }  // namespace

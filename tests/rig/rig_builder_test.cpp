@@ -1,0 +1,344 @@
+// BuildRig's checks of the mesh against the rig (issue 11): inconsistent triangle winding is
+// turned round with a warning, and per-vertex or texture-space data made for another vertex
+// layout (mesh.fingerprint) is refused with how to refit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "content/procedural.h"
+#include "geometry/fingerprint.h"
+#include "rig/offline/rig_builder.h"
+
+namespace mimetic {
+namespace {
+
+constexpr uint32_t kSide = 21;  // vertices per side; 800 triangles
+
+MeshData Surface() {
+  MeshData m = MakeSurfaceMesh(kSide, kSide, 100.f, 100.f, 10.f);
+  m.source = "surface.obj";
+  return m;
+}
+
+RigSpec Spec() { return MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.3f, 3.f); }
+
+TEST(BuildRigWinding, EveryOtherTriangleFlippedIsTurnedBackWithAWarning) {
+  const MeshData good = Surface();
+  MeshData bad = good;
+  const size_t tris = bad.triangle_count();
+  ASSERT_EQ(tris, 800u);
+  for (size_t t = 1; t < tris; t += 2) std::swap(bad.indices[3 * t + 1], bad.indices[3 * t + 2]);
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(Spec(), bad, {}, &rig, &diag)) << diag.Format();
+  EXPECT_FALSE(diag.HasErrors());
+  ASSERT_TRUE(diag.Contains("400 of 800 triangles (50.0%) were wound against their neighbours "
+                            "(first: triangle 1)"))
+      << diag.Format();
+  EXPECT_EQ(diag.items()[0].severity, Severity::kWarning);
+  EXPECT_EQ(diag.items()[0].where, "surface.obj");
+  // A tie keeps triangle 0's winding: the output's triangles are the unflipped surface's, and
+  // every posed normal faces +z as the surface does (MakeSurfaceMesh: triangles face +Z).
+  EXPECT_EQ(RestMesh(rig).indices, good.indices);
+  MeshData posed;
+  const std::vector<float> activations(rig.muscle_count(), 0.7f);
+  ASSERT_TRUE(PosedMesh(rig, activations, {}, &posed));
+  size_t backwards = 0;
+  for (const float3& n : posed.normals) backwards += n.z <= 0.f;
+  EXPECT_EQ(backwards, 0u);
+  // The consistent surface builds with nothing to say about winding.
+  Diagnostics quiet;
+  ASSERT_TRUE(BuildRig(Spec(), good, {}, &rig, &quiet));
+  EXPECT_FALSE(quiet.Contains("wound")) << quiet.Format();
+}
+
+// The surface's vertices in reverse order (the same head re-exported by another tool), its
+// indices remapped: the same shape, every per-vertex value now on another vertex.
+MeshData Reordered(const MeshData& m) {
+  MeshData r = m;
+  const uint32_t n = uint32_t(m.vertex_count());
+  for (uint32_t v = 0; v < n; ++v) {
+    r.positions[v] = m.positions[n - 1 - v];
+    r.uvs[v] = m.uvs[n - 1 - v];
+  }
+  for (uint32_t& i : r.indices) i = n - 1 - i;
+  return r;
+}
+
+RigSpec PerVertexSpec(const MeshData& mesh) {
+  RigSpec spec = Spec();
+  spec.thickness.kind = ThicknessSpec::Kind::kPerVertex;
+  for (size_t v = 0; v < mesh.vertex_count(); ++v)
+    spec.thickness.per_vertex.push_back(float(v % kSide) * 0.1f);  // varies across x
+  spec.mesh_fingerprint = ComputeMeshFingerprint(mesh);
+  return spec;
+}
+
+TEST(BuildRigFingerprint, PerVertexThicknessOnAReorderedMeshIsRefusedWithHowToRefit) {
+  const MeshData mesh = Surface();
+  const RigSpec spec = PerVertexSpec(mesh);
+  Rig rig;
+  Diagnostics ok;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &ok)) << ok.Format();
+  Diagnostics diag;
+  EXPECT_FALSE(BuildRig(spec, Reordered(mesh), {}, &rig, &diag));
+  ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+  EXPECT_EQ(diag.items()[0].where, "mesh.fingerprint");
+  const std::string& what = diag.items()[0].what;
+  EXPECT_EQ(what.rfind("'surface.obj' is not the mesh this rig's per-vertex thickness (one value "
+                       "per vertex) was made for: its triangles use other vertices",
+                       0),
+            0u)
+      << what;
+  EXPECT_NE(what.find("refit the rig on this mesh (mimetic fit TEMPLATE --mesh surface.obj "
+                      "--landmarks LANDMARKS --out RIG"),
+            std::string::npos)
+      << what;
+  // A rig written before fingerprints (none stored) is bound by the vertex count only, as it
+  // was: it builds.
+  RigSpec old = spec;
+  old.mesh_fingerprint = {};
+  Diagnostics quiet;
+  EXPECT_TRUE(BuildRig(old, Reordered(mesh), {}, &rig, &quiet)) << quiet.Format();
+}
+
+TEST(BuildRigFingerprint, MovedVertexAndOtherCountsAreNamed) {
+  const MeshData mesh = Surface();
+  const RigSpec spec = PerVertexSpec(mesh);
+  Rig rig;
+  {
+    // Same indices, vertex 0 somewhere else (the first sample).
+    MeshData moved = mesh;
+    moved.positions[0] = moved.positions[0] + float3{0.f, 0.f, 5.f};
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, moved, {}, &rig, &diag));
+    EXPECT_TRUE(diag.Contains("vertex 0 is at (-50, 50, 5) where the rig has (-50, 50, 0)"))
+        << diag.Format();
+  }
+  {
+    // A vertex in the middle of the range but not sampled moves: the data stays on the right
+    // vertices (a sculpted shape), nothing to say.
+    MeshData sculpted = mesh;
+    const std::vector<uint64_t> sampled = FingerprintSampleVertices(mesh.vertex_count(), 16);
+    uint32_t v = 5;
+    while (std::find(sampled.begin(), sampled.end(), v) != sampled.end()) ++v;
+    sculpted.positions[v].z += 1.f;
+    Diagnostics diag;
+    EXPECT_TRUE(BuildRig(spec, sculpted, {}, &rig, &diag)) << diag.Format();
+  }
+}
+
+TEST(BuildRigFingerprint, ImageThicknessOnFlippedVIsRefused) {
+  const MeshData mesh = Surface();
+  RigSpec spec = Spec();
+  spec.thickness.kind = ThicknessSpec::Kind::kImage;
+  spec.thickness.image.width = spec.thickness.image.height = 4;
+  spec.thickness.image.pixels = std::vector<uint8_t>(16, 128);
+  spec.thickness.image_path = "t.png";
+  spec.thickness.min = 0.f;
+  spec.thickness.max = 2.f;
+  spec.mesh_fingerprint = ComputeMeshFingerprint(mesh);
+  MeshData flipped = mesh;
+  for (float2& uv : flipped.uvs) uv.y = 1.f - uv.y;
+  Rig rig;
+  Diagnostics ok;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &ok)) << ok.Format();
+  Diagnostics diag;
+  EXPECT_FALSE(BuildRig(spec, flipped, {}, &rig, &diag));
+  ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+  EXPECT_TRUE(diag.Contains("is not the mesh this rig's thickness image (texture space) was "
+                            "made for: vertex 0 has texture coordinates (0, 1) where the rig has "
+                            "(0, 0) (v flipped: v -> 1 - v)"))
+      << diag.Format();
+  // Per-vertex data does not care about texture coordinates: flipped v builds.
+  Diagnostics quiet;
+  EXPECT_TRUE(BuildRig(PerVertexSpec(mesh), flipped, {}, &rig, &quiet)) << quiet.Format();
+}
+
+// Refinement that would grow the mesh past kMaxRefinementGrowth (16x) is an error naming the
+// key, found before refining (issue 11: legal but tiny values took tens of seconds).
+RigSpec CurveSpec(float width) {
+  RigSpec spec = Spec();
+  NamedCurveWrinkle c;
+  c.name = "fold";
+  c.spec.control[0] = {0.3f, 0.5f};
+  c.spec.control[1] = {0.4f, 0.5f};
+  c.spec.control[2] = {0.6f, 0.5f};
+  c.spec.control[3] = {0.7f, 0.5f};
+  c.spec.depth = 1.f;
+  c.spec.width = width;
+  spec.curve_wrinkles.push_back(c);
+  return spec;
+}
+
+TEST(BuildRigRefinement, TinyValuesAreRefusedBeforeRefiningNamingTheKey) {
+  const MeshData mesh = Surface();  // 800 triangles: the limit is 500,000 (16x would be 12,800)
+  Rig rig;
+  {
+    // A sensible curve (width 3, edges 0.75 on a 5 mm grid) refines and builds.
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(CurveSpec(3.f), mesh, {}, &rig, &diag)) << diag.Format();
+    EXPECT_GT(rig.triangle_count(), 800u);
+    EXPECT_EQ(rig.triangle_count(), 29512u);  // 37x: more than 16x, allowed on a small mesh
+  }
+  {
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(CurveSpec(0.01f), mesh, {}, &rig, &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "curve_wrinkles[0].width");
+    EXPECT_EQ(diag.items()[0].what.rfind("refinement where wrinkles act would grow the mesh "
+                                         "from 800 to about ", 0), 0u) << diag.Format();
+    EXPECT_TRUE(diag.Contains("more than the limit of 5e+05 (16x the mesh's triangles, at least "
+                              "5e+05, at most 4e+06; docs/model.md §11): curve_wrinkles[0] (fold, "
+                              "width 0.01) is refined to edges of 0.0025"))
+        << diag.Format();
+  }
+  {
+    RigSpec spec = CurveSpec(3.f);
+    spec.refinement.edge_fraction = 1e-30f;
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "refinement.edge_fraction");
+    EXPECT_TRUE(diag.Contains("refinement.edge_fraction 1e-30 asks for edges that short; the "
+                              "default 0.25 would stay within the limit"))
+        << diag.Format();
+  }
+  {
+    RigSpec spec = Spec();
+    MuscleWrinkleSpec w;
+    w.count = 2147483647;
+    w.depth = 1.f;
+    spec.muscle_wrinkles.assign(spec.muscles.size(), std::nullopt);
+    spec.muscle_wrinkles[1] = w;
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &diag));
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, "muscles[1].wrinkles.count");
+    EXPECT_TRUE(diag.Contains("muscles[1].wrinkles (muscle_01, count 2147483647) makes furrows"))
+        << diag.Format();
+    // Refinement off: the same rig builds (no refinement to bound).
+    spec.refinement.enabled = false;
+    Diagnostics off;
+    EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &off)) << off.Format();
+  }
+}
+
+// Finite but absurd values are errors naming the key, against the mesh's size (the surface is
+// 100 x 100 with a 10 bulge: bounding-box diagonal sqrt(100^2 + 100^2 + 10^2) = 141.8).
+TEST(BuildRigMagnitudes, AbsurdValuesAreRefusedNamingTheKey) {
+  const MeshData mesh = Surface();
+  Rig rig;
+  auto refused = [&](const RigSpec& spec, const MeshData& m, const std::string& where,
+                     const std::string& what) {
+    Diagnostics diag;
+    EXPECT_FALSE(BuildRig(spec, m, {}, &rig, &diag)) << where;
+    ASSERT_EQ(diag.ErrorCount(), 1u) << diag.Format();
+    EXPECT_EQ(diag.items()[0].where, where) << diag.Format();
+    EXPECT_NE(diag.items()[0].what.find(what), std::string::npos) << diag.Format();
+  };
+  {
+    RigSpec spec = Spec();
+    spec.thickness.value = 3e38f;
+    refused(spec, mesh, "thickness.value",
+            "is 3e+38 mm, more than 10 times the mesh's size (bounding-box diagonal 142 mm); "
+            "expected a length at most 1.42e+03 mm");
+  }
+  {
+    RigSpec spec = Spec();
+    spec.muscles[2].strength = 1500.f;  // just over 10 x 141.8
+    refused(spec, mesh, "muscles[2].strength", "is 1.5e+03 mm, more than 10 times");
+  }
+  {
+    RigSpec spec = Spec();
+    spec.muscles[0].linear.attachment = {1e38f, 0.f, 0.f};
+    refused(spec, mesh, "muscles[0].attachment",
+            "(1e+38, 0, 0) is 1e+38 mm from the mesh's centre, more than 10 times");
+  }
+  {
+    RigSpec spec = Spec();
+    MuscleWrinkleSpec w;
+    w.depth = 3e38f;
+    spec.muscle_wrinkles.assign(spec.muscles.size(), std::nullopt);
+    spec.muscle_wrinkles[1] = w;
+    refused(spec, mesh, "muscles[1].wrinkles.depth", "is 3e+38 mm");
+  }
+  {
+    RigSpec spec = Spec();
+    spec.units = "cm";  // 1e6 mm = 1e5 cm
+    MeshData far = mesh;
+    far.positions[7].x = 1e38f;
+    refused(spec, far, "surface.obj",
+            "1 vertices have a coordinate beyond 1e+05 cm (1 km; first: vertex 7 at (1e+38, ");
+  }
+  {
+    // At the limits, fine.
+    RigSpec spec = Spec();
+    spec.thickness.value = 1400.f;
+    Diagnostics diag;
+    EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  }
+}
+
+// The offline guard on an evaluation's output: a rig built without the magnitude checks (the
+// only way to get one that evaluates to inf) is caught and the key named.
+TEST(CheckPosedFinite, NamesTheKeyThatMakesTheOutputNonFinite) {
+  const MeshData mesh = Surface();
+  BuildOptions unchecked;
+  unchecked.check_magnitudes = false;
+  Rig rig;
+  {
+    RigSpec spec = Spec();
+    spec.muscles[3].strength = 3e38f;
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(spec, mesh, unchecked, &rig, &diag)) << diag.Format();
+    std::vector<float> act(rig.muscle_count(), 0.f);
+    act[1] = 0.5f;
+    act[3] = 1.f;
+    MeshData posed;
+    ASSERT_TRUE(PosedMesh(rig, act, {}, &posed));
+    Diagnostics bad;
+    EXPECT_FALSE(CheckPosedFinite(rig, spec, act, {}, posed, &bad));
+    ASSERT_EQ(bad.ErrorCount(), 1u) << bad.Format();
+    EXPECT_EQ(bad.items()[0].where, "muscles[3]");
+    EXPECT_NE(bad.items()[0].what.find("muscles[3] (muscle_03) alone moves the skin by "),
+              std::string::npos)
+        << bad.Format();
+    EXPECT_NE(bad.items()[0].what.find("more than 10 times the mesh's size, and the skin layers "
+                                       "then overflow: check its strength"),
+              std::string::npos)
+        << bad.Format();
+    // At rest the same rig is finite: nothing to say.
+    const std::vector<float> rest(rig.muscle_count(), 0.f);
+    ASSERT_TRUE(PosedMesh(rig, rest, {}, &posed));
+    Diagnostics quiet;
+    EXPECT_TRUE(CheckPosedFinite(rig, spec, rest, {}, posed, &quiet));
+    EXPECT_TRUE(quiet.empty());
+  }
+  {
+    // Strong muscles (40 mm, area ratios well below 1/2) under a thickness of 3e38: the
+    // muscles' motion is finite and sensible; (1/r - 1) h overflows.
+    RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.3f, 40.f);
+    spec.thickness.value = 3e38f;
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(spec, mesh, unchecked, &rig, &diag)) << diag.Format();
+    const std::vector<float> act(rig.muscle_count(), 1.f);
+    MeshData posed;
+    ASSERT_TRUE(PosedMesh(rig, act, {}, &posed));
+    Diagnostics bad;
+    EXPECT_FALSE(CheckPosedFinite(rig, spec, act, {}, posed, &bad));
+    ASSERT_EQ(bad.ErrorCount(), 1u) << bad.Format();
+    EXPECT_EQ(bad.items()[0].where, "thickness");
+    EXPECT_NE(bad.items()[0].what.find("the evaluation gives non-finite positions or normals "
+                                       "(first: output vertex "),
+              std::string::npos)
+        << bad.Format();
+  }
+}
+
+}  // namespace
+}  // namespace mimetic
