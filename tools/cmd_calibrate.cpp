@@ -147,7 +147,7 @@ int CmdCalibrate(const Args& args) {
     diag.Append(local, out_path);
     return Fail(diag, "cannot write the calibrated template");
   }
-  std::printf("wrote %s: %d changes in %d evaluations (%d refused by the anatomy), %.0f s\n",
+  std::printf("wrote %s: %d changes in %d evaluations (%d refused: anatomy or fold-over), %.0f s\n",
               out_path.c_str(), report.accepted, report.evaluations, report.refused_anatomy,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;

@@ -18,7 +18,7 @@ namespace mimetic {
 // (geometry/refine_estimate.h) and refuses a rig that would exceed it, naming the key that asks
 // for the smallest edges.
 inline constexpr double kMaxRefinementGrowth = 16.0;
-inline constexpr double kMinRefinementLimit = 500'000.0;
+inline constexpr double kMinRefinementLimit = 1'000'000.0;
 
 // Magnitudes BuildRig accepts (issue 11: a thickness of 3e38 validated and evaluated to
 // inf): mesh coordinates at most kMaxCoordinateMm millimetres (in the rig's units) from 0;

@@ -240,7 +240,10 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
   ASSERT_FALSE(f.report.points.empty());
   const float s = f.report.frame.scale;
   for (const PlacedPoint& p : f.report.points) {
-    EXPECT_TRUE(p.ray_hit) << p.muscle << " " << p.role;
+    // The platysma's attachment line lies below the jaw, where the sample head ends (no neck):
+    // the fit takes the nearest surface point there (with a warning). Every other point is hit.
+    if (p.muscle.rfind("platysma", 0) != 0 || p.role.rfind("attachment", 0) != 0)
+      EXPECT_TRUE(p.ray_hit) << p.muscle << " " << p.role;
     const float d = BruteDistance(Head().mesh, p.position);
     // Distance to the nearest surface point == depth * s within 5% (plus 0.1% of s for
     // points at depth ~0 and float rounding).
@@ -286,7 +289,7 @@ TEST(FitTemplate, InvariantUnderSimilarityTransforms) {
     EXPECT_NEAR(b.spec.thickness.per_vertex[v], k * a.spec.thickness.per_vertex[v], 1e-3f);
 }
 
-TEST(FitTemplate, ThicknessIsThinOnTheForeheadAndThickOnTheCheeks) {
+TEST(FitTemplate, ThicknessFollowsTheTemplateRegions) {
   const Fitted f = Fit(Head().mesh, PointLandmarks(Head().landmarks));
   ASSERT_TRUE(f.ok);
   const MuscleTemplate t = LoadDefaultTemplate();
@@ -298,10 +301,18 @@ TEST(FitTemplate, ThicknessIsThinOnTheForeheadAndThickOnTheCheeks) {
     const SurfaceQuery::Hit h = q.Raycast(fr.ToWorld({x, y, 3.f}), -fr.z);
     return EvaluateTemplateThickness(t.thickness, fr.ToLocal(h.point)) * s;
   };
-  const float forehead = at(0.f, 0.55f), cheek = at(0.33f, -0.47f), nose = at(0.f, -0.28f);
-  EXPECT_LT(forehead, 0.025f * s);
-  EXPECT_GT(cheek, 0.07f * s);
-  EXPECT_LT(nose, 0.03f * s);
+  // At a region's centre its own weight is 1 and the base's w0 = exp(-2), so the value is
+  // about (w0 base + v) / (w0 + 1), a little more where a neighbouring region adds in:
+  // forehead 0.015 -> 0.0178 s, cheeks 0.0225 -> 0.0240 s, lips 0.0125 -> 0.0152 s against a
+  // base of 0.035 s (the calibrated template's: docs/template-format.md).
+  const float w0 = std::exp(-2.f);
+  auto centre = [&](float v) { return (w0 * t.thickness.base + v) / (w0 + 1.f) * s; };
+  const float forehead = at(0.f, 0.55f), cheek = at(0.33f, -0.47f), lips = at(0.f, -0.8f);
+  EXPECT_NEAR(forehead, centre(0.015f), 0.004f * s);
+  EXPECT_NEAR(cheek, centre(0.0225f), 0.004f * s);
+  EXPECT_NEAR(lips, centre(0.0125f), 0.004f * s);
+  EXPECT_LT(forehead, 0.6f * t.thickness.base * s);
+  EXPECT_LT(lips, 0.6f * t.thickness.base * s);
   // The fitted per-vertex values are the template function at each vertex.
   const Landmarks lm = PointLandmarks(Head().landmarks);
   for (size_t v = 0; v < Head().mesh.vertex_count(); v += 211)

@@ -160,7 +160,7 @@ std::vector<BadCase> BadCases() {
       {"muscle not object", Doc("[3]"), {"muscles[0]: expected object (a muscle), got number"}},
       {"unknown muscle key", Linear(R"("strength": 4)", R"("strength": 4, "colour": 1)"),
        {"muscles[0].colour: unknown key \"colour\"",
-        "allowed keys for a linear muscle: name, type, strength, falloff, attachment, insertion, "
+        "allowed keys for a linear muscle: name, type, strength, falloff, motion, attachment, insertion, "
         "zone_angle_deg, falloff_start, falloff_end, wrinkles"}},
       {"linear key on a sheet", Sheet(R"("width": 40)", R"("width": 40, "zone_angle_deg": 40)"),
        {"muscles[0].zone_angle_deg: unknown key", "allowed keys for a sheet muscle"}},

@@ -176,7 +176,7 @@ RigSpec CurveSpec(float width) {
 }
 
 TEST(BuildRigRefinement, TinyValuesAreRefusedBeforeRefiningNamingTheKey) {
-  const MeshData mesh = Surface();  // 800 triangles: the limit is 500,000 (16x would be 12,800)
+  const MeshData mesh = Surface();  // 800 triangles: the limit is 1,000,000 (16x would be 12,800)
   Rig rig;
   {
     // A sensible curve (width 3, edges 0.75 on a 5 mm grid) refines and builds.
@@ -192,8 +192,8 @@ TEST(BuildRigRefinement, TinyValuesAreRefusedBeforeRefiningNamingTheKey) {
     EXPECT_EQ(diag.items()[0].where, "curve_wrinkles[0].width");
     EXPECT_EQ(diag.items()[0].what.rfind("refinement where wrinkles act would grow the mesh "
                                          "from 800 to about ", 0), 0u) << diag.Format();
-    EXPECT_TRUE(diag.Contains("more than the limit of 5e+05 (16x the mesh's triangles, at least "
-                              "5e+05, at most 4e+06; docs/model.md §11): curve_wrinkles[0] (fold, "
+    EXPECT_TRUE(diag.Contains("more than the limit of 1e+06 (16x the mesh's triangles, at least "
+                              "1e+06, at most 4e+06; docs/model.md §11): curve_wrinkles[0] (fold, "
                               "width 0.01) is refined to edges of 0.0025"))
         << diag.Format();
   }
