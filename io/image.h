@@ -11,7 +11,9 @@ namespace mimetic {
 
 // Reads any image stb_image reads (PNG, JPEG, TGA, BMP, ...) as 8-bit grey levels. On failure
 // records `where: cannot read <what> '<path>': <reason> (expected a PNG, JPEG, TGA or BMP
-// image)` and returns false.
+// image)` and returns false. The file must be a regular file of at most 256 MiB (ReadFile) and
+// at most 256 Mpixels; the reason is stb_image's, in words ("truncated image data (the file
+// ends early) (stb_image: outofdata)").
 bool LoadGrayImage(const std::string& path, const std::string& where, const std::string& what,
                    GrayImage* out, Diagnostics* diag);
 

@@ -10,7 +10,7 @@ set -uo pipefail
 cd "$1"
 fail=0
 report() { echo "$1: $2"; fail=1; }
-std='^(algorithm|array|atomic|bit|cassert|cerrno|cfloat|charconv|climits|cmath|cstddef|cstdint|cstdio|cstdlib|cstring|filesystem|fstream|functional|initializer_list|iterator|limits|memory|mutex|new|numbers|numeric|optional|sstream|span|string|string_view|system_error|thread|tuple|type_traits|unordered_map|utility|vector|immintrin\.h|emmintrin\.h|xmmintrin\.h|unistd\.h|fcntl\.h|sys/stat\.h)$'
+std='^(algorithm|array|atomic|bit|cassert|cerrno|cfloat|charconv|climits|cmath|cstddef|cstdint|cstdio|cstdlib|cstring|filesystem|fstream|functional|initializer_list|iterator|limits|memory|mutex|new|numbers|numeric|optional|sstream|span|string|string_view|system_error|thread|tuple|type_traits|unordered_map|utility|vector|immintrin\.h|emmintrin\.h|xmmintrin\.h|unistd\.h|fcntl\.h|signal\.h|sys/stat\.h)$'
 runtime='^(core|muscles/runtime|wrinkles/runtime|expressions/runtime|rig/runtime)/'
 while IFS= read -r f; do
   n=0
