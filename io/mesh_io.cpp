@@ -33,7 +33,6 @@
 #include <OpenMesh/Core/IO/Options.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <nlohmann/json.hpp>
-#include <sys/stat.h>
 #include <tiny_gltf.h>
 
 #include "core/file_util.h"
@@ -420,8 +419,9 @@ bool CheckGltfJson(std::string_view text, Diagnostics* diag) {
     }
     const uint64_t v = it->get<uint64_t>();
     if (what && v >= limit) {
+      const std::string plural = std::string(what) == "mesh" ? "meshes" : std::string(what) + "s";
       bad.Add(at, std::string(what) + " " + std::to_string(v) + " does not exist (the file has " +
-                      std::to_string(limit) + " " + what + "s)");
+                      std::to_string(limit) + " " + plural + ")");
     } else if (!what && v > (uint64_t{1} << 40)) {
       bad.Add(at, std::to_string(v) + " is out of range (expected at most 2^40)");
     }
@@ -493,9 +493,10 @@ struct GltfFs {
   std::string first_error;
 };
 
-bool FsFileExists(const std::string& path, void*) {
-  struct stat st {};
-  return ::stat(path.c_str(), &st) == 0;  // anything that exists: ReadWholeFile says more
+bool FsFileExists(const std::string&, void*) {
+  // Always "exists": tinygltf then reads the URI beside the glTF file (never the current
+  // directory, its fallback) and ReadWholeFile says exactly what is wrong with it.
+  return true;
 }
 std::string FsExpandFilePath(const std::string& path, void*) { return path; }
 bool FsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
@@ -1473,6 +1474,16 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
     }
     if (bytes.empty()) {
       diag->Error("", "file is empty (expected a " + ext.substr(1) + " mesh)");
+      return false;
+    }
+    if (ext == ".obj" && bytes.find('\0') != std::string::npos) {
+      diag->Error("", std::string("binary data (NUL bytes) in an OBJ file; expected text") +
+                          (bytes.compare(0, 4, "glTF") == 0 ? " (this is a GLB file: rename it .glb)"
+                                                            : ""));
+      return false;
+    }
+    if (ext == ".gltf" && bytes.compare(0, 4, "glTF") == 0) {
+      diag->Error("", "binary glTF in a .gltf file (expected JSON text; rename it .glb)");
       return false;
     }
     bool ok = ext == ".obj" ? ImportObj(bytes, out, diag)
