@@ -58,6 +58,16 @@ bool LoadGrayImage(const std::string& path, const std::string& where, const std:
   Diagnostics read;
   if (!ReadFile(path, &bytes, &read, kMaxImageFileBytes, "image file"))
     return fail(read.items().empty() ? "cannot open" : read.items()[0].what);
+  std::string reason;
+  if (!DecodeGrayImage(bytes, out, &reason)) return fail(reason);
+  return true;
+}
+
+bool DecodeGrayImage(const std::string& bytes, GrayImage* out, std::string* reason) {
+  auto fail = [&](const std::string& why) {
+    *reason = why;
+    return false;
+  };
   if (bytes.empty()) return fail("the file is empty");
   if (bytes.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
     return fail("the file is too large for stb_image");

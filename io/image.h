@@ -17,6 +17,10 @@ namespace mimetic {
 bool LoadGrayImage(const std::string& path, const std::string& where, const std::string& what,
                    GrayImage* out, Diagnostics* diag);
 
+// The decoding part of LoadGrayImage, on bytes in memory (the fuzz target); false with the
+// reason (the <reason> above) when they are not an image stb_image reads.
+bool DecodeGrayImage(const std::string& bytes, GrayImage* out, std::string* reason);
+
 // Writes `image` as PNG atomically (stb_image_write into memory, then WriteFileAtomic).
 bool SavePng(const std::string& path, const Image& image, Diagnostics* diag);
 

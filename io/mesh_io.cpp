@@ -666,7 +666,7 @@ bool ApplyPlacement(const tinygltf::Model& model, size_t mesh_index, const std::
   return true;
 }
 
-bool ImportGltf(const std::string& path, const std::string& bytes, bool binary,
+bool ImportGltf(const std::string& base_dir, const std::string& bytes, bool binary,
                 const std::string& mesh_name, MeshData* out, Diagnostics* diag) {
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
     diag->Error("", "file is larger than 4 GiB (tinygltf cannot read it)");
@@ -695,12 +695,10 @@ bool ImportGltf(const std::string& path, const std::string& bytes, bool binary,
     if (binary) {
       ok = loader.LoadBinaryFromMemory(&model, &err, &warn,
                                        reinterpret_cast<const unsigned char*>(bytes.data()),
-                                       static_cast<unsigned int>(bytes.size()),
-                                       DirectoryOf(path));
+                                       static_cast<unsigned int>(bytes.size()), base_dir);
     } else {
       ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                      static_cast<unsigned int>(bytes.size()),
-                                      DirectoryOf(path));
+                                      static_cast<unsigned int>(bytes.size()), base_dir);
     }
   } catch (const std::exception& e) {
     ok = false;
@@ -982,6 +980,7 @@ struct ObjFace {
 };
 struct ObjScan {
   size_t v_count = 0, vt_count = 0;
+  std::vector<double> vt_v;  // each `vt` line's v, as double (flipped exactly: 1 - v)
   std::vector<ObjFace> faces;
   bool uses_vt = false;
 };
@@ -1057,6 +1056,7 @@ bool ScanObj(const std::string& bytes, ObjScan* scan,
       float t[2];
       const size_t k = scan->vt_count++;
       const std::string where = at + ": texcoord " + std::to_string(k);
+      scan->vt_v.push_back(tok.size() >= 2 ? std::strtod(tok[1].c_str(), nullptr) : 0.0);
       if (tok.size() < 2 || !ParseFloat(tok[0], &t[0]) || !ParseFloat(tok[1], &t[1])) {
         bad_vt.Add(where, "cannot read the texture coordinate (expected two numbers after "
                           "'vt')");
@@ -1253,7 +1253,9 @@ bool ImportObj(const std::string& bytes, MeshData* out,
       uint32_t vid = static_cast<uint32_t>(k.v);
       if (scan.uses_vt) {
         // OBJ's v runs up from the bottom of the image, glTF's (and MeshData's) down from the top.
-        const float2 uv = {importer.face_uvs[f][c].x, 1.f - importer.face_uvs[f][c].y};
+        // In double, from the file's text: 1 - v is exact for every v the writer wrote.
+        const float2 uv = {importer.face_uvs[f][c].x,
+                           static_cast<float>(1.0 - scan.vt_v[static_cast<size_t>(k.vt)])};
         if (first_vt[k.v] < 0) {
           first_vt[k.v] = k.vt;
           out->uvs[vid] = uv;
@@ -1334,7 +1336,9 @@ std::string ObjText(const MeshData& mesh) {
     s += buf;
   }
   for (const float2& t : mesh.uvs) {
-    std::snprintf(buf, sizeof(buf), "vt %.9g %.9g\n", t.x, 1.f - t.y);  // OBJ: v up
+    // OBJ's v runs up: 1 - v, in double and with 17 digits so that reading it back (1 - v
+    // again, in double) gives the same float.
+    std::snprintf(buf, sizeof(buf), "vt %.9g %.17g\n", t.x, 1.0 - static_cast<double>(t.y));
     s += buf;
   }
   for (const float3& n : mesh.normals) {
@@ -1459,17 +1463,38 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
   }
   *out = MeshData{};
   out->source = path;
+  const std::string ext = LowerExtension(path);
+  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
+    diag->Error("", "unknown mesh file extension '" + ext + "' (expected .gltf, .glb or .obj)");
+    return false;
+  }
+  std::string bytes;
+  Diagnostics read;
+  if (!ReadFile(path, &bytes, &read, kMaxMeshFileBytes, ext.substr(1) + " mesh file")) {
+    for (const Diagnostic& d : read.items()) diag->Error("", d.what);  // callers name the file
+    return false;
+  }
+  const bool ok = ImportMeshBytes(bytes, ext, DirectoryOf(path), mesh_name, out, diag);
+  out->source = path;
+  return ok;
+}
+
+bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
+                     const std::string& base_dir, const std::string& mesh_name, MeshData* out,
+                     Diagnostics* diag) {
+  Diagnostics local;
+  if (!diag) diag = &local;
+  if (!out) {
+    diag->Error("", "ImportMesh: no output mesh given");
+    return false;
+  }
+  *out = MeshData{};
   try {
-    const std::string ext = LowerExtension(path);
+    std::string ext = extension;
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
       diag->Error("", "unknown mesh file extension '" + ext +
                             "' (expected .gltf, .glb or .obj)");
-      return false;
-    }
-    std::string bytes;
-    Diagnostics read;
-    if (!ReadFile(path, &bytes, &read, kMaxMeshFileBytes, ext.substr(1) + " mesh file")) {
-      for (const Diagnostic& d : read.items()) diag->Error("", d.what);  // callers name the file
       return false;
     }
     if (bytes.empty()) {
@@ -1487,15 +1512,11 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
       return false;
     }
     bool ok = ext == ".obj" ? ImportObj(bytes, out, diag)
-                            : ImportGltf(path, bytes, ext == ".glb", mesh_name, out, diag);
+                            : ImportGltf(base_dir, bytes, ext == ".glb", mesh_name, out, diag);
     if (ok && ext == ".obj" && !mesh_name.empty()) {
       diag->Warning("", "mesh name '" + mesh_name + "' ignored: OBJ files hold one mesh");
     }
-    if (!ok) {
-      const std::string source = out->source;
-      *out = MeshData{};
-      out->source = source;
-    }
+    if (!ok) *out = MeshData{};
     return ok;
   } catch (const std::exception& e) {
     diag->Error("", std::string("internal error while importing: ") + e.what());
@@ -1503,7 +1524,6 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
     diag->Error("", "internal error while importing");
   }
   *out = MeshData{};
-  out->source = path;
   return false;
 }
 

@@ -48,6 +48,13 @@ namespace mimetic {
 bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData* out,
                 Diagnostics* diag);
 
+// The same on bytes already in memory (the fuzz targets, fuzz/): `extension` chooses the format
+// (".glb", ".gltf", ".obj"), `base_dir` resolves a glTF's buffer URIs. `out->source` is left
+// empty.
+bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
+                     const std::string& base_dir, const std::string& mesh_name, MeshData* out,
+                     Diagnostics* diag);
+
 // Writes positions, normals (when present), uvs (when present) and triangles; `.obj` or `.glb`
 // by extension. OBJ: `v`/`vt`/`vn` with %.9g (floats round-trip exactly; vt as 1 - v, OBJ's
 // convention) and 1-based `f a/a/a ...` faces. GLB: one buffer, POSITION (with min/max),
