@@ -40,7 +40,9 @@ const char* kEvalUsage =
     "options:\n"
     "  --set MUSCLE=VALUE      activation of one muscle (repeatable); a NAME without a muscle\n"
     "                          of its own sets NAME_L and NAME_R together\n"
-    "  --out FILE              output mesh: .obj or .glb\n"
+    "  --out FILE              output mesh: .obj or .glb (not one of the rig's inputs); .glb\n"
+    "                          is in metres (a root scale node over the rig's units), .obj\n"
+    "                          in the rig's units with v up (docs/errors.md)\n"
     "  --no-thickness          skip the volume-preserving thickness layer (docs/model.md §4)\n"
     "  --no-muscle-wrinkles    skip muscle-derived wrinkles (docs/model.md §6)\n"
     "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n";
