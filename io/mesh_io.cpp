@@ -631,7 +631,10 @@ bool ApplyPlacement(const tinygltf::Model& model, size_t mesh_index, const std::
                            FormatG(det) + "; expected rotation, translation and scale)");
     return false;
   }
-  const double s = std::cbrt(std::fabs(det));
+  // A pure uniform scale (the unit node mimetic writes) gives s exactly, so q is exactly I.
+  const bool diagonal_uniform = m[1] == 0 && m[2] == 0 && m[4] == 0 && m[6] == 0 && m[8] == 0 &&
+                                m[9] == 0 && m[0] == m[5] && m[5] == m[10];
+  const double s = diagonal_uniform ? std::fabs(m[0]) : std::cbrt(std::fabs(det));
   double q[9];
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) q[c * 3 + r] = m[c * 4 + r] / s;

@@ -96,23 +96,23 @@ def rigfile(name, change):
     r['thickness'] = {'type': 'constant', 'value': 3.0}
     change(r)
     write(name, json.dumps(r, indent=1))
-rigfile('rig_units_not_string.rig.json', lambda r: r.__setitem__('units', 5))
-rigfile('rig_mesh_missing.rig.json', lambda r: r['mesh'].__setitem__('path', 'no_such_mesh.glb'))
-rigfile('rig_truncated_png.rig.json', lambda r: r.__setitem__(
+rigfile('rig_units_not_string.json', lambda r: r.__setitem__('units', 5))
+rigfile('rig_mesh_missing.json', lambda r: r['mesh'].__setitem__('path', 'no_such_mesh.glb'))
+rigfile('rig_truncated_png.json', lambda r: r.__setitem__(
     'thickness', {'type': 'image', 'path': 'truncated.png', 'min': 0, 'max': 5}))
-rigfile('rig_not_a_png.rig.json', lambda r: r.__setitem__(
+rigfile('rig_not_a_png.json', lambda r: r.__setitem__(
     'thickness', {'type': 'image', 'path': 'not_a_png.png', 'min': 0, 'max': 5}))
-rigfile('rig_mesh_truncated_glb.rig.json', lambda r: r['mesh'].__setitem__('path', 'truncated.glb'))
+rigfile('rig_mesh_truncated_glb.json', lambda r: r['mesh'].__setitem__('path', 'truncated.glb'))
 def bad_field_and_missing_mesh(r):
     r['units'] = 'furlong'
     r['mesh']['path'] = 'no_such_mesh.glb'
-rigfile('rig_bad_field_and_missing_mesh.rig.json', bad_field_and_missing_mesh)
+rigfile('rig_bad_field_and_missing_mesh.json', bad_field_and_missing_mesh)
 text = json.dumps(dict(rig, mesh={'path': mesh_rel}, thickness={'type': 'constant', 'value': 3.0}))
-write('rig_overflowing_number.rig.json', text.replace('"strength": ', '"strength": 1e400, "x": ', 1))
-write('rig_not_json.rig.json', text[: len(text) // 2])
-write('rig_top_level_array.rig.json', '[1, 2, 3]\n')
-write('rig_deep_nesting.rig.json', '{"format": "mimetic-rig", "extras": ' + '[' * 1000 + ']' * 1000 + '}')
-write('rig_binary_garbage.rig.json', bytes(range(256)))
+write('rig_overflowing_number.json', text.replace('"strength": ', '"strength": 1e400, "x": ', 1))
+write('rig_not_json.json', text[: len(text) // 2])
+write('rig_top_level_array.json', '[1, 2, 3]\n')
+write('rig_deep_nesting.json', '{"format": "mimetic-rig", "extras": ' + '[' * 1000 + ']' * 1000 + '}')
+write('rig_binary_garbage.json', bytes(range(256)))
 
 # Landmarks and templates (through fit).
 write('landmarks_overflowing_version.json', '{"format":"mimetic-landmarks","version":1e400}\n')
