@@ -318,6 +318,11 @@ bool GltfJsonText(const std::string& bytes, bool binary, std::string_view* json,
     diag->Error("", "GLB version " + std::to_string(u32(4)) + " (expected 2)");
     return false;
   }
+  if (u32(8) < 20) {  // (found by fuzz_mesh_glb: u32(8) - 20 wrapped around)
+    diag->Error("", "GLB header says the file is " + std::to_string(u32(8)) +
+                        " bytes (expected at least 20: the header and a JSON chunk)");
+    return false;
+  }
   if (u32(8) > bytes.size()) {
     diag->Error("", "truncated GLB: the header says " + std::to_string(u32(8)) +
                         " bytes, the file has " + std::to_string(bytes.size()));

@@ -84,6 +84,21 @@ TEST(GltfBoundary, DeeplyNestedExtrasAreRefusedBeforeTinygltf) {
                             "; expected at most 64 levels of arrays and objects\n");
 }
 
+TEST(GltfBoundary, GlbLengthFieldBelowItsHeaderIsRefused) {
+  // Found by fuzz_mesh_glb: a length field of 11 made "length - 20" wrap around, and the JSON
+  // chunk was read past the end of the file.
+  const std::string json = Triangle().dump();
+  std::string glb = "glTF";
+  const uint32_t header[3] = {2, 11, static_cast<uint32_t>(json.size())};
+  glb.append(reinterpret_cast<const char*>(header), 12);
+  glb += "JSON" + json;
+  MeshData m;
+  Diagnostics d;
+  EXPECT_FALSE(ImportMeshBytes(glb, ".glb", "", "", &m, &d));
+  EXPECT_EQ(d.Format(), "error: GLB header says the file is 11 bytes (expected at least 20: the "
+                        "header and a JSON chunk)\n");
+}
+
 TEST(GltfBoundary, CompressionAndUnknownRequiredExtensionsAreRefused) {
   for (const char* ext : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
     json g = Triangle();

@@ -70,6 +70,9 @@ write('not_a_glb.glb', b'this is a text file, not binary glTF\n')
 write('empty.glb', b'')
 json_chunk = (json.dumps(tri())[:-1] + ', "extras": ' + '{"a":' * 3000 + '1' + '}' * 3000 + '}').encode()
 json_chunk += b' ' * (-len(json_chunk) % 4)
+# A header length below the 20 bytes of header + chunk header (found by fuzz_mesh_glb).
+write('glb_length_below_header.glb', b'glTF' + struct.pack('<II', 2, 11) + struct.pack('<I', 736) +
+      b'JSON' + json.dumps(tri()).encode())
 write('deep_json_chunk.glb', b'glTF' + struct.pack('<II', 2, 20 + len(json_chunk)) +
       struct.pack('<I', len(json_chunk)) + b'JSON' + json_chunk)
 
