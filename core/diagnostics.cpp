@@ -34,13 +34,23 @@ bool Diagnostics::Contains(const std::string& needle) const {
   return false;
 }
 
-std::string Diagnostics::Format() const {
+std::string Diagnostics::Format(size_t limit) const {
   std::string out;
+  size_t shown = 0;
   for (const Diagnostic& d : items_) {
+    if (shown++ == limit) break;
     out += d.severity == Severity::kError ? "error: " : "warning: ";
     if (!d.where.empty()) out += d.where + ": ";
     out += d.what;
     out += '\n';
+  }
+  if (items_.size() > limit) {
+    size_t errors = 0, warnings = 0;
+    for (size_t i = limit; i < items_.size(); ++i)
+      (items_[i].severity == Severity::kError ? errors : warnings) += 1;
+    out += "... and " + std::to_string(items_.size() - limit) + " more (" +
+           std::to_string(errors) + " errors, " + std::to_string(warnings) +
+           " warnings) not shown\n";
   }
   return out;
 }

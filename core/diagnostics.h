@@ -34,8 +34,11 @@ class Diagnostics {
   // True when some diagnostic's `where` or `what` contains `needle` (for tests and tools).
   bool Contains(const std::string& needle) const;
 
-  // One line per diagnostic: "error: <where>: <what>".
-  std::string Format() const;
+  // One line per diagnostic: "error: <where>: <what>", at most `limit` lines (errors first
+  // kept in order; warnings and errors alike), then one "... and N more (E errors, W warnings)
+  // not shown" line. Tools print this, so 200,000 bad entries print 51 lines.
+  static constexpr size_t kPrintLimit = 50;
+  std::string Format(size_t limit = kPrintLimit) const;
 
  private:
   std::vector<Diagnostic> items_;

@@ -11,9 +11,15 @@ namespace mimetic {
 
 // Reads any image stb_image reads (PNG, JPEG, TGA, BMP, ...) as 8-bit grey levels. On failure
 // records `where: cannot read <what> '<path>': <reason> (expected a PNG, JPEG, TGA or BMP
-// image)` and returns false.
+// image)` and returns false. The file must be a regular file of at most 256 MiB (ReadFile) and
+// at most 256 Mpixels; the reason is stb_image's, in words ("truncated image data (the file
+// ends early) (stb_image: outofdata)").
 bool LoadGrayImage(const std::string& path, const std::string& where, const std::string& what,
                    GrayImage* out, Diagnostics* diag);
+
+// The decoding part of LoadGrayImage, on bytes in memory (the fuzz target); false with the
+// reason (the <reason> above) when they are not an image stb_image reads.
+bool DecodeGrayImage(const std::string& bytes, GrayImage* out, std::string* reason);
 
 // Writes `image` as PNG atomically (stb_image_write into memory, then WriteFileAtomic).
 bool SavePng(const std::string& path, const Image& image, Diagnostics* diag);

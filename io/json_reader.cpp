@@ -168,6 +168,26 @@ size_t Prepare(std::string* text, int max_depth) {
   return std::string::npos;
 }
 
+// The byte offset where nesting first exceeds `max_depth`, or npos (strings skipped).
+size_t TooDeepAt(std::string_view text, int max_depth) {
+  bool in_string = false;
+  int depth = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_depth) return i;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return std::string_view::npos;
+}
+
 // What the text's top-level value is, from its first character (for a document not parsed).
 std::string FirstValueType(std::string_view text) {
   const size_t i = text.find_first_not_of(" \t\r\n");
@@ -907,6 +927,17 @@ View View::Make(const Reader* reader, const Json* v, const Object* o, std::strin
   return view;
 }
 
+std::string CheckJsonText(std::string_view text, size_t max_bytes, int max_depth) {
+  if (text.size() > max_bytes)
+    return "the JSON text is " + std::to_string(text.size()) + " bytes; expected at most " +
+           std::to_string(max_bytes) + " bytes (" + std::to_string(max_bytes >> 20) + " MiB)";
+  const size_t too_deep = TooDeepAt(text, max_depth);
+  if (too_deep != std::string_view::npos)
+    return "nested deeper than " + std::to_string(max_depth) + " levels at " + At(text, too_deep) +
+           "; expected at most " + std::to_string(max_depth) + " levels of arrays and objects";
+  return "";
+}
+
 // ---------------------------------------------------------------------------------------------
 // Boundaries of the formats' Parse and Load functions.
 
@@ -926,7 +957,7 @@ bool ParseFile(const std::string& path, Diagnostics* diag,
   Diagnostics fallback;
   if (!diag) diag = &fallback;
   std::string text;
-  if (!ReadFile(path, &text, diag)) return false;
+  if (!ReadFile(path, &text, diag, kMaxJsonFileBytes, "JSON file")) return false;
   Diagnostics local;
   const bool ok = NoThrow(&local, "cannot read " + path, [&] { return parse(text, &local); });
   diag->Append(local, path);

@@ -66,6 +66,13 @@ inline constexpr int kDefaultMaxDepth = 64;                    // nested arrays 
 // A huge array of bad elements is reported element by element up to this many, then summed up.
 inline constexpr size_t kMaxElementErrors = 20;
 
+// The guard Reader::Parse applies before any parser sees a text, for JSON handed to another
+// parser (tinygltf's glTF JSON): "" when `text` has at most `max_bytes` bytes and nests at most
+// `max_depth` levels of arrays and objects; otherwise why not ("nested deeper than 64 levels
+// at line 1, column 65; expected at most 64 levels of arrays and objects").
+std::string CheckJsonText(std::string_view text, size_t max_bytes = kDefaultMaxBytes,
+                          int max_depth = kDefaultMaxDepth);
+
 enum class Type { kAny, kBool, kInteger, kNumber, kString, kEnum, kArray, kObject };
 
 // An interval for kNumber and kInteger; open or closed at each end; infinite = no bound.

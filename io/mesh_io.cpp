@@ -12,6 +12,7 @@
 // (ScanObj) walks the same lines first: it reports those problems with line numbers, and after
 // OpenMesh has read the file the two are compared face by face, so nothing is dropped unseen.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <climits>
@@ -20,18 +21,22 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <functional>
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/Options.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "core/file_util.h"
+#include "io/json_reader.h"
 #include "io/mesh_io.h"
 
 namespace mimetic {
@@ -283,27 +288,425 @@ bool SkipImages(tinygltf::Image*, const int, std::string*, std::string*, int, in
   return true;  // geometry only: images are never decoded
 }
 
-bool ImportGltf(const std::string& path, const std::string& bytes, bool binary,
+// ------------------------------------------------------------------------------------------
+// glTF: the checks before tinygltf sees a byte (docs/errors.md "glTF").
+
+// The JSON chunk of a .glb (or the whole .gltf text). False after recording why the GLB
+// container is unusable.
+bool GltfJsonText(const std::string& bytes, bool binary, std::string_view* json,
+                  Diagnostics* diag) {
+  if (!binary) {
+    *json = bytes;
+    return true;
+  }
+  auto u32 = [&](size_t at) {
+    uint32_t v;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+  };
+  if (bytes.size() < 20) {
+    diag->Error("", "truncated GLB: " + std::to_string(bytes.size()) +
+                        " bytes (expected a 12-byte header and a JSON chunk)");
+    return false;
+  }
+  if (bytes.compare(0, 4, "glTF") != 0) {
+    diag->Error("", "not a GLB file: the first 4 bytes are not 'glTF' (a .glb is binary glTF; "
+                    "is this a .gltf text file or another format?)");
+    return false;
+  }
+  if (u32(4) != 2) {
+    diag->Error("", "GLB version " + std::to_string(u32(4)) + " (expected 2)");
+    return false;
+  }
+  if (u32(8) < 20) {  // (found by fuzz_mesh_glb: u32(8) - 20 wrapped around)
+    diag->Error("", "GLB header says the file is " + std::to_string(u32(8)) +
+                        " bytes (expected at least 20: the header and a JSON chunk)");
+    return false;
+  }
+  if (u32(8) > bytes.size()) {
+    diag->Error("", "truncated GLB: the header says " + std::to_string(u32(8)) +
+                        " bytes, the file has " + std::to_string(bytes.size()));
+    return false;
+  }
+  const size_t json_length = u32(12);
+  if (u32(16) != 0x4E4F534Au) {
+    diag->Error("", "GLB: the first chunk is not JSON (expected chunk type 'JSON')");
+    return false;
+  }
+  if (json_length > u32(8) - 20) {
+    diag->Error("", "truncated GLB: the JSON chunk says " + std::to_string(json_length) +
+                        " bytes, but only " + std::to_string(u32(8) - 20) + " follow it");
+    return false;
+  }
+  *json = std::string_view(bytes.data() + 20, json_length);
+  return true;
+}
+
+const char* const kCompressionExtensions[] = {"KHR_draco_mesh_compression",
+                                              "EXT_meshopt_compression",
+                                              "KHR_meshopt_compression"};
+
+// Required extensions that do not change the geometry mimetic reads (materials, lights,
+// image formats): accepted. Any other required extension is refused.
+bool HarmlessExtension(const std::string& name) {
+  static const char* const kPrefixes[] = {"KHR_materials_", "KHR_lights_", "KHR_texture_basisu",
+                                          "EXT_texture_webp", "EXT_texture_avif",
+                                          "KHR_xmp", "EXT_lights_"};
+  for (const char* p : kPrefixes)
+    if (name.compare(0, std::strlen(p), p) == 0) return true;
+  return false;
+}
+
+// Structural checks on the glTF JSON that tinygltf does not make (or makes by crashing,
+// wrapping around or reading out of bounds): required extensions, non-negative integers,
+// references to existing accessors, bufferViews, buffers, meshes and nodes. Each message
+// names the JSON path. False after recording every problem.
+bool CheckGltfJson(std::string_view text, Diagnostics* diag) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.begin(), text.end());
+  } catch (const std::exception& e) {
+    diag->Error("", std::string("invalid glTF: the JSON does not parse: ") + e.what());
+    return false;
+  }
+  if (!j.is_object()) {
+    diag->Error("", "invalid glTF: the top level is not a JSON object");
+    return false;
+  }
+  const size_t before = diag->ErrorCount();
+  CappedErrors bad(diag, "", "glTF structure errors");
+  if (j.contains("extensionsRequired")) {
+    const auto& req = j["extensionsRequired"];
+    if (!req.is_array()) {
+      bad.Add("extensionsRequired", "expected an array of extension names");
+    } else {
+      for (size_t i = 0; i < req.size(); ++i) {
+        const std::string at = "extensionsRequired[" + std::to_string(i) + "]";
+        if (!req[i].is_string()) {
+          bad.Add(at, "expected an extension name (string)");
+          continue;
+        }
+        const std::string name = req[i].get<std::string>();
+        bool compressed = false;
+        for (const char* c : kCompressionExtensions) compressed = compressed || name == c;
+        if (compressed) {
+          bad.Add(at, "compressed glTF (" + name +
+                          ") is not supported; decompress it first, e.g. with gltf-transform "
+                          "(npm @gltf-transform/cli): gltf-transform copy in.glb out.glb");
+        } else if (!HarmlessExtension(name)) {
+          bad.Add(at, "the file requires extension " + name +
+                          ", which mimetic does not support (supported: none that change "
+                          "geometry; KHR_materials_*, KHR_lights_*, texture formats are "
+                          "ignored)");
+        }
+      }
+    }
+  }
+  auto count = [&](const char* key) -> size_t {
+    const auto it = j.find(key);
+    return it != j.end() && it->is_array() ? it->size() : 0;
+  };
+  const size_t n_acc = count("accessors"), n_bv = count("bufferViews"), n_buf = count("buffers"),
+               n_mesh = count("meshes"), n_node = count("nodes");
+  // An optional non-negative integer below `limit` (limit 0 = no upper bound).
+  auto index = [&](const nlohmann::json& obj, const char* key, const std::string& path,
+                   size_t limit, const char* what) {
+    const auto it = obj.find(key);
+    if (it == obj.end()) return;
+    const std::string at = path + "." + key;
+    if (!it->is_number_integer() && !it->is_number_unsigned()) {
+      bad.Add(at, "expected a non-negative integer, got " + it->dump(-1).substr(0, 40));
+      return;
+    }
+    if (it->is_number_integer() && !it->is_number_unsigned() && it->get<int64_t>() < 0) {
+      bad.Add(at, std::to_string(it->get<int64_t>()) + " is negative (expected an integer >= 0)");
+      return;
+    }
+    const uint64_t v = it->get<uint64_t>();
+    if (what && v >= limit) {
+      const std::string plural = std::string(what) == "mesh" ? "meshes" : std::string(what) + "s";
+      bad.Add(at, std::string(what) + " " + std::to_string(v) + " does not exist (the file has " +
+                      std::to_string(limit) + " " + plural + ")");
+    } else if (!what && v > (uint64_t{1} << 40)) {
+      bad.Add(at, std::to_string(v) + " is out of range (expected at most 2^40)");
+    }
+  };
+  auto each = [&](const char* key, const std::function<void(const nlohmann::json&,
+                                                            const std::string&)>& f) {
+    const auto it = j.find(key);
+    if (it == j.end() || !it->is_array()) return;
+    for (size_t i = 0; i < it->size(); ++i)
+      if ((*it)[i].is_object()) f((*it)[i], std::string(key) + "[" + std::to_string(i) + "]");
+  };
+  each("accessors", [&](const nlohmann::json& a, const std::string& at) {
+    index(a, "bufferView", at, n_bv, "bufferView");
+    index(a, "byteOffset", at, 0, nullptr);
+    index(a, "count", at, 0, nullptr);
+  });
+  each("bufferViews", [&](const nlohmann::json& v, const std::string& at) {
+    index(v, "buffer", at, n_buf, "buffer");
+    index(v, "byteOffset", at, 0, nullptr);
+    index(v, "byteLength", at, 0, nullptr);
+    index(v, "byteStride", at, 0, nullptr);
+  });
+  each("buffers", [&](const nlohmann::json& b, const std::string& at) {
+    index(b, "byteLength", at, 0, nullptr);
+  });
+  each("meshes", [&](const nlohmann::json& m, const std::string& at) {
+    const auto prims = m.find("primitives");
+    if (prims == m.end() || !prims->is_array()) return;
+    for (size_t p = 0; p < prims->size(); ++p) {
+      const auto& prim = (*prims)[p];
+      if (!prim.is_object()) continue;
+      const std::string pat = at + ".primitives[" + std::to_string(p) + "]";
+      index(prim, "indices", pat, n_acc, "accessor");
+      const auto attrs = prim.find("attributes");
+      if (attrs != prim.end() && attrs->is_object())
+        for (auto it = attrs->begin(); it != attrs->end(); ++it)
+          index(*attrs, it.key().c_str(), pat + ".attributes", n_acc, "accessor");
+    }
+  });
+  each("nodes", [&](const nlohmann::json& n, const std::string& at) {
+    index(n, "mesh", at, n_mesh, "mesh");
+    const auto children = n.find("children");
+    if (children != n.end() && children->is_array())
+      for (size_t c = 0; c < children->size(); ++c) {
+        const auto& ch = (*children)[c];
+        const std::string cat = at + ".children[" + std::to_string(c) + "]";
+        if (!ch.is_number_unsigned() || ch.get<uint64_t>() >= n_node)
+          bad.Add(cat, ch.dump(-1).substr(0, 40) + " is not a node (the file has " +
+                           std::to_string(n_node) + " nodes)");
+      }
+  });
+  each("scenes", [&](const nlohmann::json& s, const std::string& at) {
+    const auto nodes = s.find("nodes");
+    if (nodes != s.end() && nodes->is_array())
+      for (size_t c = 0; c < nodes->size(); ++c) {
+        const auto& nd = (*nodes)[c];
+        if (!nd.is_number_unsigned() || nd.get<uint64_t>() >= n_node)
+          bad.Add(at + ".nodes[" + std::to_string(c) + "]",
+                  nd.dump(-1).substr(0, 40) + " is not a node (the file has " +
+                      std::to_string(n_node) + " nodes)");
+      }
+  });
+  return bad.count() == 0 && diag->ErrorCount() == before;
+}
+
+// tinygltf's file system: external buffer and image URIs go through ReadFile (regular files
+// only, size-capped, never blocking on a FIFO); the first refusal is kept for the message.
+struct GltfFs {
+  std::string first_error;
+};
+
+bool FsFileExists(const std::string&, void*) {
+  // Always "exists": tinygltf then reads the URI beside the glTF file (never the current
+  // directory, its fallback) and ReadWholeFile says exactly what is wrong with it.
+  return true;
+}
+std::string FsExpandFilePath(const std::string& path, void*) { return path; }
+bool FsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void* user) {
+  Diagnostics d;
+  std::string bytes;
+  if (!ReadFile(path, &bytes, &d, kMaxMeshFileBytes, "glTF buffer or image")) {
+    const std::string what = d.items().empty() ? "cannot read" : d.items()[0].what;
+    if (err) *err = what;
+    auto* fs = static_cast<GltfFs*>(user);
+    if (fs && fs->first_error.empty()) fs->first_error = "'" + path + "' " + what;
+    return false;
+  }
+  out->assign(bytes.begin(), bytes.end());
+  return true;
+}
+bool FsWriteWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&,
+                      void*) {
+  if (err) *err = "mimetic never writes through tinygltf's file system";
+  return false;
+}
+
+// The node that places mesh `mesh_index` in the scene and its world matrix (column-major,
+// as glTF). False when no node of the scene (or, without scenes, of the file) uses it.
+using Mat4 = std::array<double, 16>;
+
+Mat4 Multiply(const Mat4& a, const Mat4& b) {
+  Mat4 r{};
+  for (int c = 0; c < 4; ++c)
+    for (int rr = 0; rr < 4; ++rr) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a[k * 4 + rr] * b[c * 4 + k];
+      r[c * 4 + rr] = s;
+    }
+  return r;
+}
+
+Mat4 NodeMatrix(const tinygltf::Node& n) {
+  Mat4 m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  if (n.matrix.size() == 16) {
+    for (int i = 0; i < 16; ++i) m[i] = n.matrix[i];
+    return m;
+  }
+  double tx = 0, ty = 0, tz = 0, qx = 0, qy = 0, qz = 0, qw = 1, sx = 1, sy = 1, sz = 1;
+  if (n.translation.size() == 3) tx = n.translation[0], ty = n.translation[1], tz = n.translation[2];
+  if (n.rotation.size() == 4) qx = n.rotation[0], qy = n.rotation[1], qz = n.rotation[2], qw = n.rotation[3];
+  if (n.scale.size() == 3) sx = n.scale[0], sy = n.scale[1], sz = n.scale[2];
+  const double r[9] = {1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy + qz * qw), 2 * (qx * qz - qy * qw),
+                       2 * (qx * qy - qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz + qx * qw),
+                       2 * (qx * qz + qy * qw), 2 * (qy * qz - qx * qw), 1 - 2 * (qx * qx + qy * qy)};
+  const double s[3] = {sx, sy, sz};
+  for (int c = 0; c < 3; ++c)
+    for (int rr = 0; rr < 3; ++rr) m[c * 4 + rr] = r[c * 3 + rr] * s[c];
+  m[12] = tx, m[13] = ty, m[14] = tz;
+  return m;
+}
+
+struct MeshPlacement {
+  int node = -1;             // first node (depth first, scene order) that uses the mesh
+  Mat4 world{};
+  size_t instances = 0;      // nodes that use it
+  bool instances_differ = false;
+};
+
+MeshPlacement FindPlacement(const tinygltf::Model& model, size_t mesh_index) {
+  MeshPlacement out;
+  std::vector<int> roots;
+  const int scene = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
+  if (scene >= 0 && static_cast<size_t>(scene) < model.scenes.size()) {
+    roots = model.scenes[static_cast<size_t>(scene)].nodes;
+  } else {
+    std::vector<char> is_child(model.nodes.size(), 0);
+    for (const auto& n : model.nodes)
+      for (int c : n.children)
+        if (c >= 0 && static_cast<size_t>(c) < model.nodes.size()) is_child[c] = 1;
+    for (size_t i = 0; i < model.nodes.size(); ++i)
+      if (!is_child[i]) roots.push_back(static_cast<int>(i));
+  }
+  std::vector<char> visited(model.nodes.size(), 0);  // a cycle or a shared child: once
+  std::vector<std::pair<int, Mat4>> stack;
+  const Mat4 identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, identity});
+  while (!stack.empty()) {
+    const auto [n, parent] = stack.back();
+    stack.pop_back();
+    if (n < 0 || static_cast<size_t>(n) >= model.nodes.size() || visited[n]) continue;
+    visited[n] = 1;
+    const tinygltf::Node& node = model.nodes[static_cast<size_t>(n)];
+    const Mat4 world = Multiply(parent, NodeMatrix(node));
+    if (node.mesh >= 0 && static_cast<size_t>(node.mesh) == mesh_index) {
+      if (out.instances++ == 0) {
+        out.node = n;
+        out.world = world;
+      } else {
+        for (int i = 0; i < 16; ++i)
+          if (std::fabs(world[i] - out.world[i]) > 1e-9 * (1 + std::fabs(world[i])))
+            out.instances_differ = true;
+      }
+    }
+    for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+      stack.push_back({*c, world});
+  }
+  return out;
+}
+
+// Applies the placing node's transform (docs/errors.md, "glTF"): positions become the scene
+// positions in the mesh's own unit, M p / s, where s is the transform's uniform scale (a
+// uniform scale is how a glTF file states its unit; mimetic writes one). Rotation, translation
+// and mirroring are applied (a mirror flips the triangle winding back); a non-uniform scale
+// or shear is refused. False after recording why.
+bool ApplyPlacement(const tinygltf::Model& model, size_t mesh_index, const std::string& where,
+                    MeshData* out, Diagnostics* diag) {
+  const MeshPlacement pl = FindPlacement(model, mesh_index);
+  if (pl.node < 0) return true;  // not in the scene: its own space
+  const std::string node_name =
+      "node " + std::to_string(pl.node) +
+      (model.nodes[pl.node].name.empty() ? "" : " ('" + model.nodes[pl.node].name + "')");
+  if (pl.instances > 1 && pl.instances_differ)
+    diag->Warning(where, "is used by " + std::to_string(pl.instances) +
+                             " nodes with different transforms; the first, " + node_name +
+                             ", is applied");
+  const Mat4& m = pl.world;
+  for (double v : m)
+    if (!std::isfinite(v)) {
+      diag->Error(where, node_name + " has a non-finite transform (expected finite numbers)");
+      return false;
+    }
+  const double det = m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+                     m[8] * (m[1] * m[6] - m[5] * m[2]);
+  if (!(std::fabs(det) > 1e-30) || m[3] != 0 || m[7] != 0 || m[11] != 0 || m[15] != 1) {
+    diag->Error(where, node_name + " has a degenerate or projective transform (determinant " +
+                           FormatG(det) + "; expected rotation, translation and scale)");
+    return false;
+  }
+  // A pure uniform scale (the unit node mimetic writes) gives s exactly, so q is exactly I.
+  const bool diagonal_uniform = m[1] == 0 && m[2] == 0 && m[4] == 0 && m[6] == 0 && m[8] == 0 &&
+                                m[9] == 0 && m[0] == m[5] && m[5] == m[10];
+  const double s = diagonal_uniform ? std::fabs(m[0]) : std::cbrt(std::fabs(det));
+  double q[9];
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) q[c * 3 + r] = m[c * 4 + r] / s;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double dot = 0;
+      for (int r = 0; r < 3; ++r) dot += q[a * 3 + r] * q[b * 3 + r];
+      if (std::fabs(dot - (a == b ? 1.0 : 0.0)) > 1e-4) {
+        diag->Error(where, node_name + " places the mesh with a non-uniform scale or shear; "
+                               "mimetic applies rotation, translation and a uniform scale only "
+                               "(apply the transform in the exporting tool, e.g. Blender's "
+                               "Apply > Scale)");
+        return false;
+      }
+    }
+  const bool identity_rotation = q[0] == 1 && q[4] == 1 && q[8] == 1 && q[1] == 0 && q[2] == 0 &&
+                                 q[3] == 0 && q[5] == 0 && q[6] == 0 && q[7] == 0;
+  if (identity_rotation && m[12] == 0 && m[13] == 0 && m[14] == 0) return true;  // unit only
+  for (float3& p : out->positions) {
+    const double x = p.x, y = p.y, z = p.z;
+    p = {float(q[0] * x + q[3] * y + q[6] * z + m[12] / s),
+         float(q[1] * x + q[4] * y + q[7] * z + m[13] / s),
+         float(q[2] * x + q[5] * y + q[8] * z + m[14] / s)};
+  }
+  for (float3& n : out->normals) {
+    const double x = n.x, y = n.y, z = n.z;
+    n = {float(q[0] * x + q[3] * y + q[6] * z), float(q[1] * x + q[4] * y + q[7] * z),
+         float(q[2] * x + q[5] * y + q[8] * z)};
+  }
+  if (det < 0)  // a mirror: glTF flips the winding, so the front faces stay in front
+    for (size_t t = 0; t + 2 < out->indices.size(); t += 3) std::swap(out->indices[t + 1], out->indices[t + 2]);
+  return true;
+}
+
+bool ImportGltf(const std::string& base_dir, const std::string& bytes, bool binary,
                 const std::string& mesh_name, MeshData* out, Diagnostics* diag) {
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
     diag->Error("", "file is larger than 4 GiB (tinygltf cannot read it)");
     return false;
   }
+  // tinygltf's JSON parser recurses: the JSON reader's guard (size, nesting) first, then the
+  // structure tinygltf does not check.
+  std::string_view json;
+  if (!GltfJsonText(bytes, binary, &json, diag)) return false;
+  const std::string shape = json_reader::CheckJsonText(json);
+  if (!shape.empty()) {
+    diag->Error("", std::string("glTF ") + (binary ? "JSON chunk" : "JSON") + ": " + shape);
+    return false;
+  }
+  if (!CheckGltfJson(json, diag)) return false;
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&SkipImages, nullptr);
+  GltfFs fs_state;
+  loader.SetFsCallbacks(
+      tinygltf::FsCallbacks{&FsFileExists, &FsExpandFilePath, &FsReadWholeFile, &FsWriteWholeFile,
+                            &fs_state});
   std::string err, warn;
   bool ok = false;
   try {
     if (binary) {
       ok = loader.LoadBinaryFromMemory(&model, &err, &warn,
                                        reinterpret_cast<const unsigned char*>(bytes.data()),
-                                       static_cast<unsigned int>(bytes.size()),
-                                       DirectoryOf(path));
+                                       static_cast<unsigned int>(bytes.size()), base_dir);
     } else {
       ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                      static_cast<unsigned int>(bytes.size()),
-                                      DirectoryOf(path));
+                                      static_cast<unsigned int>(bytes.size()), base_dir);
     }
   } catch (const std::exception& e) {
     ok = false;
@@ -311,6 +714,10 @@ bool ImportGltf(const std::string& path, const std::string& bytes, bool binary,
   } catch (...) {
     ok = false;
     err += "unknown exception from tinygltf";
+  }
+  if (!ok && !fs_state.first_error.empty()) {
+    diag->Error("", "glTF buffer " + fs_state.first_error);
+    return false;
   }
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
@@ -470,7 +877,19 @@ bool ImportGltf(const std::string& path, const std::string& bytes, bool binary,
     diag->Warning(mesh_where,
                   "some primitives have no TEXCOORD_0; texture coordinates dropped for the mesh");
   }
+  if (!ApplyPlacement(model, mesh_index, mesh_where, out, diag)) return false;
   if (!CheckFinite(*out, diag)) return false;
+  // What is not read is said, not dropped silently.
+  size_t targets = 0;
+  for (const auto& prim : mesh.primitives) targets = std::max(targets, prim.targets.size());
+  if (targets > 0)
+    diag->Warning(mesh_where, "has " + std::to_string(targets) +
+                                  " morph targets; ignored (the base shape is read, no weights "
+                                  "applied)");
+  if (!model.skins.empty())
+    diag->Warning("", "the file has " + std::to_string(model.skins.size()) +
+                          " skin(s); ignored (positions are the mesh's bind pose, no joints "
+                          "applied)");
   if (out->triangle_count() == 0) {
     diag->Error(mesh_where, "has no triangles (expected at least one TRIANGLES primitive "
                             "with 3 or more vertices)");
@@ -569,6 +988,7 @@ struct ObjFace {
 };
 struct ObjScan {
   size_t v_count = 0, vt_count = 0;
+  std::vector<double> vt_v;  // each `vt` line's v, as double (flipped exactly: 1 - v)
   std::vector<ObjFace> faces;
   bool uses_vt = false;
 };
@@ -644,6 +1064,7 @@ bool ScanObj(const std::string& bytes, ObjScan* scan,
       float t[2];
       const size_t k = scan->vt_count++;
       const std::string where = at + ": texcoord " + std::to_string(k);
+      scan->vt_v.push_back(tok.size() >= 2 ? std::strtod(tok[1].c_str(), nullptr) : 0.0);
       if (tok.size() < 2 || !ParseFloat(tok[0], &t[0]) || !ParseFloat(tok[1], &t[1])) {
         bad_vt.Add(where, "cannot read the texture coordinate (expected two numbers after "
                           "'vt')");
@@ -758,9 +1179,30 @@ bool ImportObj(const std::string& bytes, MeshData* out,
   ObjScan scan;
   if (!ScanObj(bytes, &scan, diag)) return false;
 
+  // OpenMesh opens an `mtllib` file by name (a FIFO there would block it, a huge file be read
+  // whole); materials are never used, so those lines are blanked before OpenMesh sees them.
+  std::string text = bytes;
+  bool warned_mtllib = false;
+  size_t line_no = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (i == 0 || text[i - 1] == '\n') {
+      if (i > 0) ++line_no;
+      size_t k = i;
+      while (k < text.size() && (text[k] == ' ' || text[k] == '\t')) ++k;
+      if (text.compare(k, 6, "mtllib") == 0 &&
+          (k + 6 == text.size() || std::isspace(static_cast<unsigned char>(text[k + 6])))) {
+        if (!warned_mtllib) {
+          diag->Warning("line " + std::to_string(line_no),
+                        "'mtllib' ignored (materials are not read)");
+          warned_mtllib = true;
+        }
+        text[k] = '#';
+      }
+    }
+  }
   RawObjImporter importer;
   OpenMesh::IO::Options options = OpenMesh::IO::Options::FaceTexCoord;
-  std::istringstream stream(bytes);
+  std::istringstream stream(text);
   bool read_ok = false;
   try {
     // OpenMesh's reader modules are singletons with per-read state (path, materials).
@@ -818,7 +1260,10 @@ bool ImportObj(const std::string& bytes, MeshData* out,
       const ObjCorner& k = face.corners[c];
       uint32_t vid = static_cast<uint32_t>(k.v);
       if (scan.uses_vt) {
-        const float2 uv = importer.face_uvs[f][c];
+        // OBJ's v runs up from the bottom of the image, glTF's (and MeshData's) down from the top.
+        // In double, from the file's text: 1 - v is exact for every v the writer wrote.
+        const float2 uv = {importer.face_uvs[f][c].x,
+                           static_cast<float>(1.0 - scan.vt_v[static_cast<size_t>(k.vt)])};
         if (first_vt[k.v] < 0) {
           first_vt[k.v] = k.vt;
           out->uvs[vid] = uv;
@@ -899,7 +1344,9 @@ std::string ObjText(const MeshData& mesh) {
     s += buf;
   }
   for (const float2& t : mesh.uvs) {
-    std::snprintf(buf, sizeof(buf), "vt %.9g %.9g\n", t.x, t.y);
+    // OBJ's v runs up: 1 - v, in double and with 17 digits so that reading it back (1 - v
+    // again, in double) gives the same float.
+    std::snprintf(buf, sizeof(buf), "vt %.9g %.17g\n", t.x, 1.0 - static_cast<double>(t.y));
     s += buf;
   }
   for (const float3& n : mesh.normals) {
@@ -922,7 +1369,8 @@ std::string ObjText(const MeshData& mesh) {
   return s;
 }
 
-bool GlbBytes(const MeshData& mesh, std::string* out, Diagnostics* diag) {
+bool GlbBytes(const MeshData& mesh, double metres_per_unit, std::string* out,
+              Diagnostics* diag) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "mimetic";
@@ -984,6 +1432,11 @@ bool GlbBytes(const MeshData& mesh, std::string* out, Diagnostics* diag) {
   model.meshes.push_back(gmesh);
   tinygltf::Node node;
   node.mesh = 0;
+  if (metres_per_unit != 1.0) {
+    // glTF's unit is the metre: the positions stay in mesh units, the node scales them.
+    node.name = "mimetic_units";
+    node.scale = {metres_per_unit, metres_per_unit, metres_per_unit};
+  }
   model.nodes.push_back(node);
   tinygltf::Scene scene;
   scene.nodes.push_back(0);
@@ -1018,29 +1471,60 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
   }
   *out = MeshData{};
   out->source = path;
+  const std::string ext = LowerExtension(path);
+  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
+    diag->Error("", "unknown mesh file extension '" + ext + "' (expected .gltf, .glb or .obj)");
+    return false;
+  }
+  std::string bytes;
+  Diagnostics read;
+  if (!ReadFile(path, &bytes, &read, kMaxMeshFileBytes, ext.substr(1) + " mesh file")) {
+    for (const Diagnostic& d : read.items()) diag->Error("", d.what);  // callers name the file
+    return false;
+  }
+  const bool ok = ImportMeshBytes(bytes, ext, DirectoryOf(path), mesh_name, out, diag);
+  out->source = path;
+  return ok;
+}
+
+bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
+                     const std::string& base_dir, const std::string& mesh_name, MeshData* out,
+                     Diagnostics* diag) {
+  Diagnostics local;
+  if (!diag) diag = &local;
+  if (!out) {
+    diag->Error("", "ImportMesh: no output mesh given");
+    return false;
+  }
+  *out = MeshData{};
   try {
-    const std::string ext = LowerExtension(path);
+    std::string ext = extension;
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
       diag->Error("", "unknown mesh file extension '" + ext +
                             "' (expected .gltf, .glb or .obj)");
       return false;
     }
-    std::string bytes;
-    if (!ReadFile(path, &bytes, diag)) return false;
     if (bytes.empty()) {
       diag->Error("", "file is empty (expected a " + ext.substr(1) + " mesh)");
       return false;
     }
+    if (ext == ".obj" && bytes.find('\0') != std::string::npos) {
+      diag->Error("", std::string("binary data (NUL bytes) in an OBJ file; expected text") +
+                          (bytes.compare(0, 4, "glTF") == 0 ? " (this is a GLB file: rename it .glb)"
+                                                            : ""));
+      return false;
+    }
+    if (ext == ".gltf" && bytes.compare(0, 4, "glTF") == 0) {
+      diag->Error("", "binary glTF in a .gltf file (expected JSON text; rename it .glb)");
+      return false;
+    }
     bool ok = ext == ".obj" ? ImportObj(bytes, out, diag)
-                            : ImportGltf(path, bytes, ext == ".glb", mesh_name, out, diag);
+                            : ImportGltf(base_dir, bytes, ext == ".glb", mesh_name, out, diag);
     if (ok && ext == ".obj" && !mesh_name.empty()) {
       diag->Warning("", "mesh name '" + mesh_name + "' ignored: OBJ files hold one mesh");
     }
-    if (!ok) {
-      const std::string source = out->source;
-      *out = MeshData{};
-      out->source = source;
-    }
+    if (!ok) *out = MeshData{};
     return ok;
   } catch (const std::exception& e) {
     diag->Error("", std::string("internal error while importing: ") + e.what());
@@ -1048,11 +1532,20 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
     diag->Error("", "internal error while importing");
   }
   *out = MeshData{};
-  out->source = path;
   return false;
 }
 
-bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag) {
+double MetresPerUnit(const std::string& units) {
+  if (units == "mm") return 0.001;
+  if (units == "cm") return 0.01;
+  if (units == "dm") return 0.1;
+  if (units == "m") return 1.0;
+  if (units == "in") return 0.0254;
+  return 0.0;
+}
+
+bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag,
+                double metres_per_unit) {
   Diagnostics local;
   if (!diag) diag = &local;
   try {
@@ -1065,7 +1558,11 @@ bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag
     std::string bytes;
     if (ext == ".obj") {
       bytes = ObjText(mesh);
-    } else if (!GlbBytes(mesh, &bytes, diag)) {
+    } else if (!(metres_per_unit > 0 && std::isfinite(metres_per_unit))) {
+      diag->Error("", "metres per mesh unit is " + FormatG(metres_per_unit) +
+                          " (expected a finite number > 0)");
+      return false;
+    } else if (!GlbBytes(mesh, metres_per_unit, &bytes, diag)) {
       return false;
     }
     return WriteFileAtomic(path, bytes, diag);

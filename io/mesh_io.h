@@ -15,17 +15,26 @@ namespace mimetic {
 // primitives). Per primitive: POSITION (float VEC3, required), NORMAL (float VEC3), TEXCOORD_0
 // (float, or normalized u8/u16, VEC2), indices (u8/u16/u32 SCALAR, or none = non-indexed).
 // Only mode TRIANGLES. Accessor byteOffset and bufferView byteStride are honoured and every
-// accessor is bounds-checked against its bufferView and buffer. Node transforms, morph
-// targets, skins and materials are ignored: positions are the mesh's own, in mesh space.
-// Normals / uvs are kept only when every primitive has them (otherwise dropped, with a
-// warning). Images are never decoded.
+// accessor is bounds-checked against its bufferView and buffer. Before tinygltf sees the
+// JSON (the .glb's JSON chunk), it must pass the JSON reader's guard (64 MiB, 64 levels), and
+// its structure is checked: extensionsRequired (Draco/meshopt compression and any extension
+// that changes geometry are refused), non-negative offsets, lengths and strides, references
+// to existing accessors, bufferViews, buffers, meshes and nodes. External buffer URIs are read
+// through ReadFile (regular files only, 1 GiB cap). Node transforms: the first node of the
+// scene that places the mesh is applied (rotation, translation, mirroring); its uniform scale
+// is taken as the file's statement of the unit and not applied, so positions are the scene
+// positions in the mesh's own unit (a non-uniform scale or shear is refused). Morph targets
+// and skins are ignored with a warning; materials silently. Normals / uvs are kept only when
+// every primitive has them (otherwise dropped, with a warning). Images are never decoded.
 //
 // .obj (OpenMesh's OBJ reader, cross-checked by a validating scan so that nothing OpenMesh
 // would silently drop goes unreported): polygons are fan-triangulated from their first corner.
 // Vertex layout: vertices 0..#v-1 are the file's `v` lines in order (OBJ index k is vertex
 // k-1), each with the texcoord of its first use; every further distinct (v, vt) pair used by a
 // face (a UV seam) is appended as an extra vertex in order of first use. `vn` normals are not
-// imported (`normals` stays empty; the rig computes normals from the geometry). Faces must use
+// imported (`normals` stays empty; the rig computes normals from the geometry). Texture v is
+// flipped (v = 1 - v_obj: OBJ's v runs up, MeshData's as glTF's down). `mtllib` lines are
+// ignored with a warning (OpenMesh would open the named file). Faces must use
 // distinct vertices and either v/vt on every corner or on none. `mesh_name` is ignored.
 //
 // Returns false and records every problem in `diag` (capped at 20 messages per kind), naming
@@ -39,12 +48,27 @@ namespace mimetic {
 bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData* out,
                 Diagnostics* diag);
 
+// The same on bytes already in memory (the fuzz targets, fuzz/): `extension` chooses the format
+// (".glb", ".gltf", ".obj"), `base_dir` resolves a glTF's buffer URIs. `out->source` is left
+// empty.
+bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
+                     const std::string& base_dir, const std::string& mesh_name, MeshData* out,
+                     Diagnostics* diag);
+
 // Writes positions, normals (when present), uvs (when present) and triangles; `.obj` or `.glb`
-// by extension. OBJ: `v`/`vt`/`vn` with %.9g (floats round-trip exactly) and 1-based
-// `f a/a/a ...` faces. GLB: one buffer, POSITION (with min/max), NORMAL, TEXCOORD_0, u32
-// indices, one mesh named "mesh", one node, one scene. Refuses (returns false, writes nothing)
+// by extension. OBJ: `v`/`vt`/`vn` with %.9g (floats round-trip exactly; vt as 1 - v, OBJ's
+// convention) and 1-based `f a/a/a ...` faces. GLB: one buffer, POSITION (with min/max),
+// NORMAL, TEXCOORD_0, u32 indices, one mesh named "mesh", one node, one scene. glTF's unit is
+// the metre: positions are written in mesh units and the node (named "mimetic_units") scales
+// them by `metres_per_unit` (0.001 for millimetres; no scale when 1), so viewers show the true
+// size and ImportMesh reads the mesh units back unchanged. Refuses (returns false, writes nothing)
 // meshes with out-of-range indices, non-finite values or attribute sizes other than 0 or #V.
 // The file is written to a temporary name and renamed (WriteFileAtomic).
-bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag);
+bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag,
+                double metres_per_unit = 0.001);
+
+// Metres per unit of a rig's `units` ("mm" 0.001, "cm" 0.01, "dm" 0.1, "m" 1, "in" 0.0254);
+// 0 for anything else.
+double MetresPerUnit(const std::string& units);
 
 }  // namespace mimetic

@@ -3,14 +3,15 @@
 #   - runtime modules (core, muscles/runtime, wrinkles/runtime, expressions/runtime,
 #     rig/runtime) include only the C++ standard library, SIMD intrinsics, a few POSIX
 #     headers of core's file writer, and runtime modules;
-#   - no module below io includes a third-party parser (nlohmann, tinygltf, stb) or io/;
+#   - no module below io includes a third-party parser (nlohmann, tinygltf, stb) or io/ (io,
+#     tools, bench, tests, viewer and fuzz sit above it);
 #   - only io includes OpenMesh's file reader; only tools include tools/.
 # Prints every offending line as FILE:LINE: TEXT and exits 1 when there is any.
 set -uo pipefail
 cd "$1"
 fail=0
 report() { echo "$1: $2"; fail=1; }
-std='^(algorithm|array|atomic|bit|cassert|cerrno|cfloat|charconv|climits|cmath|cstddef|cstdint|cstdio|cstdlib|cstring|filesystem|fstream|functional|initializer_list|iterator|limits|memory|mutex|new|numbers|numeric|optional|sstream|span|string|string_view|system_error|thread|tuple|type_traits|unordered_map|utility|vector|immintrin\.h|emmintrin\.h|xmmintrin\.h|unistd\.h|fcntl\.h|sys/stat\.h)$'
+std='^(algorithm|array|atomic|bit|cassert|cerrno|cfloat|charconv|climits|cmath|cstddef|cstdint|cstdio|cstdlib|cstring|filesystem|fstream|functional|initializer_list|iterator|limits|memory|mutex|new|numbers|numeric|optional|sstream|span|string|string_view|system_error|thread|tuple|type_traits|unordered_map|utility|vector|immintrin\.h|emmintrin\.h|xmmintrin\.h|unistd\.h|fcntl\.h|signal\.h|sys/stat\.h)$'
 runtime='^(core|muscles/runtime|wrinkles/runtime|expressions/runtime|rig/runtime)/'
 while IFS= read -r f; do
   n=0
@@ -27,7 +28,7 @@ while IFS= read -r f; do
       continue
     fi
     case $f in
-      io/*|tools/*|bench/*|tests/*|viewer/*) ;;
+      io/*|tools/*|bench/*|tests/*|viewer/*|fuzz/*) ;;
       *)
         case $inc in
           nlohmann/*|tiny_gltf.h|stb/*) report "$f:$n" "includes <$inc>: third-party parsers belong to io/" ;;
@@ -36,7 +37,7 @@ while IFS= read -r f; do
         esac ;;
     esac
     case $f in
-      tools/*|tests/*|bench/*) ;;
+      tools/*|tests/*|bench/*|fuzz/*) ;;
       *) [[ $inc == tools/* ]] && report "$f:$n" "includes \"$inc\": only the tools include tools/" ;;
     esac
   done < "$f"

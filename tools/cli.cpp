@@ -1,8 +1,12 @@
 #include "tools/cli.h"
 
-#include <cstdlib>
-
+#include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include <sys/stat.h>
 
 namespace mimetic::tools {
 
@@ -61,6 +65,44 @@ bool ParseNumber(const std::string& text, double lo, double hi, double* out) {
   if (text.empty() || *end != '\0' || !(v >= lo && v <= hi)) return false;
   *out = v;
   return true;
+}
+
+bool ParseInteger(const std::string& text, long long lo, long long hi, long long* out) {
+  size_t i = 0;
+  if (i < text.size() && (text[i] == '-' || text[i] == '+')) ++i;
+  if (i == text.size() || text.size() - i > 18) return false;
+  for (size_t k = i; k < text.size(); ++k)
+    if (!std::isdigit(static_cast<unsigned char>(text[k]))) return false;
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || v < lo || v > hi) return false;
+  *out = v;
+  return true;
+}
+
+std::string CheckOutputExtension(const std::string& flag, const std::string& path,
+                                 const std::vector<std::string>& extensions) {
+  std::string lower = path;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const size_t slash = lower.find_last_of('/');
+  const std::string name = slash == std::string::npos ? lower : lower.substr(slash + 1);
+  for (const std::string& e : extensions)
+    if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0)
+      return "";
+  std::string list;
+  for (size_t i = 0; i < extensions.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == extensions.size() ? " or " : ", ") + extensions[i];
+  return "--" + flag + " " + path + ": expected a " + list + " file name";
+}
+
+bool SameFile(const std::string& a, const std::string& b) {
+  struct stat sa {}, sb {};
+  if (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0)
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  std::error_code ec1, ec2;
+  const auto pa = std::filesystem::weakly_canonical(a, ec1);
+  const auto pb = std::filesystem::weakly_canonical(b, ec2);
+  return !ec1 && !ec2 && pa == pb;
 }
 
 }  // namespace mimetic::tools

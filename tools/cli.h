@@ -27,6 +27,26 @@ ParsedArgs ParseArgs(const std::vector<std::string>& args, const std::set<std::s
 // Parses a whole string as a number in [lo, hi] (no trailing characters; NaN never passes).
 bool ParseNumber(const std::string& text, double lo, double hi, double* out);
 
+// Parses a whole string as an integer in [lo, hi]: optional sign and decimal digits only, so
+// "2.9", "2e3", "0x10" and " 2" are refused (a count flag never rounds).
+bool ParseInteger(const std::string& text, long long lo, long long hi, long long* out);
+
+// The exit codes (docs/errors.md): 0 done; 1 an input file (or writing an output) failed, with
+// messages naming the file and where in it; 2 the command line is wrong (unknown flag, bad
+// value, missing argument, an output name whose extension the command cannot write), found
+// before any file is read or written.
+inline constexpr int kExitInput = 1;
+inline constexpr int kExitUsage = 2;
+
+// "" when `path` ends in one of `extensions` (lower case, with the dot; compared
+// case-insensitively), else "--<flag> PATH: expected a .a or .b file name" for UsageError.
+std::string CheckOutputExtension(const std::string& flag, const std::string& path,
+                                 const std::vector<std::string>& extensions);
+
+// True when `a` and `b` name the same existing file (same device and inode), or the same path
+// once made absolute and normal; for refusing to overwrite an input with an output.
+bool SameFile(const std::string& a, const std::string& b);
+
 // Prints "mimetic <cmd>: <error>\n<usage>" to stderr and returns 2.
 int UsageError(const std::string& command, const std::string& error, const char* usage);
 

@@ -108,6 +108,10 @@ int CmdCompare(const Args& args) {
     return UsageError("compare",
                       "expected two meshes A and B, got " + std::to_string(parsed.positional.size()),
                       kCompareUsage);
+  if (parsed.Has("heatmap")) {
+    const std::string bad_ext = CheckOutputExtension("heatmap", parsed.Get("heatmap"), {".png"});
+    if (!bad_ext.empty()) return UsageError("compare", bad_ext, kCompareUsage);
+  }
   double heat_max = 0, yaw = 0, size = 800;
   if (parsed.Has("heatmap-max") && !ParseNumber(parsed.Get("heatmap-max"), 1e-30, 1e30, &heat_max))
     return UsageError("compare", "--heatmap-max '" + parsed.Get("heatmap-max") +

@@ -90,7 +90,7 @@ int CmdFit(const Args& args) {
   MeshData head;
   Diagnostics mesh_diag;
   const bool mesh_ok = ImportMesh(mesh_path, "", &head, &mesh_diag);
-  diag.Append(mesh_diag, mesh_diag.empty() || mesh_ok ? mesh_path : "");
+  diag.Append(mesh_diag, mesh_path);
   Landmarks landmarks;
   const bool lm_ok = LoadLandmarks(lm_path, &landmarks, &diag);
   if (!tmpl_ok || !mesh_ok || !lm_ok) return Fail(diag, "cannot read the inputs");

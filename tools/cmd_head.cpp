@@ -30,6 +30,8 @@ int CmdMakeHead(const Args& args) {
                       kHeadUsage);
   const std::string out = parsed.Get("out");
   if (out.empty()) return UsageError("make-head", "missing --out FILE", kHeadUsage);
+  const std::string bad_ext = CheckOutputExtension("out", out, {".obj", ".glb"});
+  if (!bad_ext.empty()) return UsageError("make-head", bad_ext, kHeadUsage);
   const std::string landmarks_path = parsed.Get("landmarks");
 
   const SampleHead head = MakeSampleHead();

@@ -55,6 +55,9 @@ int CmdRender(const Args& args) {
                       kRenderUsage);
   const std::string out = parsed.Get("out");
   if (out.empty()) return UsageError("render", "missing --out IMAGE.png", kRenderUsage);
+  // Only PNG is written: another extension would get PNG bytes under a misleading name.
+  const std::string bad_ext = CheckOutputExtension("out", out, {".png"});
+  if (!bad_ext.empty()) return UsageError("render", bad_ext, kRenderUsage);
   double yaw = 0, pitch = 0, size = 800;
   if (parsed.Has("yaw") && !ParseNumber(parsed.Get("yaw"), -3600, 3600, &yaw))
     return UsageError("render", "--yaw '" + parsed.Get("yaw") + "': expected degrees",
@@ -80,9 +83,11 @@ int CmdRender(const Args& args) {
   const int n = static_cast<int>(size);
   const int full = static_cast<int>(std::lround(std::min(8192.0, size * zoom)));
 
-  Diagnostics diag;
+  Diagnostics diag, local;
   MeshData mesh;
-  if (!ImportMesh(parsed.positional[0], "", &mesh, &diag)) {
+  const bool mesh_ok = ImportMesh(parsed.positional[0], "", &mesh, &local);
+  diag.Append(local, parsed.positional[0]);
+  if (!mesh_ok) {
     std::fputs(diag.Format().c_str(), stderr);
     return 1;
   }

@@ -41,7 +41,9 @@ const char* kEvalUsage =
     "options:\n"
     "  --set MUSCLE=VALUE      activation of one muscle (repeatable); a NAME without a muscle\n"
     "                          of its own sets NAME_L and NAME_R together\n"
-    "  --out FILE              output mesh: .obj or .glb\n"
+    "  --out FILE              output mesh: .obj or .glb (not one of the rig's inputs); .glb\n"
+    "                          is in metres (a root scale node over the rig's units), .obj\n"
+    "                          in the rig's units with v up (docs/errors.md)\n"
     "  --no-thickness          skip the volume-preserving thickness layer (docs/model.md §4)\n"
     "  --no-muscle-wrinkles    skip muscle-derived wrinkles (docs/model.md §6)\n"
     "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n";
@@ -178,13 +180,18 @@ int CmdEval(const Args& args) {
   if (!parsed.error.empty()) return UsageError("eval", parsed.error, kEvalUsage);
   const std::string out_path = parsed.Get("out");
   if (out_path.empty()) return UsageError("eval", "missing --out FILE", kEvalUsage);
-  const bool obj = out_path.size() > 4 && out_path.compare(out_path.size() - 4, 4, ".obj") == 0;
-  const bool glb = out_path.size() > 4 && out_path.compare(out_path.size() - 4, 4, ".glb") == 0;
-  if (!obj && !glb)
-    return UsageError("eval", "--out " + out_path + ": expected a .obj or .glb file name",
-                      kEvalUsage);
+  const std::string bad_ext = CheckOutputExtension("out", out_path, {".obj", ".glb"});
+  if (!bad_ext.empty()) return UsageError("eval", bad_ext, kEvalUsage);
   LoadedRig loaded;
   if (int rc = LoadFromArgs("eval", parsed, kEvalUsage, &loaded)) return rc;
+  // The posed mesh never replaces one of the rig's own inputs.
+  for (const std::string& input : {parsed.positional[0], loaded.spec.mesh_path,
+                                   loaded.spec.thickness.image_path}) {
+    if (!input.empty() && SameFile(out_path, input))
+      return UsageError("eval", "--out " + out_path + " is " + input +
+                                    ", an input of the rig; expected another file name",
+                        kEvalUsage);
+  }
   const Rig& rig = loaded.rig;
 
   std::vector<float> activations;
@@ -224,7 +231,8 @@ int CmdEval(const Args& args) {
   const std::string out_dir = DirectoryOf(out_path);
   std::error_code ec;
   if (!out_dir.empty()) std::filesystem::create_directories(out_dir, ec);
-  if (!ExportMesh(out_path, posed, &diag)) {
+  const double metres = MetresPerUnit(loaded.spec.units);
+  if (!ExportMesh(out_path, posed, &diag, metres > 0 ? metres : 0.001)) {
     PrintDiagnostics(diag);
     return 1;
   }

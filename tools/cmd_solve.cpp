@@ -56,6 +56,10 @@ int CmdSolve(const Args& args) {
                       kSolveUsage);
   if (!parsed.Has("target")) return UsageError("solve", "missing --target SHAPE", kSolveUsage);
   if (!parsed.Has("out")) return UsageError("solve", "missing --out EXPRESSION.json", kSolveUsage);
+  if (parsed.Has("posed")) {
+    const std::string bad_ext = CheckOutputExtension("posed", parsed.Get("posed"), {".obj", ".glb"});
+    if (!bad_ext.empty()) return UsageError("solve", bad_ext, kSolveUsage);
+  }
   SolveOptions options;
   options.mirror = parsed.flags.count("mirror") > 0;
   double v = 0;

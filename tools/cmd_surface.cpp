@@ -26,13 +26,23 @@ int CmdMakeSurface(const Args& args) {
     return UsageError("make-surface", "unexpected argument '" + parsed.positional[0] + "'", kUsage);
   const std::string out = parsed.Get("out");
   if (out.empty()) return UsageError("make-surface", "missing --out FILE", kUsage);
-  double columns = 41, rows = 41, width = 100, height = 100, bulge = 10;
+  const std::string bad_ext = CheckOutputExtension("out", out, {".obj", ".glb"});
+  if (!bad_ext.empty()) return UsageError("make-surface", bad_ext, kUsage);
+  long long columns = 41, rows = 41;
+  for (auto [key, value] : {std::pair<const char*, long long*>{"columns", &columns},
+                            std::pair<const char*, long long*>{"rows", &rows}}) {
+    if (parsed.Has(key) && !ParseInteger(parsed.Get(key), 2, 4096, value))
+      return UsageError("make-surface",
+                        std::string("--") + key + " '" + parsed.Get(key) +
+                            "': expected a whole number in [2, 4096]",
+                        kUsage);
+  }
+  double width = 100, height = 100, bulge = 10;
   struct {
     const char* key;
     double* value;
     double lo, hi;
-  } numbers[] = {{"columns", &columns, 2, 4096}, {"rows", &rows, 2, 4096},
-                 {"width", &width, 1e-6, 1e9},   {"height", &height, 1e-6, 1e9},
+  } numbers[] = {{"width", &width, 1e-6, 1e9}, {"height", &height, 1e-6, 1e9},
                  {"bulge", &bulge, -1e9, 1e9}};
   for (auto& n : numbers) {
     if (parsed.Has(n.key) && !ParseNumber(parsed.Get(n.key), n.lo, n.hi, n.value))

@@ -4,6 +4,7 @@
 # something is missing. Run as root (CI and the README's commands do).
 #   bash tools/install-deps.sh            # build + tests + benchmark
 #   bash tools/install-deps.sh --viewer   # also GLFW, Dear ImGui and Xvfb for the viewer
+#   bash tools/install-deps.sh --fuzz     # also clang and its libFuzzer runtime (fuzz/)
 set -euo pipefail
 
 # Why each is here (README "Dependencies"): the toolchain; nlohmann-json (the JSON reader),
@@ -19,6 +20,9 @@ packages=(
 )
 if [[ "${1:-}" == "--viewer" ]]; then
   packages+=(libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth)
+fi
+if [[ "${1:-}" == "--fuzz" ]]; then
+  packages+=(clang libclang-rt-14-dev)  # Debian 12's clang 14; the runtime holds libFuzzer
 fi
 
 missing=()

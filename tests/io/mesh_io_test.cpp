@@ -352,7 +352,8 @@ TEST(MeshImportObj, SeamQuadAndTriangle) {
   EXPECT_EQ(mesh.indices, indices);
   EXPECT_TRUE(mesh.normals.empty());  // OBJ normals are not imported
   ASSERT_EQ(mesh.uvs.size(), 6u);
-  const float expected_uv[6][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {1, 0}, {0.5f, 0.25f}};
+  // The file's vt, v flipped (OBJ's v runs up, MeshData's down: docs/errors.md).
+  const float expected_uv[6][2] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}, {1, 1}, {0.5f, 0.75f}};
   const float expected_pos[6][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},
                                     {0, 1, 0}, {2, 0.5f, 0}, {1, 0, 0}};
   for (int v = 0; v < 6; ++v) {
@@ -494,7 +495,7 @@ TEST(MeshBadInput, EveryCaseFailsWithAMessageNamingTheElement) {
          return WriteText(d + "/garbage.glb", std::string("\x01\x02garbage bytes, not a glb file") +
                                                   std::string(64, '\xff'));
        },
-       "invalid glTF"},
+       "not a GLB file: the first 4 bytes are not 'glTF'"},
       {"invalid JSON .gltf",
        [](const std::string& d) { return WriteText(d + "/bad.gltf", "{ \"asset\": [1, 2"); },
        "invalid glTF"},
