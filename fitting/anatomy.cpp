@@ -99,4 +99,30 @@ std::string CheckMuscleAnatomy(const MuscleAnatomy& a, const MuscleSpec& muscle,
   return "";
 }
 
+std::vector<MuscleRegion> DefaultMuscleRegions() {
+  std::vector<MuscleRegion> out;
+  for (const char* side : {"_L", "_R"}) {
+    const std::string s = side;
+    out.push_back({"brow" + s,
+                   {"frontalis_inner" + s, "frontalis_major" + s, "frontalis_outer" + s,
+                    "corrugator_supercilii" + s, "procerus" + s}});
+    out.push_back({"upper mouth" + s,
+                   {"nasalis" + s, "levator_labii_alaeque_nasi" + s, "zygomaticus_minor" + s,
+                    "zygomaticus_major" + s, "levator_labii_superioris" + s, "risorius" + s}});
+    out.push_back({"lower mouth" + s,
+                   {"risorius" + s, "depressor_anguli_oris" + s, "mentalis" + s,
+                    "depressor_labii_inferioris" + s, "buccinator" + s, "platysma" + s}});
+  }
+  out.push_back({"glabella (both sides)",
+                 {"frontalis_inner_L", "frontalis_inner_R", "corrugator_supercilii_L",
+                  "corrugator_supercilii_R", "procerus_L", "procerus_R"}});
+  out.push_back({"nose and upper lip (both sides)",
+                 {"nasalis_L", "nasalis_R", "levator_labii_alaeque_nasi_L",
+                  "levator_labii_alaeque_nasi_R", "zygomaticus_minor_L", "zygomaticus_minor_R"}});
+  out.push_back({"chin (both sides)",
+                 {"mentalis_L", "mentalis_R", "depressor_anguli_oris_L", "depressor_anguli_oris_R",
+                  "depressor_labii_inferioris_L", "depressor_labii_inferioris_R"}});
+  return out;
+}
+
 }  // namespace mimetic

@@ -51,4 +51,15 @@ std::string CheckMuscleAnatomy(const MuscleAnatomy& a, const MuscleSpec& muscle,
                                const FaceFrame& frame, float3 probe_position, float3 normal,
                                float min_fraction = 0.05f);
 
+// Groups of muscles that act on the same skin (docs/model.md §16): one brow, the upper and the
+// lower mouth of one side, and across the midline the glabella, the nose and upper lip and the
+// chin. Every combination of a group's muscles at 0 or 1 must leave every triangle the right
+// way up; the fold-over tests sample these corners and `mimetic calibrate` refuses a change
+// that breaks one.
+struct MuscleRegion {
+  std::string name;
+  std::vector<std::string> muscles;
+};
+std::vector<MuscleRegion> DefaultMuscleRegions();
+
 }  // namespace mimetic

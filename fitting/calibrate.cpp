@@ -116,6 +116,166 @@ TemplateMuscle MirrorOf(const TemplateMuscle& src, const std::string& name) {
   return c;
 }
 
+// A head on which every change must keep the anatomy (fitting/anatomy.h) and leave every
+// triangle the right way up (docs/model.md §16): the training head and the options' others.
+class ConstraintHead {
+ public:
+  ConstraintHead(const CalibrationHead& h, bool check_anatomy)
+      : head_(h), check_anatomy_(check_anatomy) {}
+
+  bool Init(const MuscleTemplate& t, Diagnostics* diag) {
+    const MeshData& mesh = *head_.mesh;
+    if (!ResolveLandmarks(*head_.landmarks, mesh, &lm_, diag) || !ComputeFaceFrame(lm_, &frame_, diag))
+      return false;
+    normals_ = ComputeVertexNormals(mesh, VertexNormalOptions{.share_by_position = true});
+    for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3)
+      tri_normals_.push_back(TriangleNormal(mesh.positions[mesh.indices[k]],
+                                            mesh.positions[mesh.indices[k + 1]],
+                                            mesh.positions[mesh.indices[k + 2]], {0, 0, 0}));
+    for (const MuscleRegion& r : DefaultMuscleRegions()) {
+      std::vector<size_t> members;
+      for (const std::string& name : r.muscles)
+        for (size_t k = 0; k < t.muscles.size(); ++k)
+          if (t.muscles[k].name == name) members.push_back(k);
+      if (!members.empty()) regions_.push_back({r.name, members});
+    }
+    columns_.assign(t.muscles.size(), {});
+    for (size_t i = 0; i < t.muscles.size(); ++i) {
+      if (t.muscles[i].mirrored_copy) continue;
+      std::vector<std::vector<float>> cols;
+      const std::string why = Fit(t, i, &cols);
+      if (!why.empty()) return diag->Error(head_.name + ": " + t.muscles[i].name, why), false;
+      Commit(t, i, cols);
+    }
+    for (size_t i = 0; i < t.muscles.size(); ++i) {
+      if (t.muscles[i].mirrored_copy) continue;
+      const std::string why = Folds(t, i, nullptr);
+      if (!why.empty()) return diag->Error(head_.name + ": " + t.muscles[i].name, why), false;
+    }
+    return true;
+  }
+
+  // Fits source muscle i of `t` (and its copy) here; "" and their columns, or why not.
+  std::string Check(const MuscleTemplate& t, size_t i, std::vector<std::vector<float>>* cols) const {
+    std::string why = Fit(t, i, cols);
+    if (why.empty()) why = Folds(t, i, cols);
+    return why.empty() ? "" : head_.name + ": " + why;
+  }
+
+  void Commit(const MuscleTemplate& t, size_t i, const std::vector<std::vector<float>>& cols) {
+    const std::vector<size_t> changed = Changed(t, i);
+    for (size_t k = 0; k < changed.size() && k < cols.size(); ++k) columns_[changed[k]] = cols[k];
+  }
+
+ private:
+  static std::vector<size_t> Changed(const MuscleTemplate& t, size_t i) {
+    std::vector<size_t> c{i};
+    if (i + 1 < t.muscles.size() && t.muscles[i + 1].mirrored_copy) c.push_back(i + 1);
+    return c;
+  }
+
+  std::string Fit(const MuscleTemplate& t, size_t i, std::vector<std::vector<float>>* cols) const {
+    MuscleTemplate one;
+    for (size_t k : Changed(t, i)) one.muscles.push_back(t.muscles[k]);
+    RigSpec spec;
+    FitReport report;
+    Diagnostics diag;
+    if (!FitTemplate(one, *head_.mesh, *head_.landmarks, "mm", &spec, &diag, &report))
+      return "does not fit: " + diag.Format();
+    const MeshData& mesh = *head_.mesh;
+    cols->assign(spec.muscles.size(), std::vector<float>(3 * mesh.vertex_count(), 0.f));
+    for (size_t k = 0; k < spec.muscles.size(); ++k) {
+      const MuscleSpec& ms = spec.muscles[k];
+      if (check_anatomy_) {
+        if (const MuscleAnatomy* a = FindMuscleAnatomy(ms.name)) {
+          const AnatomyProbe probe = FindAnatomyProbe(*a, ms.name, mesh, lm_, report.points);
+          if (probe.found) {
+            const std::string why = CheckMuscleAnatomy(*a, ms, frame_, mesh.positions[probe.vertex],
+                                                       normals_[probe.vertex], 0.08f);
+            if (!why.empty()) return why;
+          }
+        }
+      }
+      std::vector<float>& col = (*cols)[k];
+      for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+        const float3 d = ApplyMuscleMotion(MuscleDisplacement(ms, mesh.positions[v], ms.strength),
+                                           normals_[v], ms.motion);
+        col[3 * v] = d.x, col[3 * v + 1] = d.y, col[3 * v + 2] = d.z;
+      }
+    }
+    return "";
+  }
+
+  // Every corner of each region that holds a changed muscle, over the
+  // triangles a changed muscle moves: dot(n_posed, n_rest) must stay above 0.1.
+  std::string Folds(const MuscleTemplate& t, size_t i, const std::vector<std::vector<float>>* fresh) const {
+    constexpr float kMinDot = 0.1f;
+    const MeshData& mesh = *head_.mesh;
+    const std::vector<size_t> changed = Changed(t, i);
+    auto column = [&](size_t k) -> const std::vector<float>& {
+      if (fresh)
+        for (size_t c = 0; c < changed.size() && c < fresh->size(); ++c)
+          if (changed[c] == k) return (*fresh)[c];
+      return columns_[k];
+    };
+    std::vector<uint32_t> tris;
+    for (size_t tri = 0; tri < tri_normals_.size(); ++tri) {
+      bool touched = false;
+      for (int c = 0; c < 3 && !touched; ++c) {
+        const size_t v = mesh.indices[3 * tri + size_t(c)];
+        for (size_t k : changed) {
+          const std::vector<float>& col = column(k);
+          touched |= !col.empty() && (col[3 * v] != 0.f || col[3 * v + 1] != 0.f || col[3 * v + 2] != 0.f);
+        }
+      }
+      if (touched) tris.push_back(uint32_t(tri));
+    }
+    std::vector<std::pair<std::string, std::vector<size_t>>> sets;
+    for (const auto& r : regions_) {
+      bool holds = false;
+      for (size_t k : r.second)
+        for (size_t c : changed) holds |= k == c;
+      if (!holds || r.second.size() > 10) continue;
+      for (uint32_t mask = 1; mask < (1u << r.second.size()); ++mask) {
+        std::vector<size_t> set;
+        for (size_t b = 0; b < r.second.size(); ++b)
+          if (mask & (1u << b)) set.push_back(r.second[b]);
+        sets.push_back({r.first, set});
+      }
+    }
+    for (const auto& [where, set] : sets) {
+      for (uint32_t tri : tris) {
+        float3 p[3];
+        for (int c = 0; c < 3; ++c) {
+          const size_t v = mesh.indices[3 * size_t(tri) + size_t(c)];
+          p[c] = mesh.positions[v];
+          for (size_t k : set) {
+            const std::vector<float>& col = column(k);
+            if (!col.empty()) p[c] += float3{col[3 * v], col[3 * v + 1], col[3 * v + 2]};
+          }
+        }
+        const float dot = Dot(TriangleNormal(p[0], p[1], p[2], {0, 0, 0}), tri_normals_[tri]);
+        if (Length(tri_normals_[tri]) > 0.f && !(dot > kMinDot)) {
+          std::string names;
+          for (size_t k : set) names += (names.empty() ? "" : "+") + t.muscles[k].name;
+          char buf[160];
+          std::snprintf(buf, sizeof buf, " at 1 (%s) turns triangle %u over or nearly (normal dot "
+                        "%.3f <= %.1f; docs/model.md §16)", where.c_str(), tri, double(dot), double(kMinDot));
+          return names + buf;
+        }
+      }
+    }
+    return "";
+  }
+
+  CalibrationHead head_;
+  bool check_anatomy_;
+  std::vector<float3> lm_, normals_, tri_normals_;
+  FaceFrame frame_;
+  std::vector<std::pair<std::string, std::vector<size_t>>> regions_;
+  std::vector<std::vector<float>> columns_;
+};
+
 class Calibrator {
  public:
   Calibrator(const MeshData& head, const Landmarks& landmarks, const CalibrationOptions& options)
@@ -151,11 +311,6 @@ class Calibrator {
       }
       targets_.push_back(std::move(t));
     }
-    rest_normals_.clear();
-    for (size_t t = 0; t + 2 < head_.indices.size(); t += 3)
-      rest_normals_.push_back(TriangleNormal(head_.positions[head_.indices[t]],
-                                             head_.positions[head_.indices[t + 1]],
-                                             head_.positions[head_.indices[t + 2]], {0, 0, 0}));
     tmpl_ = tmpl;
     const size_t m = tmpl_.muscles.size();
     columns_.assign(m, std::vector<double>(3 * n, 0.0));
@@ -167,11 +322,10 @@ class Calibrator {
       if (!Columns(i, tmpl_, &cols, &why, diag)) return false;
       Store(i, cols);
     }
-    for (size_t i = 0; i < m; ++i) {
-      if (tmpl_.muscles[i].mirrored_copy) continue;
-      const std::string fold = FoldOver(i);
-      if (!fold.empty()) return diag->Error(tmpl_.muscles[i].name, fold), false;
-    }
+    heads_.emplace_back(CalibrationHead{"the training head", &head_, &landmarks_}, false);
+    for (const CalibrationHead& h : options_.check_heads) heads_.emplace_back(h, h.anatomy);
+    for (ConstraintHead& h : heads_)
+      if (!h.Init(tmpl_, diag)) return false;
     return true;
   }
 
@@ -201,16 +355,18 @@ class Calibrator {
       *anatomy_refused = !why.empty();
       return INFINITY;
     }
+    for (const ConstraintHead& h : heads_) {
+      std::vector<std::vector<float>> head_cols;
+      if (!h.Check(t, i, &head_cols).empty()) {
+        *anatomy_refused = true;
+        return INFINITY;
+      }
+    }
     const auto saved_g = Snapshot();
     const auto saved_cols = Pair(i);
-    const MuscleTemplate saved_tmpl = tmpl_;
-    tmpl_ = t;
     Store(i, cols);
-    const bool folds = !FoldOver(i).empty();
-    const double obj = folds ? INFINITY : Objective(nullptr);
-    tmpl_ = saved_tmpl;
+    const double obj = Objective(nullptr);
     Restore(saved_g, i, saved_cols);
-    *anatomy_refused = folds;
     return obj;
   }
 
@@ -222,57 +378,16 @@ class Calibrator {
     Diagnostics quiet;
     Columns(i, tmpl_, &cols, &why, &quiet);
     Store(i, cols);
+    for (ConstraintHead& h : heads_) {
+      std::vector<std::vector<float>> head_cols;
+      h.Check(tmpl_, i, &head_cols);
+      h.Commit(tmpl_, i, head_cols);
+    }
   }
 
   const MuscleTemplate& current() const { return tmpl_; }
 
  private:
-  // docs/model.md §16: the muscles of source muscle i at activation 1 must not turn a triangle
-  // of the head over (nor near it: dot(n_posed, n_rest) must stay above kMinDot = 0.1): the muscle alone, its
-  // mirror copy alone, every muscle of each side together, and every muscle. Returns what
-  // folds, or "".
-  std::string FoldOver(size_t i) const {
-    constexpr float kMinDot = 0.1f;
-    std::vector<std::vector<size_t>> sets;
-    sets.push_back({i});
-    const size_t c = CopyOf(tmpl_, i);
-    if (c != size_t(-1)) sets.push_back({c});
-    std::vector<size_t> left, right, all;
-    for (size_t k = 0; k < tmpl_.muscles.size(); ++k) {
-      all.push_back(k);
-      if (EndsWith(tmpl_.muscles[k].name, "_L")) left.push_back(k);
-      if (EndsWith(tmpl_.muscles[k].name, "_R")) right.push_back(k);
-    }
-    sets.push_back(left);
-    sets.push_back(right);
-    sets.push_back(all);
-    const size_t n = head_.vertex_count();
-    std::vector<float3> posed(n);
-    for (const std::vector<size_t>& set : sets) {
-      for (size_t v = 0; v < n; ++v) {
-        double d[3] = {0, 0, 0};
-        for (size_t k : set)
-          for (int a = 0; a < 3; ++a) d[a] += columns_[k][3 * v + size_t(a)];
-        posed[v] = head_.positions[v] + float3{float(d[0]), float(d[1]), float(d[2])};
-      }
-      for (size_t t = 0; t < rest_normals_.size(); ++t) {
-        const uint32_t* tri = &head_.indices[3 * t];
-        const float3 np = TriangleNormal(posed[tri[0]], posed[tri[1]], posed[tri[2]], {0, 0, 0});
-        if (Length(rest_normals_[t]) > 0.f && Dot(np, rest_normals_[t]) <= kMinDot) {
-          char buf[256];
-          std::snprintf(buf, sizeof buf,
-                        "at activation 1 (%s) turns triangle %zu over or nearly (normal dot %.3f "
-                        "<= %.2f; docs/model.md §16)",
-                        set.size() == 1 ? tmpl_.muscles[set[0]].name.c_str()
-                                        : (set.size() == all.size() ? "every muscle" : "one side's muscles"),
-                        t, double(Dot(np, rest_normals_[t])), double(kMinDot));
-          return buf;
-        }
-      }
-    }
-    return "";
-  }
-
   // Index of the mirrored copy of source muscle i, or npos.
   size_t CopyOf(const MuscleTemplate& t, size_t i) const {
     return i + 1 < t.muscles.size() && t.muscles[i + 1].mirrored_copy ? i + 1 : size_t(-1);
@@ -398,7 +513,8 @@ class Calibrator {
   const MeshData& head_;
   const Landmarks& landmarks_;
   const CalibrationOptions& options_;
-  std::vector<float3> lm_, normals_, rest_normals_;
+  std::vector<float3> lm_, normals_;
+  std::vector<ConstraintHead> heads_;
   FaceFrame frame_;
   std::vector<Target> targets_;
   MuscleTemplate tmpl_;
@@ -532,7 +648,20 @@ bool CalibrateTemplate(const MuscleTemplate& seed, const MeshData& head,
     if (accepted == 0) break;
   }
   rep.objective_after = c.Objective(&rep.score_after);
-  if (out) *out = c.current();
+  // A wrinkle region starts at lambda_w R from the attachment (docs/model.md §6; R = Rf or Ls):
+  // keep that distance as the seed has it (the frontalis regions line up across the forehead),
+  // whatever R the search chose. The wrinkles do not enter the muscles-alone score.
+  MuscleTemplate result = c.current();
+  for (size_t i = 0; i < result.muscles.size(); ++i) {
+    TemplateMuscle& m = result.muscles[i];
+    const TemplateMuscle& s = seed.muscles[i];
+    if (!m.wrinkles || !s.wrinkles) continue;
+    const bool linear = m.type == MuscleType::kLinear;
+    const double r_seed = linear ? s.falloff_end : s.length, r_now = linear ? m.falloff_end : m.length;
+    if (r_now > 0.0)
+      m.wrinkles->lambda_w = float(std::clamp(s.wrinkles->lambda_w * r_seed / r_now, 0.0, 0.95));
+  }
+  if (out) *out = result;
   if (report) *report = rep;
   return true;
 }

@@ -16,7 +16,9 @@
 // `offset_reach` of the seed's, lengths and strengths within fixed factors), attachments stay
 // at least `min_attachment_depth` under the skin and deeper than the insertion, insertions
 // stay within `max_insertion_depth` of it, and a change is refused when the muscle no longer
-// moves its probe point the way fitting/anatomy.h says.
+// moves its probe point the way fitting/anatomy.h says, or when some combination of the
+// muscles of a region (fitting/anatomy.h) at 0 or 1, or every muscle at 1, turns a triangle
+// over (docs/model.md §16), on the training head and on every head of `check_heads`.
 #pragma once
 
 #include <functional>
@@ -35,8 +37,16 @@ struct CalibrationShape {
   const MeshData* mesh = nullptr;  // same vertices and triangles as the neutral head
 };
 
+// Another head the constraints must hold on (its muscles are fitted and checked, not scored).
+struct CalibrationHead {
+  std::string name;
+  const MeshData* mesh = nullptr;
+  const Landmarks* landmarks = nullptr;
+  bool anatomy = true;  // check the anatomy table here too (false: the fold-over rule only)
+};
+
 struct CalibrationOptions {
-  int passes = 8;                 // coordinate-search sweeps over every parameter
+  int passes = 3;                 // coordinate-search sweeps over every parameter
   float region_fraction = 0.02f;  // of the shape's largest motion
   float outside_weight = 0.25f;
   float offset_reach = 0.2f;      // units of s, around the seed's offsets
@@ -44,6 +54,9 @@ struct CalibrationOptions {
   float max_insertion_depth = 0.04f;   // units of s
   bool calibrate_motion = true;   // also try each muscle's other motion (chord / tangent)
   std::vector<std::string> muscles;  // source muscle names to change; empty = every muscle
+  // Heads besides the training head on which every change must keep the anatomy and the
+  // fold-over rule (the sample head, MakeHuman): the calibrated template must generalise.
+  std::vector<CalibrationHead> check_heads;
   std::function<void(const std::string&)> progress;  // one line per accepted change / pass
 };
 

@@ -51,7 +51,7 @@ std::string TemplateText(float zyg_strength, float zyg_insertion_dy, float dao_a
        "falloff": "smooth",
        "attachment": {"landmarks": [10, 11], "offset": [-0.03, 0.04], "depth": %g},
        "insertion": {"landmarks": [54], "offset": [0.02, -0.03], "depth": 0.02},
-       "zone_angle_deg": 30, "falloff_start": 0.26, "falloff_end": 0.45}]})",
+       "zone_angle_deg": 40, "falloff_start": 0.3, "falloff_end": 0.6}]})",
                 double(zyg_strength), double(zyg_insertion_dy), double(dao_attachment_depth));
   return buf;
 }
@@ -151,6 +151,21 @@ TEST(Calibrate, RefusesASeedWhoseMusclePullsAgainstItsAnatomy) {
                                  &out, nullptr, &diag));
   EXPECT_TRUE(diag.Contains("zygomaticus_major_L pulls the mouth corner up and out, but moves its probe"))
       << diag.Format();
+}
+
+// docs/model.md §16: a muscle strong enough to push the mouth corner through its neighbours
+// turns triangles over; the calibration refuses such a seed, naming the muscles and triangle.
+TEST(Calibrate, RefusesASeedThatTurnsATriangleOver) {
+  const MuscleTemplate seed = Parse(TemplateText(0.9f, 0.f, 0.05f));
+  const MuscleTemplate truth = Parse(TemplateText(0.08f, 0.f, 0.05f));
+  const MeshData smile = Pose(truth, {0.8f, 0.f, 0.f, 0.f});
+  CalibrationOptions options;
+  MuscleTemplate out;
+  Diagnostics diag;
+  EXPECT_FALSE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), {{"smile", &smile}}, options,
+                                 &out, nullptr, &diag));
+  EXPECT_TRUE(diag.Contains("zygomaticus_major_L")) << diag.Format();
+  EXPECT_TRUE(diag.Contains("over or nearly (normal dot")) << diag.Format();
 }
 
 TEST(Calibrate, BadInputsAreNamed) {
