@@ -12,6 +12,14 @@ namespace mimetic::test {
 
 std::string SourceDir() { return MIMETIC_SOURCE_DIR; }
 
+bool Sanitized() {
+#ifdef MIMETIC_TEST_SANITIZED
+  return true;
+#else
+  return false;
+#endif
+}
+
 std::string SharedDir() {
   std::error_code ec;
   const std::filesystem::path p = std::filesystem::weakly_canonical(MIMETIC_SHARED_DIR, ec);

@@ -10,6 +10,8 @@ namespace mimetic::test {
 std::string SourceDir();
 // ../shared beside the repository, or "" when it is absent (tests then GTEST_SKIP with a message).
 std::string SharedDir();
+// True in the sanitizer build (MIMETIC_SANITIZE): slow sweeps sample fewer cases there.
+bool Sanitized();
 // A fresh, empty temporary directory for this test (removed by nothing; under /tmp).
 std::string TempDir();
 

@@ -1,6 +1,7 @@
 #include "rig/runtime/evaluate_job.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "expressions/runtime/activations.h"
@@ -27,6 +28,14 @@ void EvaluateContext::Resize(const Rig& rig) {
   point_sums_.assign(point_count_, float4{});
   edge_lengths_.assign(t.edge_count(), 0.f);
   wrinkle_offsets_.assign(point_count_, 0.f);
+  thickness_a_.assign(point_count_ + 1, 0.f);  // static points keep 0 (r = 1 there)
+  thickness_b_.assign(point_count_ + 1, 0.f);
+  skin_base_.assign(point_count_, float3{});
+  skin_full_.assign(point_count_, float3{});
+  limit_levels_.assign(point_count_, 0);
+  fold_limits_.assign(triangle_count_, 0.f);
+  limit_flags_.assign(point_count_, 0);
+  limited_points_ = limiter_passes_ = 0;
   if (!rig.tables_checked()) return;  // IsFor refuses it; nothing below is safe to read
   // Rest values everywhere: a frame rewrites only the leading ranges that can change
   // (Rig::active()); the rest keep these.
@@ -48,7 +57,7 @@ static size_t Bytes(const std::vector<T>& v) {
 size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
          Bytes(point_ratios_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
-         Bytes(wrinkle_offsets_);
+         Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_);
 }
 
 size_t RequiredFloats(size_t count, size_t stride_bytes) {
@@ -180,6 +189,14 @@ struct FrameState {
   float4* sums;                    // #P gathered face slots (context)
   float* edge_lengths;             // RigTables::edge_count() (context)
   float* wrinkle_offsets;          // #P (context)
+  bool limit_folds;                // StageLimit runs (job.limit_folds and a skin layer ran)
+  float* thickness_a;              // #P (context)
+  float* thickness_b;              // #P (context)
+  float3* skin_base;               // #P: X1 (context), written by StageDisplace when limiting
+  float3* skin_full;               // #P: X3 before the limiter (context)
+  uint8_t* limit_levels;           // #P (context)
+  float* fold_limits;              // #T (context)
+  uint8_t* limit_flags;            // #P (context; 0 past the active points)
   const uint32_t* point_tri_offsets;  // Rig::point_triangle_offsets
   const uint32_t* point_tris;         // Rig::point_triangles
 };
@@ -219,6 +236,107 @@ void StageStrain(const FrameState& f) {
       EdgeLengths(points, pairs, b, e, lengths);
     });
   }
+}
+
+// One Jacobi pass of the thickness slope limit for point p: with t = in[p] > 0, the result is
+// max(0, min(t, min_q (in[q] + g L_pq))) over the corners q of p's triangles (L_pq the edge
+// length at X1); with t < 0, the mirror image. Only lowers magnitudes and never changes a sign,
+// so a peak (a pinched one-ring whose r is near r_min) comes down to its neighbours plus the
+// slope, and flat or gently sloped offsets keep their bits. The square root is taken only for
+// a neighbour that binds.
+inline float SlopeLimitPoint(const float* in, const float3* x, const uint32_t* off,
+                             const uint32_t* tri, const uint32_t* triangles, uint32_t p) {
+  const float t = in[p];
+  if (t == 0.f) return t;
+  const float g = kOffsetSlope;
+  float out = t;
+  const float3 xp = x[p];
+  for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+    const uint32_t* c = triangles + 3 * size_t(tri[k]);
+    for (int j = 0; j < 3; ++j) {
+      const uint32_t q = c[j];
+      if (q == p) continue;
+      const float gap = t > 0.f ? out - in[q] : in[q] - out;  // how far p sits beyond q
+      if (!(gap > 0.f)) continue;
+      const float3 e = x[q] - xp;
+      const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
+      if (gap * gap <= g * g * l2) continue;
+      const float bound = g * std::sqrt(l2);
+      out = t > 0.f ? in[q] + bound : in[q] - bound;
+    }
+  }
+  return t > 0.f ? std::max(out, 0.f) : std::min(out, 0.f);
+}
+
+// The skin offset of each active point with the fold limiter on: d_p = t_p + w_p (t the
+// thickness term (1/max(r, r_min) - 1) h, w the wrinkle sum), then bounded by the local radius
+// of curvature of X1: |d_p| <= kOffsetCurvature * min_q L_pq / |N_p - N_q| over the corners q
+// of p's triangles (unit normals N of X1). An offset surface folds where the offset exceeds the
+// radius of curvature on the concave side; the bound keeps it a fraction of it on either side.
+// Then the thickness-style slope limit (SlopeLimitPoint) smooths the steps the bound leaves.
+// The one offset per point DisplaceAlongNormals then adds (with h = null).
+const float* LimitedOffsets(const FrameState& f, const float* h, const float* extra) {
+  const Rig& r = f.rig;
+  const uint32_t count = r.active_point_count();
+  const float min_ratio = r.min_area_ratio();
+  float* a = f.thickness_a;
+  float* b = f.thickness_b;
+  float3* unit = f.skin_full;  // scratch here; StageLimit rewrites it before reading it
+  ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+    for (uint32_t p = lo; p < hi; ++p) {
+      unit[p] = UnitNormal(f.sums[p]);
+      float d = h ? ThicknessOffset(f.ratios[p], h[p], min_ratio) : 0.f;
+      if (extra) d += extra[p];
+      a[p] = d;
+    }
+  });
+  const uint32_t* triangles = r.triangles().data();
+  const uint32_t* off = f.point_tri_offsets;
+  const uint32_t* tri = f.point_tris;
+  const float3* rest_normals = f.tables.rest_point_normals.data();
+  ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+    for (uint32_t p = lo; p < hi; ++p) {
+      const float d = a[p];
+      if (d == 0.f) {
+        b[p] = 0.f;
+        continue;
+      }
+      // min over q of L^2 / |dN|^2, compared without division
+      const float3 xp = f.points[p], np = unit[p];
+      float best_l2 = 1.f, best_n2 = 0.f;  // ratio best_l2 / best_n2 (infinite at first)
+      for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+        const uint32_t* c = triangles + 3 * size_t(tri[k]);
+        for (int j = 0; j < 3; ++j) {
+          const uint32_t q = c[j];
+          if (q == p) continue;
+          const float3 nq = q < count ? unit[q] : rest_normals[q];
+          const float3 dn = nq - np, e = f.points[q] - xp;
+          const float n2 = (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
+          const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
+          if (l2 * best_n2 < best_l2 * n2) {
+            best_l2 = l2;
+            best_n2 = n2;
+          }
+        }
+      }
+      const float c2 = kOffsetCurvature * kOffsetCurvature;
+      if (best_n2 > 0.f && d * d * best_n2 > c2 * best_l2) {
+        const float bound = kOffsetCurvature * std::sqrt(best_l2 / best_n2);
+        b[p] = d > 0.f ? bound : -bound;
+      } else {
+        b[p] = d;
+      }
+    }
+  });
+  std::swap(a, b);
+  for (uint32_t pass = 0; pass < kOffsetSlopePasses; ++pass) {
+    ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+      for (uint32_t p = lo; p < hi; ++p)
+        b[p] = SlopeLimitPoint(a, f.points, off, tri, triangles, p);
+    });
+    std::swap(a, b);
+  }
+  return a;
 }
 
 // Per point: N1 and r from its triangles (docs/model.md §1 step 2, §4), then one displacement
@@ -295,9 +413,123 @@ void StageDisplace(const FrameState& f) {
   }
   const float* h = f.thickness ? r.point_thickness().data() : nullptr;
   const float* extra = f.wrinkles() ? f.wrinkle_offsets : nullptr;
+  if (f.limit_folds) {
+    extra = LimitedOffsets(f, h, extra);
+    h = nullptr;
+  }
+  float3* base = f.limit_folds ? f.skin_base : nullptr;
   ParallelFor(f.job, r.active_point_count(), [&](uint32_t b, uint32_t e) {
+    if (base) std::copy(f.points + b, f.points + e, base + b);  // X1, for StageLimit
     DisplaceAlongNormals(sums, f.ratios, h, r.min_area_ratio(), extra, b, e, f.points);
   });
+}
+
+// The cosine of a triangle's current normal against its rest normal.
+inline float CosToRest(const float4& a, const float4& q) {
+  const float lq = (q.x * q.x + q.y * q.y) + q.z * q.z;
+  const float la = (a.x * a.x + a.y * a.y) + a.z * a.z;
+  const float d = (a.x * q.x + a.y * q.y) + a.z * q.z;
+  if (!(lq > 0.f)) return 1.f;  // degenerate rest triangle: never counts
+  // A collapsed triangle counts as 0; a non-finite one stays NaN (never flagged: the limiter
+  // does not hide an evaluation that overflowed, the offline guard CheckPosedFinite names it).
+  return la == 0.f ? 0.f : d / std::sqrt(la * lq);
+}
+
+// True when the cosine between a triangle's current normal `a` (unnormalised) and its rest
+// normal `q` is below `limit` (a collapsed triangle counts as cosine 0). A degenerate rest
+// triangle (zero normal) never counts.
+inline bool CosBelow(const float4& a, const float4& q, float limit) {
+  const float lq = (q.x * q.x + q.y * q.y) + q.z * q.z;
+  if (!(lq > 0.f)) return false;
+  return CosToRest(a, q) < limit;
+}
+
+// docs/model.md §16, the fold limiter. The skin layers move each point along N1 (X3 = X1 +
+// d N1); where the muscles crease the skin, offsets along normals that turn fast fold the
+// surface. LimitedOffsets bounds the offsets first; what still folds is caught here. Pass
+// after pass: face normals of the current points; a point is flagged when one of its
+// triangles is below its limit (kFoldLimitDot against rest, or X1's own cosine where the
+// muscles already went below it); every flagged point and its one-ring move back toward X1
+// (half of the offset, a quarter, an eighth, then none from kFoldLimitCutLevel on); stop when
+// a pass flags nothing, or after kFoldLimitPasses. Each point reads only the face slots and
+// flags of the previous phase and writes only itself, so the result does not depend on how
+// parallel_for splits the work. Points never reduced keep their bits.
+// Returns true when the face slots hold the normals of the final points.
+bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
+  const Rig& r = f.rig;
+  const uint32_t count = r.active_point_count();
+  std::fill(f.limit_levels, f.limit_levels + count, uint8_t{0});
+  const float4* rest = f.tables.rest_faces.data();
+  // Each triangle's limit: kFoldLimitDot, or below X1's own cosine where the muscles already
+  // brought it closer to turning over (the skin layers may not make it worse; X1 keeps it).
+  float* limits = f.fold_limits;
+  ParallelFor(f.job, r.active_triangle_count(), [&](uint32_t b, uint32_t e) {
+    for (uint32_t t = b; t < e; ++t) {
+      const float c = CosToRest(f.faces[t], rest[t]);
+      limits[t] = c > kFoldLimitDot ? kFoldLimitDot : c - 1e-4f;
+    }
+  });
+  uint32_t first_total = 0, pass = 0;
+  bool current = false;
+  while (pass < kFoldLimitPasses) {
+    FaceNormalsOfActive(f, false);
+    ++pass;
+    std::atomic<uint32_t> flagged{0}, first{0};
+    const uint32_t* off = f.point_tri_offsets;
+    const uint32_t* tri = f.point_tris;
+    const uint32_t* triangles = r.triangles().data();
+    uint8_t* flags = f.limit_flags;
+    // Flag the points with a triangle below its limit.
+    ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
+      const float4* faces = f.faces;
+      uint32_t n = 0;
+      for (uint32_t p = b; p < e; ++p) {
+        bool bad = false;
+        for (uint32_t k = off[p]; k < off[p + 1] && !bad; ++k)
+          bad = CosBelow(faces[tri[k]], rest[tri[k]], limits[tri[k]]);
+        flags[p] = bad;
+        n += bad;
+      }
+      flagged.fetch_add(n, std::memory_order_relaxed);
+    });
+    if (flagged.load() == 0) {
+      current = true;
+      break;
+    }
+    // Reduce the offset of every flagged point and of its one-ring (so the reduction spreads
+    // as a ramp instead of a step next to points that keep their offset).
+    ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
+      uint32_t n_first = 0;
+      for (uint32_t p = b; p < e; ++p) {
+        uint8_t level = f.limit_levels[p];
+        if (level >= kFoldLimitCutLevel) continue;  // already at X1
+        bool near = flags[p] != 0;
+        for (uint32_t k = off[p]; k < off[p + 1] && !near; ++k) {
+          const uint32_t* c = triangles + 3 * size_t(tri[k]);
+          near = flags[c[0]] | flags[c[1]] | flags[c[2]];
+        }
+        if (!near) continue;
+        if (level == 0) {
+          f.skin_full[p] = f.points[p];
+          ++n_first;
+        }
+        f.limit_levels[p] = ++level;
+        if (level >= kFoldLimitCutLevel) {
+          f.points[p] = f.skin_base[p];
+        } else {
+          const float s = 1.f / float(1u << level);  // a power of two: exact
+          const float3 x1 = f.skin_base[p], x3 = f.skin_full[p];
+          f.points[p] = float3{x1.x + (x3.x - x1.x) * s, x1.y + (x3.y - x1.y) * s,
+                               x1.z + (x3.z - x1.z) * s};
+        }
+      }
+      first.fetch_add(n_first, std::memory_order_relaxed);
+    });
+    first_total += first.load();
+  }
+  *limited = first_total;
+  *passes = pass;
+  return current;
 }
 
 // Face normals of the final points (the per-point gather happens in StageOutputs).
@@ -339,7 +571,7 @@ bool EvaluateJob::Run() const {
   const Rig& r = *rig;
   const RigTables& t = r.tables();
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
-  const FrameState f{
+  FrameState f{
       .job = *this,
       .rig = r,
       .tables = t,
@@ -357,17 +589,29 @@ bool EvaluateJob::Run() const {
       .sums = ctx.point_sums_.data(),
       .edge_lengths = ctx.edge_lengths_.data(),
       .wrinkle_offsets = ctx.wrinkle_offsets_.data(),
+      .limit_folds = false,
+      .thickness_a = ctx.thickness_a_.data(),
+      .thickness_b = ctx.thickness_b_.data(),
+      .skin_base = ctx.skin_base_.data(),
+      .skin_full = ctx.skin_full_.data(),
+      .limit_levels = ctx.limit_levels_.data(),
+      .fold_limits = ctx.fold_limits_.data(),
+      .limit_flags = ctx.limit_flags_.data(),
       .point_tri_offsets = r.point_triangle_offsets().data(),
       .point_tris = r.point_triangles().data(),
   };
+  f.limit_folds = limit_folds && f.skin();
+  ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
+  bool faces_current = false;
   if (f.skin()) {
     StageStrain(f);
     StageDisplace(f);
+    if (f.limit_folds) faces_current = StageLimit(f, &ctx.limited_points_, &ctx.limiter_passes_);
   } else {
     std::fill(f.ratios, f.ratios + r.active_point_count(), 1.f);  // r = 1: no skin layer ran
   }
-  if (f.normals) StageNormals(f);
+  if (f.normals && !faces_current) StageNormals(f);
   StageOutputs(f);
   return true;
 }

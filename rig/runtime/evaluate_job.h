@@ -13,7 +13,15 @@
 //                  entries from the edge lengths; then X3 = X1 + d N1 with
 //                  d = (1/r - 1) h  +  sum of its muscle-wrinkle rows W  +  its curve-wrinkle sum
 //                                                                        docs/model.md §4-8
-//   StageNormals   face normals of X3 (only when normals are requested)
+//                  with the fold limiter on (limit_folds), d is first bounded by a
+//                  fraction of the local radius of curvature of X1 and slope-limited
+//                  along edges (LimitedOffsets)                        docs/model.md §16
+//   StageLimit     the fold limiter: face normals of X3; points with a triangle that the
+//                  skin layers turned within kFoldLimitDot of over (against rest), and their
+//                  one-ring, get their offset halved, then cut, pass after pass
+//                                                                      docs/model.md §16
+//   StageNormals   face normals of X3 (only when normals are requested and StageLimit did
+//                  not leave them current)
 //   StageOutputs   per vertex: positions scattered to the file's vertex layout, normals of X3
 //                  gathered straight into the output, with strides
 // StageStrain and StageDisplace run only for the layers both compiled into the rig and enabled
@@ -65,6 +73,10 @@ class EvaluateContext {
   span<const float3> points() const { return span<const float3>(points_).first(point_count_); }
   // Per-point area ratio r of the last frame (docs/model.md §4); 1 where no skin layer ran.
   span<const float> area_ratios() const { return point_ratios_; }
+  // Points whose skin-layer offset the fold limiter reduced in the last frame (docs/model.md
+  // §16), and the limiter's passes (0 when it did not run).
+  uint32_t limited_point_count() const { return limited_points_; }
+  uint32_t limiter_passes() const { return limiter_passes_; }
 
   // Bytes this context holds: sizeof(EvaluateContext) plus the capacity of every vector.
   size_t ByteSize() const;
@@ -83,6 +95,14 @@ class EvaluateContext {
   std::vector<float> edge_lengths_;    // RigTables::edge_count(): this frame's, mesh units
   std::vector<float> wrinkle_offsets_; // #P: summed wrinkle displacement of the points in
                                        // RigTables::wrinkle_points this frame, mesh units
+  std::vector<float> thickness_a_;     // #P: thickness offsets, slope-limit ping-pong (StageDisplace)
+  std::vector<float> thickness_b_;     // #P
+  std::vector<float3> skin_base_;      // #P: X1, kept for the fold limiter (StageLimit)
+  std::vector<float3> skin_full_;      // #P: X3 before the limiter, of the points it reduced
+  std::vector<uint8_t> limit_levels_;  // #P: how often the limiter reduced the point's offset
+  std::vector<float> fold_limits_;     // #T: the limiter's cosine limit per triangle this frame
+  std::vector<uint8_t> limit_flags_;   // #P: points with a triangle past its limit (one pass)
+  uint32_t limited_points_ = 0, limiter_passes_ = 0;
 };
 
 // A caller-supplied parallel loop: must call task(task_data, begin, end) over disjoint ranges
@@ -110,10 +130,27 @@ struct EvaluateJob {
   size_t out_normals_stride = 12;     // bytes, >= 12, multiple of 4
 
   SkinLayers layers;                  // which skin layers run (default: all the rig has)
+  // The fold limiter (docs/model.md §16): reduce the skin layers' offset where it would turn
+  // a triangle over. On by default; off gives the layers' raw displacement (for comparison).
+  bool limit_folds = true;
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
   void* parallel_for_user = nullptr;
 };
+
+// The fold limiter's threshold: a triangle counts as (nearly) turned over when the cosine
+// between its unit normal and its rest normal is at most this (about 84 degrees).
+inline constexpr float kFoldLimitDot = 0.1f;
+// The skin offset's slope limit (offset change per unit of edge length at X1) and its
+// passes (each reaches one ring further).
+inline constexpr float kOffsetSlope = 0.5f;
+// The skin offset's bound as a fraction of the local radius of curvature of X1.
+inline constexpr float kOffsetCurvature = 0.25f;
+inline constexpr uint32_t kOffsetSlopePasses = 4;
+// Passes of the limiter: a point flagged k times moves by 2^-k of its offset, and by none from
+// the kFoldLimitCutLevel-th time on.
+inline constexpr uint32_t kFoldLimitPasses = 32;
+inline constexpr uint32_t kFoldLimitCutLevel = 4;
 
 // Floats needed for `count` elements of 3 floats at `stride_bytes` (0 when count is 0).
 size_t RequiredFloats(size_t count, size_t stride_bytes);

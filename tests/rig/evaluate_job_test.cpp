@@ -365,8 +365,11 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const EvaluateContext ctx(rig);
   const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
   const size_t E = t.edge_count();
+  // activations, points (+1 pad), faces, ratios, sums, edge lengths, wrinkle offsets; the fold
+  // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits, flags
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P +
-                                16 * P + 4 * E + 4 * P);
+                                16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
+                                4 * T + P);
 }
 
 // A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context

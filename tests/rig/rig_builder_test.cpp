@@ -3,6 +3,8 @@
 // layout (mesh.fingerprint) is refused with how to refit.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <algorithm>
 #include <optional>
 #include <string>
@@ -284,9 +286,10 @@ TEST(BuildRigMagnitudes, AbsurdValuesAreRefusedNamingTheKey) {
   }
 }
 
-// The offline guard on an evaluation's output: a rig built without the magnitude checks (the
-// only way to get one that evaluates to inf) is caught and the key named.
-TEST(CheckPosedFinite, NamesTheKeyThatMakesTheOutputNonFinite) {
+// The offline guard on an evaluation's output, on rigs built without the magnitude checks
+// whose skin layers overflow: since the fold limiter (docs/model.md §16) the overflow no longer
+// reaches the output (before it, these rigs evaluated to inf and the guard named the key).
+TEST(CheckPosedFinite, OverflowingSkinLayersNeverReachTheOutput) {
   const MeshData mesh = Surface();
   BuildOptions unchecked;
   unchecked.check_magnitudes = false;
@@ -301,17 +304,24 @@ TEST(CheckPosedFinite, NamesTheKeyThatMakesTheOutputNonFinite) {
     act[3] = 1.f;
     MeshData posed;
     ASSERT_TRUE(PosedMesh(rig, act, {}, &posed));
+    // The muscles move the skin by ~1e38 (finite); the skin layers' normals and offsets of
+    // such a surface overflow, and the fold limiter (docs/model.md §16) moves every point whose
+    // triangles then have no usable normal back toward the muscles' pose: the output is
+    // finite, no larger than the muscles' own, and the guard has nothing to say.
+    MeshData muscles_only;
+    ASSERT_TRUE(PosedMesh(rig, act, {false, false, false}, &muscles_only));
+    float largest = 0.f;
+    for (const float3& p : muscles_only.positions)
+      largest = std::max({largest, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+    EXPECT_GT(largest, 1e37f);
+    ASSERT_EQ(posed.positions.size(), muscles_only.positions.size());
+    for (const float3& p : posed.positions) {
+      ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      ASSERT_LE(std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}), largest * 1.001f);
+    }
     Diagnostics bad;
-    EXPECT_FALSE(CheckPosedFinite(rig, spec, act, {}, posed, &bad));
-    ASSERT_EQ(bad.ErrorCount(), 1u) << bad.Format();
-    EXPECT_EQ(bad.items()[0].where, "muscles[3]");
-    EXPECT_NE(bad.items()[0].what.find("muscles[3] (muscle_03) alone moves the skin by "),
-              std::string::npos)
-        << bad.Format();
-    EXPECT_NE(bad.items()[0].what.find("more than 10 times the mesh's size, and the skin layers "
-                                       "then overflow: check its strength"),
-              std::string::npos)
-        << bad.Format();
+    EXPECT_TRUE(CheckPosedFinite(rig, spec, act, {}, posed, &bad)) << bad.Format();
+    EXPECT_TRUE(bad.empty()) << bad.Format();
     // At rest the same rig is finite: nothing to say.
     const std::vector<float> rest(rig.muscle_count(), 0.f);
     ASSERT_TRUE(PosedMesh(rig, rest, {}, &posed));
@@ -321,22 +331,27 @@ TEST(CheckPosedFinite, NamesTheKeyThatMakesTheOutputNonFinite) {
   }
   {
     // Strong muscles (40 mm, area ratios well below 1/2) under a thickness of 3e38: the
-    // muscles' motion is finite and sensible; (1/r - 1) h overflows.
+    // muscles' motion is finite and sensible; (1/r - 1) h overflows, and the offsets'
+    // curvature and slope bounds with the fold limiter (docs/model.md §16) keep the output
+    // within a quarter of the surface's size of the muscles' (it is 100 mm across).
     RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.3f, 40.f);
     spec.thickness.value = 3e38f;
     Diagnostics diag;
     ASSERT_TRUE(BuildRig(spec, mesh, unchecked, &rig, &diag)) << diag.Format();
     const std::vector<float> act(rig.muscle_count(), 1.f);
-    MeshData posed;
+    MeshData posed, muscles_only;
     ASSERT_TRUE(PosedMesh(rig, act, {}, &posed));
+    ASSERT_TRUE(PosedMesh(rig, act, {false, false, false}, &muscles_only));
+    ASSERT_EQ(posed.positions.size(), muscles_only.positions.size());
+    float worst = 0.f;
+    for (size_t v = 0; v < posed.positions.size(); ++v)
+      worst = std::max(worst, Length(posed.positions[v] - muscles_only.positions[v]));
+    std::printf("thickness 3e38: largest skin offset %g mm\n", worst);
+    EXPECT_TRUE(std::isfinite(worst));
+    EXPECT_LT(worst, 25.f);  // a quarter of the surface, where the raw term is ~1e38
     Diagnostics bad;
-    EXPECT_FALSE(CheckPosedFinite(rig, spec, act, {}, posed, &bad));
-    ASSERT_EQ(bad.ErrorCount(), 1u) << bad.Format();
-    EXPECT_EQ(bad.items()[0].where, "thickness");
-    EXPECT_NE(bad.items()[0].what.find("the evaluation gives non-finite positions or normals "
-                                       "(first: output vertex "),
-              std::string::npos)
-        << bad.Format();
+    EXPECT_TRUE(CheckPosedFinite(rig, spec, act, {}, posed, &bad)) << bad.Format();
+    EXPECT_TRUE(bad.empty()) << bad.Format();
   }
 }
 
