@@ -59,7 +59,7 @@ const Format kClipFormat = {
     .title = "mimetic clip file, version 1"};
 
 // The shortest decimal that reads back as `f`, as a JSON number.
-nlohmann::ordered_json Number(float f) {
+nlohmann::ordered_json JsonFloat(float f) {
   char buf[64];
   const auto res = std::to_chars(buf, buf + sizeof buf, f);
   return nlohmann::ordered_json::parse(std::string(buf, res.ptr));
@@ -142,7 +142,7 @@ std::string ClipToJson(const ClipSpec& clip) {
   j["format"] = "mimetic-clip";
   j["version"] = 1;
   j["name"] = clip.name;
-  if (clip.duration >= 0.f && std::isfinite(clip.duration)) j["duration"] = Number(clip.duration);
+  if (clip.duration >= 0.f && std::isfinite(clip.duration)) j["duration"] = JsonFloat(clip.duration);
   j["end"] = kEnd[size_t(clip.end) % 2];
   nlohmann::ordered_json channels = nlohmann::ordered_json::array();
   for (const ClipChannelSpec& c : clip.channels) {
@@ -156,8 +156,8 @@ std::string ClipToJson(const ClipSpec& clip) {
     nlohmann::ordered_json keys = nlohmann::ordered_json::array();
     for (const ClipKeySpec& k : c.keys) {
       nlohmann::ordered_json kj;
-      kj["t"] = std::isfinite(k.t) ? Number(k.t) : nullptr;
-      kj["v"] = std::isfinite(k.v) ? Number(k.v) : nullptr;
+      kj["t"] = std::isfinite(k.t) ? JsonFloat(k.t) : nullptr;
+      kj["v"] = std::isfinite(k.v) ? JsonFloat(k.v) : nullptr;
       kj["interp"] = kInterp[size_t(k.interp) % 3];
       kj["tangent"] = kTangent[size_t(k.tangent) % 2];
       keys.push_back(std::move(kj));

@@ -31,7 +31,8 @@ bool ParseClip(const std::string& text, const std::string& where, ClipSpec* out,
 bool LoadClip(const std::string& path, ClipSpec* out, Diagnostics* diag);
 
 // The JSON text of `clip`: every key written (interp and tangent included), numbers as the
-// shortest text that reads back as the same float, so ParseClip(ClipToJson(c)) == c.
+// shortest text that reads back as the same float, so ParseClip(ClipToJson(c)) == c (a muscle
+// channel's `layer`, which has no meaning, is not written and reads back as the default).
 std::string ClipToJson(const ClipSpec& clip);
 
 // Writes the file atomically (temp file + rename). Refuses (false, with the messages of
