@@ -13,6 +13,7 @@ const json_reader::Format& RigFileFormat();
 const json_reader::Format& TemplateFileFormat();
 const json_reader::Format& LandmarksFileFormat();
 const json_reader::Format& ExpressionFileFormat();  // io/expression_file.cpp
+const json_reader::Format& ClipFileFormat();        // io/clip_file.cpp
 
 // A block that two formats share (defined in io/rig_file.cpp): the muscle wrinkle block of
 // docs/model.md §6, in rig files (mesh units) and templates (units of s, docs/template-format.md).

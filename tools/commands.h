@@ -21,5 +21,6 @@ int CmdSolve(const Args& args);        // activations closest to a target shape 
 int CmdFidelity(const Args& args);     // the fidelity report on ICT-FaceKit (tools/cmd_fidelity.cpp)
 int CmdCreases(const Args& args);      // crease numbers of the muscles (tools/cmd_creases.cpp)
 int CmdCalibrate(const Args& args);    // calibrate a template on real shapes (tools/cmd_calibrate.cpp)
+int CmdPlay(const Args& args);         // sample a clip and pose the rig (tools/cmd_play.cpp)
 
 }  // namespace mimetic::tools

@@ -35,7 +35,8 @@ std::vector<SchemaFile> Schemas() {
            {"assets/head/sample_head.landmarks.json",
             "tests/data/landmarks/ict_facekit.landmarks.json"}},
           {ExpressionFileFormat(), "mimetic-expression.schema.json",
-           {"tests/data/expressions/smile_L.expression.json"}}};
+           {"tests/data/expressions/smile_L.expression.json"}},
+          {ClipFileFormat(), "mimetic-clip.schema.json", {"tests/data/clips/smile_blink.clip.json"}}};
 }
 
 std::string ReadText(const std::string& path) {

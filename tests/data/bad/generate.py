@@ -123,3 +123,15 @@ write('landmarks_deep_nesting.json', '[' * 5000 + ']' * 5000)
 write('landmarks_not_json.json', '{"format": "mimetic-landmarks", "version": 1, "points": [[1, 2,')
 write('template_not_json.template.json', '{"format": "mimetic-template",')
 write('template_wrong_format.template.json', '{"format": "mimetic-rig", "version": 1}\n')
+
+# Clips (through play, on the surface rig).
+def clipfile(name, channels, **top):
+    c = {'format': 'mimetic-clip', 'version': 1, 'name': 'bad'}
+    c.update(top)
+    c['channels'] = channels
+    write(name, json.dumps(c, indent=1) + '\n')
+clipfile('clip_unsorted_keys.clip.json',
+         [{'muscle': 'zygomatic', 'keys': [{'t': 1.0, 'v': 0.5}, {'t': 0.5, 'v': 1.0}]}])
+clipfile('clip_unknown_muscle.clip.json', [{'muscle': 'zygomatc', 'keys': [{'t': 0, 'v': 1}]}])
+clipfile('clip_value_above_one.clip.json', [{'muscle': 'frontalis', 'keys': [{'t': 0, 'v': 1.5}]}])
+write('clip_not_json.clip.json', '{"format": "mimetic-clip", "version": 1, "channels": [')
