@@ -20,6 +20,7 @@ int CmdCompare(const Args& args);      // how close a mesh is to another (tools/
 int CmdSolve(const Args& args);        // activations closest to a target shape (tools/cmd_solve.cpp)
 int CmdFidelity(const Args& args);     // the fidelity report on ICT-FaceKit (tools/cmd_fidelity.cpp)
 int CmdCreases(const Args& args);      // crease numbers of the muscles (tools/cmd_creases.cpp)
-int CmdCalibrate(const Args& args);    // calibrate a template on real shapes (tools/cmd_calibrate.cpp)
+int CmdCalibrate(const Args& args);
+int CmdMakeLibrary(const Args& args);  // the expression library and ARKit map (tools/cmd_library.cpp)    // calibrate a template on real shapes (tools/cmd_calibrate.cpp)
 
 }  // namespace mimetic::tools

@@ -26,6 +26,7 @@ const Command kCommands[] = {
     {"fidelity", mimetic::tools::CmdFidelity, "the fidelity report: the rig against ICT-FaceKit's real shapes"},
     {"creases", mimetic::tools::CmdCreases, "how sharply each muscle folds the skin at its zone's edges"},
     {"calibrate", mimetic::tools::CmdCalibrate, "calibrate a muscle template on real expression shapes"},
+    {"make-library", mimetic::tools::CmdMakeLibrary, "the expression library and ARKit map, solved on ICT-FaceKit"},
 };
 
 void PrintHelp(FILE* out) {
