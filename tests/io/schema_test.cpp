@@ -35,7 +35,10 @@ std::vector<SchemaFile> Schemas() {
            {"assets/head/sample_head.landmarks.json",
             "tests/data/landmarks/ict_facekit.landmarks.json"}},
           {ExpressionFileFormat(), "mimetic-expression.schema.json",
-           {"tests/data/expressions/smile_L.expression.json"}}};
+           {"tests/data/expressions/smile_L.expression.json"}},
+          {ExpressionLibraryFormat(), "mimetic-expression-library.schema.json",
+           {"assets/expressions/default.library.json"}},
+          {ArkitMapFormat(), "mimetic-arkit-map.schema.json", {"assets/arkit/default.arkit.json"}}};
 }
 
 std::string ReadText(const std::string& path) {
