@@ -18,6 +18,10 @@ namespace mimetic {
 struct Expression {
   std::string name;
   std::vector<std::pair<std::string, float>> activations;  // muscle name -> [0, 1]
+  // What it is and where it comes from: read and written by the expression library
+  // (io/expression_library.h) only; the expression file has no such keys.
+  std::string description;
+  std::string sources;
   // Optional provenance, written as the "solve" object: key -> number or string.
   std::vector<std::pair<std::string, double>> solve_numbers;
   std::vector<std::pair<std::string, std::string>> solve_strings;

@@ -27,6 +27,7 @@ const Command kCommands[] = {
     {"creases", mimetic::tools::CmdCreases, "how sharply each muscle folds the skin at its zone's edges"},
     {"calibrate", mimetic::tools::CmdCalibrate, "calibrate a muscle template on real expression shapes"},
     {"play", mimetic::tools::CmdPlay, "sample a clip and write the posed mesh or an OBJ sequence"},
+    {"make-library", mimetic::tools::CmdMakeLibrary, "the expression library and ARKit map, solved on ICT-FaceKit"},
 };
 
 void PrintHelp(FILE* out) {

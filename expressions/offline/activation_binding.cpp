@@ -39,6 +39,10 @@ std::string Suggest(const std::vector<std::string>& names, const std::string& wr
 
 }  // namespace
 
+std::string ClosestNames(const std::vector<std::string>& names, const std::string& wrong) {
+  return Suggest(names, wrong);
+}
+
 bool BindActivations(const std::vector<std::string>& muscle_names,
                      const std::vector<std::string>& assignments, std::vector<float>* out,
                      Diagnostics* diag) {

@@ -17,4 +17,8 @@ bool BindActivations(const std::vector<std::string>& muscle_names,
                      const std::vector<std::string>& assignments, std::vector<float>* out,
                      Diagnostics* diag);
 
+// The (at most three) names of `names` closest to `wrong`, comma-separated: those that contain
+// it first, then by edit distance (for "unknown name" messages).
+std::string ClosestNames(const std::vector<std::string>& names, const std::string& wrong);
+
 }  // namespace mimetic
