@@ -6,6 +6,8 @@
 // 5(2):300-304, 1984 (MATLAB's pchip).
 #include "expressions/offline/clip_builder.h"
 
+#include "expressions/offline/activation_binding.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -14,35 +16,6 @@
 
 namespace mimetic {
 namespace {
-
-size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
-// The (at most three) closest names: those containing `wrong` first, then by edit distance
-// (the rule of BindActivations' suggestions).
-std::string Closest(const std::vector<std::string>& names, const std::string& wrong) {
-  std::vector<std::pair<size_t, std::string>> ranked;
-  for (const std::string& n : names) {
-    const bool contains = !wrong.empty() && n.find(wrong) != std::string::npos;
-    ranked.push_back({contains ? n.size() - wrong.size() : 1000 + EditDistance(n, wrong), n});
-  }
-  std::sort(ranked.begin(), ranked.end());
-  std::string out;
-  for (size_t i = 0; i < ranked.size() && i < 3; ++i) out += (i ? ", " : "") + ranked[i].second;
-  return out;
-}
 
 std::string Channel(size_t i) { return "channels[" + std::to_string(i) + "]"; }
 
@@ -127,7 +100,7 @@ bool ClipBuilder::Build(const ClipSpec& clip, const std::vector<std::string>& mu
         diag->Error(Channel(i) + ".muscle",
                     "unknown muscle \"" + c.target + "\"" +
                         (muscle_names.empty() ? std::string(" (the rig has no muscles)")
-                                              : "; closest: " + Closest(muscle_names, c.target)));
+                                              : "; closest: " + ClosestNames(muscle_names, c.target)));
         continue;
       }
       for (uint32_t m : targets) {
@@ -152,7 +125,7 @@ bool ClipBuilder::Build(const ClipSpec& clip, const std::vector<std::string>& mu
       diag->Error(at, "unknown expression \"" + c.target + "\"" +
                           (expressions.empty()
                                ? std::string(" (no expressions were given)")
-                               : "; closest: " + Closest(expression_names, c.target)));
+                               : "; closest: " + ClosestNames(expression_names, c.target)));
       continue;
     }
     if (matches.size() > 1) {
@@ -173,7 +146,7 @@ bool ClipBuilder::Build(const ClipSpec& clip, const std::vector<std::string>& mu
       if (!muscle_index.count(muscle)) {
         diag->Error(at, what + " is not in the rig" +
                             (muscle_names.empty() ? std::string(" (the rig has no muscles)")
-                                                  : "; closest: " + Closest(muscle_names, muscle)));
+                                                  : "; closest: " + ClosestNames(muscle_names, muscle)));
         good = false;
       } else if (!seen.insert({muscle, j}).second) {
         diag->Error(at, what + " is given twice; expected each muscle once");
