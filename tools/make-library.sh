@@ -20,6 +20,7 @@ rig=assets/head/sample_head.rig.json
 out=docs/images/expressions
 if [[ "${1:-}" != "--renders" ]]; then
   "$mimetic" make-library --data "$data" --library "$library" --arkit assets/arkit/default.arkit.json
+  python3 tools/arkit_table.py  # docs/arkit.md's per-shape table from the new map
 fi
 mkdir -p "$out"
 tmp=$(mktemp -d)
