@@ -146,6 +146,11 @@ bool Check(const BakedFrames& f, Diagnostics* diag) {
     diag->Error("", "bake: a frame has a non-finite position or normal");
     ok = false;
   }
+  if (!(f.position_epsilon >= 0) || !(f.normal_epsilon >= 0) ||
+      !std::isfinite(f.position_epsilon) || !std::isfinite(f.normal_epsilon)) {
+    diag->Error("", "bake: the epsilons must be finite numbers >= 0");
+    ok = false;
+  }
   if (!(f.metres_per_unit > 0) || !std::isfinite(f.metres_per_unit)) {
     diag->Error("", "bake: metres_per_unit must be a finite number > 0");
     ok = false;
@@ -202,7 +207,12 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
       delta[3 * v + 0] = p[3 * v + 0] - f.base.positions[v].x;
       delta[3 * v + 1] = p[3 * v + 1] - f.base.positions[v].y;
       delta[3 * v + 2] = p[3 * v + 2] - f.base.positions[v].z;
-      if (delta[3 * v] != 0.f || delta[3 * v + 1] != 0.f || delta[3 * v + 2] != 0.f) moved[v] = 1;
+      if (std::abs(delta[3 * v]) <= f.position_epsilon &&
+          std::abs(delta[3 * v + 1]) <= f.position_epsilon &&
+          std::abs(delta[3 * v + 2]) <= f.position_epsilon)
+        delta[3 * v] = delta[3 * v + 1] = delta[3 * v + 2] = 0.f;
+      else
+        moved[v] = 1;
     }
     bool sparse = false;
     size_t nonzero = 0;
@@ -215,6 +225,10 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
         delta[3 * v + 0] = n[3 * v + 0] - f.base.normals[v].x;
         delta[3 * v + 1] = n[3 * v + 1] - f.base.normals[v].y;
         delta[3 * v + 2] = n[3 * v + 2] - f.base.normals[v].z;
+        if (std::abs(delta[3 * v]) <= f.normal_epsilon &&
+            std::abs(delta[3 * v + 1]) <= f.normal_epsilon &&
+            std::abs(delta[3 * v + 2]) <= f.normal_epsilon)
+          delta[3 * v] = delta[3 * v + 1] = delta[3 * v + 2] = 0.f;
       }
       bool unused_sparse;
       size_t unused_nonzero;

@@ -22,6 +22,12 @@ struct BakedFrames {
   std::vector<float> positions;   // #F * #V * 3: frame k, vertex v at [(k * #V + v) * 3]
   std::vector<float> normals;     // #F * #V * 3, or empty (no normal deltas)
   double metres_per_unit = 0.001; // the root node's uniform scale (none when 1), as ExportMesh
+  // A vertex whose delta from the base is at most this in every coordinate is stored as not
+  // moved (delta 0), so that the skin layers' sub-micrometre changes far from the acting
+  // muscles do not defeat the sparse rule. Mesh units (positions), unitless (normals); 0 keeps
+  // every non-zero delta (exact).
+  float position_epsilon = 0.f;
+  float normal_epsilon = 0.f;
 };
 
 struct BakeStats {
@@ -36,7 +42,7 @@ struct BakeStats {
 // scaling mesh units to metres, as ExportMesh) holding mesh 0 ("baked") with one primitive:
 // POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices, and #F morph targets (target k =
 // frame k minus the base: POSITION deltas with min/max, NORMAL deltas). A target's deltas are a
-// sparse accessor (u16 or u32 indices of the vertices whose delta is not exactly 0, their
+// sparse accessor (u16 or u32 indices of the vertices whose delta is above the epsilon, their
 // deltas; no bufferView, so the rest are zero) when that is fewer bytes than the dense array;
 // a target with no moved vertex is an accessor with neither bufferView nor sparse (all zeros).
 // One animation ("clip"), one LINEAR sampler over input times[k]: output row k is 1 at target

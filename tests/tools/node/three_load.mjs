@@ -11,7 +11,7 @@ globalThis.self ??= globalThis;
 
 const [file, modules, framesArg, durationArg, kArg, objFile] = process.argv.slice(2);
 const { GLTFLoader } = await import(
-    pathToFileURL(path.join(modules, 'three/examples/jsm/loaders/GLTFLoader.js')).href);
+    pathToFileURL(path.join(path.resolve(modules), 'three/examples/jsm/loaders/GLTFLoader.js')).href);
 const bytes = fs.readFileSync(file);
 const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
 const gltf = await new Promise((resolve, reject) =>

@@ -5,7 +5,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 
 const [file, modules] = process.argv.slice(2);
-const require = createRequire(path.join(modules, 'x.js'));
+const require = createRequire(path.join(path.resolve(modules), 'x.js'));
 const validator = require('gltf-validator');
 const bytes = new Uint8Array(fs.readFileSync(file));
 const report = await validator.validateBytes(bytes, { maxIssues: 1000, uri: path.basename(file) });
