@@ -14,56 +14,79 @@
 #include "geometry/mesh.h"
 #include "io/clip_file.h"
 #include "io/expression_file.h"
+#include "io/expression_library.h"
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/play_bake.h"
 
 namespace mimetic::tools {
 namespace {
 
 const char* kPlayUsage =
-    "usage: mimetic play RIG CLIP [--expression FILE]... --time T --out FILE\n"
-    "       mimetic play RIG CLIP [--expression FILE]... --fps F --out DIR/frame_%04d.obj\n"
-    "                    [--no-thickness] [--no-muscle-wrinkles] [--no-curve-wrinkles]\n\n"
+    "usage: mimetic play RIG CLIP [--expression FILE]... [--library FILE]... --time T --out FILE\n"
+    "       mimetic play RIG CLIP [--expression FILE]... [--library FILE]... --fps F\n"
+    "                    --out DIR/frame_%04d.obj | --out FILE.glb\n"
+    "                    [--no-thickness] [--no-muscle-wrinkles] [--no-curve-wrinkles]\n"
+    "                    [--no-normals] [--threads N] [--quiet]\n\n"
     "Samples CLIP (a mimetic-clip file, docs/expressions.md) and poses RIG with the\n"
     "activations it gives (as `mimetic eval` does), at one time or at every frame.\n\n"
     "options:\n"
     "  --expression FILE       a mimetic-expression file for the clip's expression channels\n"
     "                          (repeatable; the clip names them by their \"name\")\n"
+    "  --library FILE          a mimetic-expression-library file (io/expression_library.h,\n"
+    "                          e.g. assets/expressions/default.library.json): its expressions\n"
+    "                          too (repeatable; a name given twice is an error)\n"
     "  --time T                one pose at T seconds (the clip's end rule applies: clamp holds\n"
     "                          the last pose, loop wraps); --out is then a .obj or .glb file\n"
     "  --fps F                 every frame at F frames per second (0 < F <= 1000): frame i at\n"
     "                          i / F s, from 0 to the duration (loop: up to, not including,\n"
     "                          the duration); --out is then a name with one %d or %0Nd\n"
-    "                          (the frame number) ending in .obj, %% for a percent sign\n"
+    "                          (the frame number) ending in .obj, %% for a percent sign;\n"
+    "                          or one .glb: the bake (docs/expressions.md \"Bake\"): the neutral\n"
+    "                          mesh, one morph target per frame (sparse where few vertices\n"
+    "                          move) and a weights animation standard glTF viewers play\n"
     "  --out FILE|PATTERN      where to write; folders are made as needed\n"
     "  --no-thickness          skip the volume-preserving thickness layer (docs/model.md §4)\n"
     "  --no-muscle-wrinkles    skip muscle-derived wrinkles (docs/model.md §6)\n"
-    "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n\n"
-    "A progress bar is drawn on stderr when it is a terminal.\n";
+    "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n"
+    "  --no-normals            bake only: no NORMAL attribute and no normal deltas (smaller\n"
+    "                          file; viewers then compute flat normals)\n"
+    "  --threads N             bake only: frames evaluated on N threads (default: the\n"
+    "                          machine's, at most 8); the frames are the same bits\n"
+    "  --quiet                 no progress bar and no summary (errors are still printed)\n\n"
+    "A progress bar is drawn on stderr when it is a terminal (and --quiet is not given).\n";
 
 // At most this many frames in a sequence.
 constexpr long long kMaxFrames = 100000;
+// At most this many frames in a bake: its weights animation holds #frames^2 floats.
+constexpr long long kMaxBakeFrames = 2000;
 
 void PrintDiagnostics(const Diagnostics& diag) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
 }
 
-// The expressions the clip's expression channels may name. One function, so that an
-// expression library file can add its expressions here later.
+// The expressions the clip's expression channels may name: each --expression file, then
+// every expression of each --library file (the builder refuses a name given twice).
 bool LoadPlayExpressions(const ParsedArgs& parsed, std::vector<Expression>* out,
                          Diagnostics* diag) {
   bool ok = true;
-  const auto it = parsed.values.find("expression");
-  if (it == parsed.values.end()) return true;
-  for (const std::string& path : it->second) {
-    Expression e;
-    if (LoadExpression(path, &e, diag)) out->push_back(std::move(e));
-    else ok = false;
-  }
+  if (const auto it = parsed.values.find("expression"); it != parsed.values.end())
+    for (const std::string& path : it->second) {
+      Expression e;
+      if (LoadExpression(path, &e, diag)) out->push_back(std::move(e));
+      else ok = false;
+    }
+  if (const auto it = parsed.values.find("library"); it != parsed.values.end())
+    for (const std::string& path : it->second) {
+      std::vector<Expression> library;
+      if (LoadExpressionLibrary(path, &library, diag))
+        for (Expression& e : library) out->push_back(std::move(e));
+      else ok = false;
+    }
   return ok;
 }
 
@@ -120,7 +143,8 @@ FramePattern ParsePattern(const std::string& text) {
 // A progress bar on stderr, drawn only when stderr is a terminal.
 class Progress {
  public:
-  explicit Progress(long long total) : total_(total), on_(isatty(fileno(stderr)) != 0) {}
+  Progress(long long total, bool enabled)
+      : total_(total), on_(enabled && isatty(fileno(stderr)) != 0) {}
   void Update(long long done) {
     if (!on_) return;
     const int width = 40, filled = int(width * done / (total_ > 0 ? total_ : 1));
@@ -142,8 +166,9 @@ class Progress {
 
 int CmdPlay(const Args& args) {
   const ParsedArgs parsed =
-      ParseArgs(args, {"expression", "time", "fps", "out"},
-                {"no-thickness", "no-muscle-wrinkles", "no-curve-wrinkles"});
+      ParseArgs(args, {"expression", "library", "time", "fps", "out", "threads"},
+                {"no-thickness", "no-muscle-wrinkles", "no-curve-wrinkles", "no-normals",
+                 "quiet"});
   if (parsed.help) return std::fputs(kPlayUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("play", parsed.error, kPlayUsage);
   if (parsed.positional.size() != 2)
@@ -161,6 +186,16 @@ int CmdPlay(const Args& args) {
   if (out.empty()) return UsageError("play", "missing --out", kPlayUsage);
   double time = 0.0, fps = 0.0;
   FramePattern pattern;
+  const bool quiet = parsed.flags.count("quiet") != 0;
+  const bool bake = sequence && CheckOutputExtension("out", out, {".glb"}).empty();
+  if (!bake && (parsed.flags.count("no-normals") || parsed.Has("threads")))
+    return UsageError("play", std::string(parsed.flags.count("no-normals") ? "--no-normals"
+                                                                           : "--threads") +
+                                  " is for a bake only (--fps F --out FILE.glb)", kPlayUsage);
+  long long threads = 0;
+  if (parsed.Has("threads") && !ParseInteger(parsed.Get("threads"), 1, 64, &threads))
+    return UsageError("play", "--threads " + parsed.Get("threads") +
+                                  ": expected a whole number of threads in [1, 64]", kPlayUsage);
   if (at_time) {
     if (!ParseNumber(parsed.Get("time"), -1e30, 1e30, &time))
       return UsageError("play", "--time " + parsed.Get("time") + ": expected a number of seconds",
@@ -171,10 +206,16 @@ int CmdPlay(const Args& args) {
     if (!ParseNumber(parsed.Get("fps"), 0.0, 1000.0, &fps) || !(fps > 0.0))
       return UsageError("play", "--fps " + parsed.Get("fps") + ": expected a number of frames "
                                 "per second in (0, 1000]", kPlayUsage);
-    pattern = ParsePattern(out);
-    if (!pattern.error.empty()) return UsageError("play", pattern.error, kPlayUsage);
-    const std::string bad_ext = CheckOutputExtension("out", out, {".obj"});
-    if (!bad_ext.empty()) return UsageError("play", bad_ext, kPlayUsage);
+    if (bake && out.find('%') != std::string::npos)
+      return UsageError("play", "--out " + out + ": a .glb bake is one file, not a frame "
+                                "pattern; expected a name without '%' (or frame_%04d.obj for "
+                                "an OBJ sequence)", kPlayUsage);
+    if (!bake) {
+      pattern = ParsePattern(out);
+      if (!pattern.error.empty()) return UsageError("play", pattern.error, kPlayUsage);
+      const std::string bad_ext = CheckOutputExtension("out", out, {".obj", ".glb"});
+      if (!bad_ext.empty()) return UsageError("play", bad_ext, kPlayUsage);
+    }
   }
 
   // Inputs: the rig, the clip, the expressions; every problem of each is printed.
@@ -218,22 +259,25 @@ int CmdPlay(const Args& args) {
         clip.end() == ClipEnd::kLoop
             ? std::max(1LL, (long long)std::ceil(span_frames - 1e-9))
             : (long long)std::floor(span_frames + 1e-9) + 1;
-    if (count > kMaxFrames) {
+    const long long max_frames = bake ? kMaxBakeFrames : kMaxFrames;
+    if (count > max_frames) {
       std::fprintf(stderr, "error: %s: the clip lasts %g s: %lld frames at %g fps; expected at "
-                           "most %lld frames (lower --fps)\n", clip_path.c_str(),
-                   double(clip.duration()), count, fps, kMaxFrames);
+                           "most %lld frames%s (lower --fps)\n", clip_path.c_str(),
+                   double(clip.duration()), count, fps, max_frames, bake ? " in a bake" : "");
       return kExitInput;
     }
     for (long long i = 0; i < count; ++i) {
       times.push_back(double(i) / fps);
-      names.push_back(pattern.Name(i));
+      names.push_back(bake ? out : pattern.Name(i));
     }
+    if (bake) names.resize(1);
   }
   // No output replaces an input.
   std::vector<std::string> inputs = {rig_path, clip_path, loaded.spec.mesh_path,
                                      loaded.spec.thickness.image_path};
-  if (const auto it = parsed.values.find("expression"); it != parsed.values.end())
-    inputs.insert(inputs.end(), it->second.begin(), it->second.end());
+  for (const char* key : {"expression", "library"})
+    if (const auto it = parsed.values.find(key); it != parsed.values.end())
+      inputs.insert(inputs.end(), it->second.begin(), it->second.end());
   for (const std::string& name : names)
     for (const std::string& input : inputs)
       if (!input.empty() && SameFile(name, input))
@@ -244,6 +288,24 @@ int CmdPlay(const Args& args) {
   const SkinLayers layers{.thickness = !parsed.flags.count("no-thickness"),
                           .muscle_wrinkles = !parsed.flags.count("no-muscle-wrinkles"),
                           .curve_wrinkles = !parsed.flags.count("no-curve-wrinkles")};
+  if (bake) {
+    PlayBakeRequest request;
+    request.rig = &rig;
+    request.spec = &loaded.spec;
+    request.clip = &clip;
+    request.times = times;
+    request.layers = layers;
+    request.out = out;
+    request.rig_path = rig_path;
+    request.clip_path = clip_path;
+    request.fps = fps;
+    const double unit = MetresPerUnit(loaded.spec.units);
+    request.metres_per_unit = unit > 0 ? unit : 0.001;
+    request.normals = !parsed.flags.count("no-normals");
+    request.quiet = quiet;
+    request.threads = unsigned(threads);
+    return PlayBake(request);
+  }
   MeshData posed = RestMesh(rig);
   posed.normals.resize(posed.positions.size());
   EvaluateContext context(rig);
@@ -260,7 +322,7 @@ int CmdPlay(const Args& args) {
   evaluate.layers = layers;
   const double metres = MetresPerUnit(loaded.spec.units);
   std::error_code ec;
-  Progress progress(static_cast<long long>(times.size()));
+  Progress progress(static_cast<long long>(times.size()), !quiet);
   for (size_t f = 0; f < times.size(); ++f) {
     sample.time = float(times[f]);
     if (!sample.Run() || !evaluate.Run()) {
@@ -290,6 +352,7 @@ int CmdPlay(const Args& args) {
   }
 
   const char* end = clip.end() == ClipEnd::kLoop ? "loop" : "clamp";
+  if (quiet) return 0;
   if (at_time) {
     std::printf("played %s (%g s, %s) on %s at t = %g s (clip time %g s)\n", clip_path.c_str(),
                 double(clip.duration()), end, rig_path.c_str(), time,

@@ -25,6 +25,30 @@ if [[ "${1:-}" == "--fuzz" ]]; then
   packages+=(clang libclang-rt-14-dev)  # Debian 12's clang 14; the runtime holds libFuzzer
 fi
 
+# The glTF bake's tests (tests/tools/node): the Khronos glTF validator and three.js (for its
+# GLTFLoader), from npm into the repository's .node/ (ignored by git), only when absent.
+# They need node and npm (Debian's nodejs, npm); without them the two tests skip.
+install_node_packages() {
+  local root
+  root="$(cd "$(dirname "$0")/.." && pwd)/.node"
+  if [[ -d "$root/node_modules/gltf-validator" && -d "$root/node_modules/three" ]]; then
+    echo "install-deps: gltf-validator and three already in $root"
+    return 0
+  fi
+  if ! command -v npm >/dev/null; then
+    echo "install-deps: npm not found; the glTF validator tests will be skipped"
+    return 0
+  fi
+  mkdir -p "$root"
+  echo "install-deps: npm install gltf-validator three into $root"
+  (cd "$root" && npm install --no-audit --no-fund --silent --no-save gltf-validator three)
+}
+if [[ -z "${1:-}" ]]; then
+  # Debian's node and npm only where no node/npm is on PATH (one from elsewhere is kept).
+  if ! command -v node >/dev/null || ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
+  trap install_node_packages EXIT
+fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -36,7 +36,10 @@ std::vector<SchemaFile> Schemas() {
             "tests/data/landmarks/ict_facekit.landmarks.json"}},
           {ExpressionFileFormat(), "mimetic-expression.schema.json",
            {"tests/data/expressions/smile_L.expression.json"}},
-          {ClipFileFormat(), "mimetic-clip.schema.json", {"tests/data/clips/smile_blink.clip.json"}},
+          {ClipFileFormat(), "mimetic-clip.schema.json",
+           {"tests/data/clips/smile_blink.clip.json", "assets/clips/surprise.clip.json",
+            "assets/clips/frowning.clip.json", "assets/clips/fear.clip.json",
+            "assets/clips/smile.clip.json"}},
           {ExpressionLibraryFormat(), "mimetic-expression-library.schema.json",
            {"assets/expressions/default.library.json"}},
           {ArkitMapFormat(), "mimetic-arkit-map.schema.json", {"assets/arkit/default.arkit.json"}}};

@@ -95,7 +95,7 @@ TEST(Play, HelpAndUsageErrors) {
       {{"play", SurfaceRig(), f.clip, "--fps", "30", "--out", f.dir + "/f_%s.obj"},
        "is not %d, %0Nd (N at most 9) or %%"},
       {{"play", SurfaceRig(), f.clip, "--fps", "30", "--out", f.dir + "/f_%04d.glb"},
-       "expected a .obj file name"},
+       "a .glb bake is one file, not a frame pattern"},
       {{"play", SurfaceRig(), f.clip, "--time", "1", "--out", f.clip}, "expected a .obj or .glb"},
       {{"play", SurfaceRig(), f.clip, "--bogus"}, "unknown option '--bogus'"},
   };

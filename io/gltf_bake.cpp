@@ -1,0 +1,316 @@
+// io/gltf_bake.cpp: frames -> a .glb of morph targets and a weights animation.
+//
+// Written with tinygltf (already the project's glTF library, and 2.7 serialises sparse
+// accessors), so the JSON and the GLB chunks are made by the same code as ExportMesh's; the
+// buffer is laid out here. Based on the glTF 2.0 specification, §3.6.2.3 (sparse accessors),
+// §3.7.2.2 (morph targets), §3.11 (animations).
+#include "io/gltf_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include <tiny_gltf.h>
+
+#include "core/file_util.h"
+
+namespace mimetic {
+namespace {
+
+struct Builder {
+  tinygltf::Model model;
+  tinygltf::Buffer buffer;
+
+  // Appends bytes (4-byte aligned) as a new bufferView; target 0 = none.
+  int View(const void* data, size_t bytes, int target) {
+    while (buffer.data.size() % 4) buffer.data.push_back(0);
+    tinygltf::BufferView bv;
+    bv.buffer = 0;
+    bv.byteOffset = buffer.data.size();
+    bv.byteLength = bytes;
+    bv.target = target;
+    const auto* p = static_cast<const unsigned char*>(data);
+    buffer.data.insert(buffer.data.end(), p, p + bytes);
+    model.bufferViews.push_back(bv);
+    return int(model.bufferViews.size()) - 1;
+  }
+  int Accessor(int view, int component, size_t count, int type) {
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.componentType = component;
+    a.count = count;
+    a.type = type;
+    model.accessors.push_back(a);
+    return int(model.accessors.size()) - 1;
+  }
+  // A VEC3 float accessor of `values` (#V * 3), dense or sparse (whichever is fewer bytes;
+  // neither bufferView nor sparse when every value is 0). Returns the accessor and, through
+  // `nonzero`, how many vertices have a non-zero value.
+  int Deltas(const std::vector<float>& values, size_t nv, bool with_min_max, bool* sparse,
+             size_t* nonzero) {
+    std::vector<uint32_t> idx;
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    bool first = true;
+    for (size_t v = 0; v < nv; ++v) {
+      const float* d = &values[3 * v];
+      const bool moved = d[0] != 0.f || d[1] != 0.f || d[2] != 0.f;
+      if (moved) idx.push_back(uint32_t(v));
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = first ? d[c] : std::min(lo[c], d[c]);
+        hi[c] = first ? d[c] : std::max(hi[c], d[c]);
+      }
+      first = false;
+    }
+    *nonzero = idx.size();
+    const size_t index_bytes = nv < 65536 ? 2 : 4;
+    const size_t dense_bytes = nv * 12, sparse_bytes = idx.size() * (index_bytes + 12);
+    int acc;
+    *sparse = false;
+    if (idx.empty()) {
+      acc = Accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+    } else if (sparse_bytes < dense_bytes) {
+      *sparse = true;
+      acc = Accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+      std::vector<float> packed;
+      packed.reserve(idx.size() * 3);
+      for (uint32_t v : idx) packed.insert(packed.end(), &values[3 * v], &values[3 * v] + 3);
+      int index_view;
+      if (index_bytes == 2) {
+        std::vector<uint16_t> small(idx.begin(), idx.end());
+        index_view = View(small.data(), small.size() * 2, 0);
+      } else {
+        index_view = View(idx.data(), idx.size() * 4, 0);
+      }
+      const int value_view = View(packed.data(), packed.size() * 4, 0);
+      tinygltf::Accessor& a = model.accessors[size_t(acc)];
+      a.sparse.isSparse = true;
+      a.sparse.count = int(idx.size());
+      a.sparse.indices.bufferView = index_view;
+      a.sparse.indices.byteOffset = 0;
+      a.sparse.indices.componentType = index_bytes == 2 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                                        : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+      a.sparse.values.bufferView = value_view;
+      a.sparse.values.byteOffset = 0;
+    } else {
+      acc = Accessor(View(values.data(), dense_bytes, TINYGLTF_TARGET_ARRAY_BUFFER),
+                     TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+    }
+    if (with_min_max) {
+      model.accessors[size_t(acc)].minValues = {lo[0], lo[1], lo[2]};
+      model.accessors[size_t(acc)].maxValues = {hi[0], hi[1], hi[2]};
+    }
+    return acc;
+  }
+};
+
+bool Check(const BakedFrames& f, Diagnostics* diag) {
+  const size_t nv = f.base.vertex_count(), nf = f.times.size();
+  bool ok = true;
+  if (nv == 0 || f.base.indices.empty() || f.base.indices.size() % 3) {
+    diag->Error("", "bake: the base mesh has no vertices or no triangles");
+    ok = false;
+  }
+  if (nf == 0) {
+    diag->Error("", "bake: no frames");
+    ok = false;
+  }
+  if (f.positions.size() != nf * nv * 3 || (!f.normals.empty() && f.normals.size() != nf * nv * 3) ||
+      (!f.base.normals.empty() && f.base.normals.size() != nv) ||
+      (!f.base.uvs.empty() && f.base.uvs.size() != nv) ||
+      (!f.normals.empty() && f.base.normals.empty())) {
+    diag->Error("", "bake: frame or attribute sizes do not match the base mesh's " +
+                        std::to_string(nv) + " vertices and " + std::to_string(nf) + " frames");
+    ok = false;
+  }
+  for (size_t k = 0; k < nf; ++k)
+    if (!std::isfinite(f.times[k]) || f.times[k] < 0 || (k > 0 && !(f.times[k] > f.times[k - 1]))) {
+      diag->Error("frame " + std::to_string(k), "bake: time " + std::to_string(f.times[k]) +
+                                                    " is not finite, negative or not after the "
+                                                    "previous frame's");
+      ok = false;
+      break;
+    }
+  for (uint32_t i : f.base.indices)
+    if (i >= nv) {
+      diag->Error("", "bake: index " + std::to_string(i) + " out of range");
+      ok = false;
+      break;
+    }
+  auto finite = [](const std::vector<float>& v) {
+    return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+  };
+  if (!finite(f.positions) || !finite(f.normals)) {
+    diag->Error("", "bake: a frame has a non-finite position or normal");
+    ok = false;
+  }
+  if (!(f.position_epsilon >= 0) || !(f.normal_epsilon >= 0) ||
+      !std::isfinite(f.position_epsilon) || !std::isfinite(f.normal_epsilon)) {
+    diag->Error("", "bake: the epsilons must be finite numbers >= 0");
+    ok = false;
+  }
+  if (!(f.metres_per_unit > 0) || !std::isfinite(f.metres_per_unit)) {
+    diag->Error("", "bake: metres_per_unit must be a finite number > 0");
+    ok = false;
+  }
+  return ok;
+}
+
+}  // namespace
+
+bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diagnostics* diag) {
+  Diagnostics local;
+  if (!diag) diag = &local;
+  BakeStats s;
+  if (!out || !Check(f, diag)) return false;
+  const size_t nv = f.base.vertex_count(), nf = f.times.size();
+  const bool normals = !f.base.normals.empty();
+  Builder b;
+  b.model.asset.version = "2.0";
+  b.model.asset.generator = "mimetic (bake)";
+
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  const int pos = b.Accessor(b.View(f.base.positions.data(), nv * sizeof(float3),
+                                    TINYGLTF_TARGET_ARRAY_BUFFER),
+                             TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+  float3 lo = f.base.positions[0], hi = lo;
+  for (const float3& p : f.base.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  b.model.accessors[size_t(pos)].minValues = {lo.x, lo.y, lo.z};
+  b.model.accessors[size_t(pos)].maxValues = {hi.x, hi.y, hi.z};
+  prim.attributes["POSITION"] = pos;
+  if (normals)
+    prim.attributes["NORMAL"] = b.Accessor(
+        b.View(f.base.normals.data(), nv * sizeof(float3), TINYGLTF_TARGET_ARRAY_BUFFER),
+        TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+  if (!f.base.uvs.empty())
+    prim.attributes["TEXCOORD_0"] = b.Accessor(
+        b.View(f.base.uvs.data(), nv * sizeof(float2), TINYGLTF_TARGET_ARRAY_BUFFER),
+        TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC2);
+  prim.indices = b.Accessor(b.View(f.base.indices.data(), f.base.indices.size() * 4,
+                                   TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                            TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, f.base.indices.size(),
+                            TINYGLTF_TYPE_SCALAR);
+
+  // The morph targets: frame k minus the base.
+  std::vector<uint8_t> moved(nv, 0);
+  std::vector<float> delta(nv * 3);
+  for (size_t k = 0; k < nf; ++k) {
+    std::map<std::string, int> target;
+    const float* p = &f.positions[k * nv * 3];
+    for (size_t v = 0; v < nv; ++v) {
+      delta[3 * v + 0] = p[3 * v + 0] - f.base.positions[v].x;
+      delta[3 * v + 1] = p[3 * v + 1] - f.base.positions[v].y;
+      delta[3 * v + 2] = p[3 * v + 2] - f.base.positions[v].z;
+      if (std::abs(delta[3 * v]) <= f.position_epsilon &&
+          std::abs(delta[3 * v + 1]) <= f.position_epsilon &&
+          std::abs(delta[3 * v + 2]) <= f.position_epsilon)
+        delta[3 * v] = delta[3 * v + 1] = delta[3 * v + 2] = 0.f;
+      else
+        moved[v] = 1;
+    }
+    bool sparse = false;
+    size_t nonzero = 0;
+    target["POSITION"] = b.Deltas(delta, nv, true, &sparse, &nonzero);
+    s.sparse_targets += sparse;
+    s.max_moved_in_frame = std::max(s.max_moved_in_frame, nonzero);
+    if (normals && !f.normals.empty()) {
+      const float* n = &f.normals[k * nv * 3];
+      for (size_t v = 0; v < nv; ++v) {
+        delta[3 * v + 0] = n[3 * v + 0] - f.base.normals[v].x;
+        delta[3 * v + 1] = n[3 * v + 1] - f.base.normals[v].y;
+        delta[3 * v + 2] = n[3 * v + 2] - f.base.normals[v].z;
+        if (std::abs(delta[3 * v]) <= f.normal_epsilon &&
+            std::abs(delta[3 * v + 1]) <= f.normal_epsilon &&
+            std::abs(delta[3 * v + 2]) <= f.normal_epsilon)
+          delta[3 * v] = delta[3 * v + 1] = delta[3 * v + 2] = 0.f;
+      }
+      bool unused_sparse;
+      size_t unused_nonzero;
+      target["NORMAL"] = b.Deltas(delta, nv, false, &unused_sparse, &unused_nonzero);
+    }
+    prim.targets.push_back(std::move(target));
+  }
+  s.moved_vertices = size_t(std::count(moved.begin(), moved.end(), 1));
+
+  tinygltf::Mesh mesh;
+  mesh.name = "baked";
+  mesh.primitives.push_back(std::move(prim));
+  mesh.weights.assign(nf, 0.0);
+  b.model.meshes.push_back(std::move(mesh));
+
+  tinygltf::Node node;
+  node.mesh = 0;
+  node.name = "mimetic_units";
+  if (f.metres_per_unit != 1.0)
+    node.scale = {f.metres_per_unit, f.metres_per_unit, f.metres_per_unit};
+  b.model.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  b.model.scenes.push_back(scene);
+  b.model.defaultScene = 0;
+
+  // The animation: input times[k]; output row k is the unit vector e_k (LINEAR between rows).
+  std::vector<float> input(nf), output(nf * nf, 0.f);
+  for (size_t k = 0; k < nf; ++k) {
+    input[k] = float(f.times[k]);
+    output[k * nf + k] = 1.f;
+  }
+  for (size_t k = 1; k < nf; ++k)
+    if (!(input[k] > input[k - 1])) {
+      diag->Error("frame " + std::to_string(k), "bake: frame times closer than a float resolves");
+      return false;
+    }
+  const int in = b.Accessor(b.View(input.data(), nf * 4, 0), TINYGLTF_COMPONENT_TYPE_FLOAT, nf,
+                            TINYGLTF_TYPE_SCALAR);
+  b.model.accessors[size_t(in)].minValues = {input.front()};
+  b.model.accessors[size_t(in)].maxValues = {input.back()};
+  const int outp = b.Accessor(b.View(output.data(), output.size() * 4, 0),
+                              TINYGLTF_COMPONENT_TYPE_FLOAT, output.size(), TINYGLTF_TYPE_SCALAR);
+  tinygltf::Animation anim;
+  anim.name = "clip";
+  tinygltf::AnimationSampler sampler;
+  sampler.input = in;
+  sampler.output = outp;
+  sampler.interpolation = "LINEAR";
+  anim.samplers.push_back(sampler);
+  tinygltf::AnimationChannel channel;
+  channel.sampler = 0;
+  channel.target_node = 0;
+  channel.target_path = "weights";
+  anim.channels.push_back(channel);
+  b.model.animations.push_back(std::move(anim));
+  b.model.buffers.push_back(std::move(b.buffer));
+
+  std::ostringstream ss;
+  bool ok = false;
+  try {
+    tinygltf::TinyGLTF writer;
+    ok = writer.WriteGltfSceneToStream(&b.model, ss, false, true);
+  } catch (...) {
+    ok = false;
+  }
+  if (!ok) {
+    diag->Error("", "bake: tinygltf could not serialise the animation");
+    return false;
+  }
+  *out = ss.str();
+  s.frames = nf;
+  s.bytes = out->size();
+  if (stats) *stats = s;
+  return true;
+}
+
+bool WriteBakedGlb(const std::string& path, const BakedFrames& frames, BakeStats* stats,
+                   Diagnostics* diag) {
+  std::string bytes;
+  if (!BakeGlbBytes(frames, &bytes, stats, diag)) return false;
+  return WriteFileAtomic(path, bytes, diag);
+}
+
+}  // namespace mimetic

@@ -1,0 +1,60 @@
+// io/gltf_bake.h: a played clip baked into one glTF 2.0 binary (.glb) that standard viewers
+// play: the base mesh plus one morph target per frame, and a `weights` animation that shows
+// frame k at its time (docs/expressions.md "Bake").
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "geometry/mesh.h"
+
+namespace mimetic {
+
+// What to bake. Sizes: #V = base.vertex_count(), #F = times.size().
+struct BakedFrames {
+  // The base mesh in mesh units: positions, normals (optional: empty = no NORMAL and no normal
+  // deltas), uvs (optional), triangles. mimetic play passes the rig evaluated at zero
+  // activations (the neutral) in the rig's output layout.
+  MeshData base;
+  std::vector<double> times;      // #F seconds, strictly increasing, >= 0 (frame k at times[k])
+  std::vector<float> positions;   // #F * #V * 3: frame k, vertex v at [(k * #V + v) * 3]
+  std::vector<float> normals;     // #F * #V * 3, or empty (no normal deltas)
+  double metres_per_unit = 0.001; // the root node's uniform scale (none when 1), as ExportMesh
+  // A vertex whose delta from the base is at most this in every coordinate is stored as not
+  // moved (delta 0), so that the skin layers' sub-micrometre changes far from the acting
+  // muscles do not defeat the sparse rule. Mesh units (positions), unitless (normals); 0 keeps
+  // every non-zero delta (exact).
+  float position_epsilon = 0.f;
+  float normal_epsilon = 0.f;
+};
+
+struct BakeStats {
+  size_t frames = 0;
+  size_t sparse_targets = 0;       // morph targets whose POSITION deltas are sparse
+  size_t moved_vertices = 0;       // vertices whose position differs from the base in any frame
+  size_t max_moved_in_frame = 0;   // the most vertices moved in one frame
+  size_t bytes = 0;                // size of the .glb
+};
+
+// The .glb bytes. Layout (docs/expressions.md "Bake"): one scene, one node ("mimetic_units",
+// scaling mesh units to metres, as ExportMesh) holding mesh 0 ("baked") with one primitive:
+// POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices, and #F morph targets (target k =
+// frame k minus the base: POSITION deltas with min/max, NORMAL deltas). A target's deltas are a
+// sparse accessor (u16 or u32 indices of the vertices whose delta is above the epsilon, their
+// deltas; no bufferView, so the rest are zero) when that is fewer bytes than the dense array;
+// a target with no moved vertex is an accessor with neither bufferView nor sparse (all zeros).
+// One animation ("clip"), one LINEAR sampler over input times[k]: output row k is 1 at target
+// k and 0 elsewhere, so frame k is shown exactly at its time and neighbouring frames blend
+// linearly between (vertex positions move linearly from frame k to frame k+1). Refuses (false,
+// a message) empty frames, mismatched sizes, non-increasing or non-finite times, non-finite
+// values, out-of-range indices.
+bool BakeGlbBytes(const BakedFrames& frames, std::string* out, BakeStats* stats,
+                  Diagnostics* diag);
+
+// BakeGlbBytes written to `path` atomically (temporary file + rename; WriteFileAtomic).
+bool WriteBakedGlb(const std::string& path, const BakedFrames& frames, BakeStats* stats,
+                   Diagnostics* diag);
+
+}  // namespace mimetic

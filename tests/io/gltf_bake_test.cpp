@@ -1,0 +1,188 @@
+// tests/io/gltf_bake_test.cpp: io/gltf_bake.h on a hand-made quad whose frames are written out
+// here: the glb read back with tinygltf (tests/gltf_decode.h) has one morph target per frame
+// whose sparse-expanded deltas plus the base are the frames, sparse accessors exactly where
+// they are smaller, min/max, the LINEAR weights animation at k / fps, the unit node; bad input
+// is refused with a message; the file write is atomic.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "gltf_decode.h"
+#include "io/gltf_bake.h"
+#include "io/mesh_io.h"
+#include "test_support.h"
+
+namespace mimetic {
+namespace {
+
+// A unit quad (4 vertices, 2 triangles) in mm; 3 frames at 10 fps: frame 0 = the base,
+// frame 1 moves vertex 2 by (0, 0, 0.5) (1 vertex: sparse 1 * (2 + 12) = 14 bytes < 48 dense),
+// frame 2 moves every vertex by (0.25, 0, 0) (sparse 64 bytes > 48: dense).
+BakedFrames Quad() {
+  BakedFrames f;
+  f.base.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  f.base.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  f.base.indices = {0, 1, 2, 0, 2, 3};
+  f.times = {0.0, 0.1, 0.2};
+  f.metres_per_unit = 0.001;
+  for (int k = 0; k < 3; ++k)
+    for (int v = 0; v < 4; ++v) {
+      float3 p = f.base.positions[size_t(v)];
+      if (k == 1 && v == 2) p.z += 0.5f;
+      if (k == 2) p.x += 0.25f;
+      f.positions.insert(f.positions.end(), {p.x, p.y, p.z});
+      f.normals.insert(f.normals.end(), {0.f, 0.f, 1.f});
+    }
+  return f;
+}
+
+TEST(GltfBake, QuadReadsBackFrameByFrame) {
+  const BakedFrames f = Quad();
+  std::string bytes;
+  BakeStats stats;
+  Diagnostics diag;
+  ASSERT_TRUE(BakeGlbBytes(f, &bytes, &stats, &diag)) << diag.Format();
+  EXPECT_EQ(stats.frames, 3u);
+  EXPECT_EQ(stats.sparse_targets, 1u);
+  EXPECT_EQ(stats.moved_vertices, 4u);
+  EXPECT_EQ(stats.max_moved_in_frame, 4u);
+  EXPECT_EQ(stats.bytes, bytes.size());
+  ASSERT_EQ(bytes.substr(0, 4), "glTF");
+
+  tinygltf::Model m;
+  std::string err;
+  ASSERT_TRUE(test::LoadGlb(bytes, &m, &err)) << err;
+  ASSERT_EQ(m.nodes.size(), 1u);
+  EXPECT_EQ(m.nodes[0].name, "mimetic_units");
+  EXPECT_EQ(m.nodes[0].scale, (std::vector<double>{0.001, 0.001, 0.001}));
+  ASSERT_EQ(m.meshes.size(), 1u);
+  ASSERT_EQ(m.meshes[0].primitives.size(), 1u);
+  const tinygltf::Primitive& prim = m.meshes[0].primitives[0];
+  ASSERT_EQ(prim.targets.size(), 3u);
+  const std::vector<float> base = test::ReadFloats(m, prim.attributes.at("POSITION"));
+  ASSERT_EQ(base.size(), 12u);
+  const tinygltf::Accessor& pa = m.accessors[size_t(prim.attributes.at("POSITION"))];
+  EXPECT_EQ(pa.minValues, (std::vector<double>{0, 0, 0}));
+  EXPECT_EQ(pa.maxValues, (std::vector<double>{1, 1, 0}));
+  for (size_t k = 0; k < 3; ++k) {
+    const int acc = prim.targets[k].at("POSITION");
+    const std::vector<float> d = test::ReadFloats(m, acc);
+    ASSERT_EQ(d.size(), 12u);
+    for (size_t i = 0; i < 12; ++i)
+      EXPECT_EQ(base[i] + d[i], f.positions[k * 12 + i]) << "frame " << k << " float " << i;
+    ASSERT_TRUE(prim.targets[k].count("NORMAL"));
+    for (float n : test::ReadFloats(m, prim.targets[k].at("NORMAL"))) EXPECT_EQ(n, 0.f);
+  }
+  // Frame 0: no bufferView, no sparse (all zeros); frame 1: sparse, index 2 only; frame 2 dense.
+  const tinygltf::Accessor& a0 = m.accessors[size_t(prim.targets[0].at("POSITION"))];
+  EXPECT_EQ(a0.bufferView, -1);
+  EXPECT_FALSE(a0.sparse.isSparse);
+  EXPECT_EQ(a0.minValues, (std::vector<double>{0, 0, 0}));
+  const tinygltf::Accessor& a1 = m.accessors[size_t(prim.targets[1].at("POSITION"))];
+  EXPECT_TRUE(a1.sparse.isSparse);
+  EXPECT_EQ(a1.sparse.count, 1);
+  EXPECT_EQ(a1.sparse.indices.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  EXPECT_EQ(a1.minValues, (std::vector<double>{0, 0, 0}));
+  EXPECT_EQ(a1.maxValues, (std::vector<double>{0, 0, 0.5}));
+  const tinygltf::Accessor& a2 = m.accessors[size_t(prim.targets[2].at("POSITION"))];
+  EXPECT_FALSE(a2.sparse.isSparse);
+  EXPECT_GE(a2.bufferView, 0);
+  EXPECT_EQ(a2.minValues, (std::vector<double>{0.25, 0, 0}));
+  EXPECT_EQ(a2.maxValues, (std::vector<double>{0.25, 0, 0}));
+
+  // The animation: weights of node 0, LINEAR, input k / 10, output row k = e_k.
+  ASSERT_EQ(m.animations.size(), 1u);
+  ASSERT_EQ(m.animations[0].channels.size(), 1u);
+  EXPECT_EQ(m.animations[0].channels[0].target_path, "weights");
+  EXPECT_EQ(m.animations[0].channels[0].target_node, 0);
+  const tinygltf::AnimationSampler& s = m.animations[0].samplers[0];
+  EXPECT_EQ(s.interpolation, "LINEAR");
+  const std::vector<float> in = test::ReadFloats(m, s.input);
+  ASSERT_EQ(in.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) EXPECT_EQ(in[k], float(k / 10.0)) << k;
+  EXPECT_EQ(m.accessors[size_t(s.input)].minValues, (std::vector<double>{0.0}));
+  EXPECT_EQ(m.accessors[size_t(s.input)].maxValues, (std::vector<double>{double(0.2f)}));
+  const std::vector<float> out = test::ReadFloats(m, s.output);
+  ASSERT_EQ(out.size(), 9u);
+  for (size_t r = 0; r < 3; ++r)
+    for (size_t c = 0; c < 3; ++c) EXPECT_EQ(out[r * 3 + c], r == c ? 1.f : 0.f);
+
+  // The base mesh also reads back through ImportMesh (morph targets ignored, units kept).
+  const std::string dir = test::TempDir();
+  ASSERT_TRUE(WriteBakedGlb(dir + "/q.glb", f, nullptr, &diag)) << diag.Format();
+  MeshData back;
+  Diagnostics import;
+  ASSERT_TRUE(ImportMesh(dir + "/q.glb", "", &back, &import)) << import.Format();
+  EXPECT_EQ(back.positions, f.base.positions);
+  EXPECT_EQ(back.indices, f.base.indices);
+}
+
+TEST(GltfBake, U32SparseIndicesPastU16AndNoNormals) {
+  // 70000 vertices (a strip of triangles), one frame moving vertex 69999 only.
+  BakedFrames f;
+  const size_t nv = 70000;
+  for (size_t v = 0; v < nv; ++v) f.base.positions.push_back({float(v % 100), float(v / 100), 0});
+  for (uint32_t t = 0; t + 2 < nv; t += 3) f.base.indices.insert(f.base.indices.end(), {t, t + 1, t + 2});
+  f.times = {0.5};
+  f.positions.resize(nv * 3);
+  for (size_t v = 0; v < nv; ++v) {
+    f.positions[3 * v] = f.base.positions[v].x;
+    f.positions[3 * v + 1] = f.base.positions[v].y;
+    f.positions[3 * v + 2] = v == nv - 1 ? -2.f : 0.f;
+  }
+  std::string bytes;
+  BakeStats stats;
+  Diagnostics diag;
+  ASSERT_TRUE(BakeGlbBytes(f, &bytes, &stats, &diag)) << diag.Format();
+  EXPECT_EQ(stats.moved_vertices, 1u);
+  tinygltf::Model m;
+  std::string err;
+  ASSERT_TRUE(test::LoadGlb(bytes, &m, &err)) << err;
+  const tinygltf::Primitive& prim = m.meshes[0].primitives[0];
+  EXPECT_FALSE(prim.attributes.count("NORMAL"));
+  ASSERT_EQ(prim.targets.size(), 1u);
+  EXPECT_FALSE(prim.targets[0].count("NORMAL"));
+  const tinygltf::Accessor& a = m.accessors[size_t(prim.targets[0].at("POSITION"))];
+  ASSERT_TRUE(a.sparse.isSparse);
+  EXPECT_EQ(a.sparse.indices.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+  const std::vector<float> d = test::ReadFloats(m, prim.targets[0].at("POSITION"));
+  EXPECT_EQ(d[3 * (nv - 1) + 2], -2.f);
+  EXPECT_EQ(d[3 * (nv - 2) + 2], 0.f);
+  EXPECT_EQ(a.minValues, (std::vector<double>{0, 0, -2}));
+  // 70000 * 12 bytes dense would be 840 kB; the file is the base (840 kB + indices) and little.
+  EXPECT_LT(bytes.size(), nv * 12 + f.base.indices.size() * 4 + 4096);
+}
+
+TEST(GltfBake, RefusesBadInput) {
+  struct Case {
+    const char* what;
+    void (*edit)(BakedFrames*);
+    const char* message;
+  } cases[] = {
+      {"no frames", [](BakedFrames* f) { f->times.clear(); f->positions.clear(); f->normals.clear(); }, "no frames"},
+      {"short positions", [](BakedFrames* f) { f->positions.pop_back(); }, "sizes do not match"},
+      {"times not increasing", [](BakedFrames* f) { f->times[2] = 0.1; }, "not after the previous"},
+      {"negative time", [](BakedFrames* f) { f->times[0] = -1; }, "negative"},
+      {"NaN", [](BakedFrames* f) { f->positions[5] = std::nanf(""); }, "non-finite"},
+      {"index", [](BakedFrames* f) { f->base.indices[4] = 9; }, "out of range"},
+      {"unit", [](BakedFrames* f) { f->metres_per_unit = 0; }, "metres_per_unit"},
+  };
+  for (const Case& c : cases) {
+    BakedFrames f = Quad();
+    c.edit(&f);
+    std::string bytes = "untouched";
+    Diagnostics diag;
+    EXPECT_FALSE(BakeGlbBytes(f, &bytes, nullptr, &diag)) << c.what;
+    EXPECT_EQ(bytes, "untouched") << c.what;
+    EXPECT_NE(diag.Format().find(c.message), std::string::npos) << c.what << ": " << diag.Format();
+    const std::string dir = test::TempDir();
+    Diagnostics write;
+    EXPECT_FALSE(WriteBakedGlb(dir + "/x.glb", f, nullptr, &write)) << c.what;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/x.glb")) << c.what;
+  }
+}
+
+}  // namespace
+}  // namespace mimetic

@@ -1,0 +1,190 @@
+// tools/play_bake.cpp: the bake path of `mimetic play` (tools/play_bake.h).
+#include "tools/play_bake.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include "core/file_util.h"
+#include "expressions/runtime/clip_sample_job.h"
+#include "geometry/mesh.h"
+#include "io/gltf_bake.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/runtime/evaluate_job.h"
+#include "tools/cli.h"
+
+namespace mimetic::tools {
+namespace {
+
+// Samples and evaluates frames [k] into `frames` (one context per worker); false when a job
+// did not validate or a pose is not finite (`bad_frame` set to the first such frame).
+struct Worker {
+  const PlayBakeRequest* r;
+  BakedFrames* frames;
+  std::atomic<size_t>* next;
+  std::atomic<size_t>* done;
+  std::atomic<bool>* failed;
+
+  void operator()() const {
+    const Rig& rig = *r->rig;
+    const size_t nv = rig.vertex_count();
+    EvaluateContext context(rig);
+    std::vector<float> activations(rig.muscle_count(), 0.f);
+    ClipSampleJob sample;
+    sample.clip = r->clip;
+    sample.out_activations = activations;
+    EvaluateJob evaluate;
+    evaluate.rig = &rig;
+    evaluate.context = &context;
+    evaluate.activations = activations;
+    evaluate.layers = r->layers;
+    for (size_t k; !failed->load() && (k = next->fetch_add(1)) < r->times.size();) {
+      sample.time = float(r->times[k]);
+      evaluate.out_positions = span<float>(&frames->positions[k * nv * 3], nv * 3);
+      if (r->normals) evaluate.out_normals = span<float>(&frames->normals[k * nv * 3], nv * 3);
+      if (!sample.Run() || !evaluate.Run()) failed->store(true);
+      done->fetch_add(1);
+    }
+  }
+};
+
+}  // namespace
+
+int PlayBake(const PlayBakeRequest& r) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const Rig& rig = *r.rig;
+  const size_t nv = rig.vertex_count(), nf = r.times.size();
+
+  BakedFrames frames;
+  frames.metres_per_unit = r.metres_per_unit;
+  frames.times = r.times;
+  frames.positions.resize(nf * nv * 3);
+  if (r.normals) frames.normals.resize(nf * nv * 3);
+  // The base: the rig at zero activations (the neutral), in its output layout.
+  {
+    const std::vector<float> zero(rig.muscle_count(), 0.f);
+    if (!PosedMesh(rig, zero, r.layers, &frames.base)) {
+      std::fprintf(stderr, "mimetic play: evaluation failed (internal error: job did not "
+                           "validate)\n");
+      return kExitInput;
+    }
+    if (!r.normals) frames.base.normals.clear();
+    // Moves below a millionth of the head's size (0.25 um on the sample head) and normal
+    // changes below 1e-4 are not stored: far from the acting muscles the skin layers change
+    // vertices by float noise, which would make nearly every target dense.
+    float3 lo = frames.base.positions[0], hi = lo;
+    for (const float3& p : frames.base.positions) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    frames.position_epsilon =
+        1e-6f * std::sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
+                          (hi.z - lo.z) * (hi.z - lo.z));
+    frames.normal_epsilon = 1e-4f;
+  }
+
+  unsigned threads = r.threads ? r.threads : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
+  threads = unsigned(std::min<size_t>(threads, nf));
+  std::atomic<size_t> next{0}, done{0};
+  std::atomic<bool> failed{false};
+  const bool bar = !r.quiet && isatty(fileno(stderr)) != 0;
+  auto draw = [&](size_t d, const char* what) {
+    const int width = 40, filled = int(width * d / (nf ? nf : 1));
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu frames %s", std::string(size_t(filled), '#').c_str(),
+                 std::string(size_t(width - filled), ' ').c_str(), d, nf, what);
+    std::fflush(stderr);
+  };
+  {
+    std::vector<std::thread> pool;
+    const Worker worker{&r, &frames, &next, &done, &failed};
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+    if (bar) {
+      // The calling thread draws the bar and works too.
+      std::thread self(worker);
+      while (done.load() < nf && !failed.load()) {
+        draw(done.load(), "evaluated");
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      self.join();
+      draw(done.load(), "evaluated");
+    } else {
+      worker();
+    }
+    for (std::thread& t : pool) t.join();
+  }
+  if (failed.load()) {
+    if (bar) std::fputc('\n', stderr);
+    std::fprintf(stderr, "mimetic play: evaluation failed (internal error: job did not "
+                         "validate); nothing was written\n");
+    return kExitInput;
+  }
+  // Every frame finite (the offline guard that names the rig key at fault).
+  for (size_t k = 0; k < nf; ++k) {
+    const float* p = &frames.positions[k * nv * 3];
+    const float* n = r.normals ? &frames.normals[k * nv * 3] : nullptr;
+    bool finite = true;
+    for (size_t i = 0; i < nv * 3 && finite; ++i)
+      finite = std::isfinite(p[i]) && (!n || std::isfinite(n[i]));
+    if (finite) continue;
+    if (bar) std::fputc('\n', stderr);
+    MeshData posed = RestMesh(rig);
+    posed.positions.assign(reinterpret_cast<const float3*>(p), reinterpret_cast<const float3*>(p) + nv);
+    posed.normals.assign(nv, float3{0, 0, 1});
+    if (n) posed.normals.assign(reinterpret_cast<const float3*>(n), reinterpret_cast<const float3*>(n) + nv);
+    std::vector<float> activations(rig.muscle_count(), 0.f);
+    ClipSampleJob sample;
+    sample.clip = r.clip;
+    sample.time = float(r.times[k]);
+    sample.out_activations = activations;
+    sample.Run();
+    Diagnostics bad;
+    CheckPosedFinite(rig, *r.spec, activations, r.layers, posed, &bad);
+    Diagnostics diag;
+    diag.Append(bad, r.rig_path);
+    std::fputs(diag.Format().c_str(), stderr);
+    std::fprintf(stderr, "mimetic play: the posed mesh of frame %zu (t = %g s) is not finite; "
+                         "nothing was written\n", k, r.times[k]);
+    return kExitInput;
+  }
+
+  if (bar) draw(nf, "writing  ");
+  const std::string dir = DirectoryOf(r.out);
+  std::error_code ec;
+  if (!dir.empty()) std::filesystem::create_directories(dir, ec);
+  BakeStats stats;
+  Diagnostics write;
+  if (!WriteBakedGlb(r.out, frames, &stats, &write)) {
+    if (bar) std::fputc('\n', stderr);
+    std::fputs(write.Format().c_str(), stderr);
+    std::fprintf(stderr, "mimetic play: nothing was written\n");
+    return kExitInput;
+  }
+  if (bar) {
+    draw(nf, "written  ");
+    std::fputc('\n', stderr);
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!r.quiet) {
+    const char* end = r.clip->end() == ClipEnd::kLoop ? "loop" : "clamp";
+    std::printf("played %s (%g s, %s) on %s at %g fps\n", r.clip_path.c_str(),
+                double(r.clip->duration()), end, r.rig_path.c_str(), r.fps);
+    std::printf("baked %zu frames (0 .. %g s) into %s: %.2f MB, %zu vertices, %zu triangles, "
+                "%zu morph targets (%zu sparse), one LINEAR weights animation\n",
+                stats.frames, r.times.back(), r.out.c_str(), double(stats.bytes) / 1e6, nv,
+                size_t(rig.triangle_count()), stats.frames, stats.sparse_targets);
+    std::printf("vertices moved: %zu of %zu in some frame, at most %zu in one frame; took %.2f s "
+                "on %u thread(s)\n", stats.moved_vertices, nv, stats.max_moved_in_frame, seconds,
+                threads);
+  }
+  return 0;
+}
+
+}  // namespace mimetic::tools
