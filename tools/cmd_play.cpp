@@ -20,6 +20,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/play_golden.h"
 
 namespace mimetic::tools {
 namespace {
@@ -142,9 +143,9 @@ class Progress {
 
 int CmdPlay(const Args& args) {
   const ParsedArgs parsed =
-      ParseArgs(args, {"expression", "time", "fps", "out"},
+      ParseArgs(args, {"expression", "time", "fps", "out", "write-golden", "frames"},
                 {"no-thickness", "no-muscle-wrinkles", "no-curve-wrinkles"});
-  if (parsed.help) return std::fputs(kPlayUsage, stdout), 0;
+  if (parsed.help) return std::fputs(kPlayUsage, stdout), std::fputs(kPlayGoldenUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("play", parsed.error, kPlayUsage);
   if (parsed.positional.size() != 2)
     return UsageError("play",
@@ -152,6 +153,7 @@ int CmdPlay(const Args& args) {
                       : parsed.positional.size() == 1 ? "missing CLIP"
                                                       : "expected one RIG and one CLIP",
                       kPlayUsage);
+  if (parsed.Has("write-golden")) return PlayWriteGolden(parsed);
   const bool at_time = parsed.Has("time"), sequence = parsed.Has("fps");
   if (at_time == sequence)
     return UsageError("play", at_time ? "--time and --fps together; expected one of them"
