@@ -39,7 +39,8 @@ std::vector<SchemaFile> Schemas() {
           {ClipFileFormat(), "mimetic-clip.schema.json", {"tests/data/clips/smile_blink.clip.json"}},
           {ExpressionLibraryFormat(), "mimetic-expression-library.schema.json",
            {"assets/expressions/default.library.json"}},
-          {ArkitMapFormat(), "mimetic-arkit-map.schema.json", {"assets/arkit/default.arkit.json"}}};
+          {ArkitMapFormat(), "mimetic-arkit-map.schema.json", {"assets/arkit/default.arkit.json"}},
+          {ArkitTakeFormat(), "mimetic-arkit-take.schema.json", {"tests/data/arkit/take.json"}}};
 }
 
 std::string ReadText(const std::string& path) {
