@@ -18,6 +18,8 @@ seeds() {  # the seed files of one target
     clip) echo "$src/tests/data/clips/*.json $bad/clip_*.json" ;;
     expression_library) echo "$src/assets/expressions/*.json" ;;
     arkit_map) echo "$src/assets/arkit/*.json" ;;
+    arkit_take) echo "$src/tests/data/arkit/*.csv $src/tests/data/arkit/take.json" ;;
+    golden) echo "$src/tests/golden/*.golden" ;;
     mesh_glb) echo "$src/fuzz/seeds/*.glb $bad/*.glb" ;;
     mesh_gltf) echo "$src/fuzz/seeds/*.gltf $bad/*.gltf" ;;
     mesh_obj) echo "$src/fuzz/seeds/*.obj $bad/*.obj" ;;
@@ -29,7 +31,7 @@ mkdir -p "$artifacts"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for name in rig template landmarks expression clip expression_library arkit_map mesh_glb mesh_gltf mesh_obj image; do
+for name in rig template landmarks expression clip expression_library arkit_map arkit_take golden mesh_glb mesh_gltf mesh_obj image; do
   mkdir -p "$work/$name/corpus" "$work/$name/seeds"
   # shellcheck disable=SC2046
   cp $(seeds "$name") "$work/$name/seeds/"

@@ -16,6 +16,7 @@ const json_reader::Format& ExpressionFileFormat();  // io/expression_file.cpp
 const json_reader::Format& ClipFileFormat();        // io/clip_file.cpp
 const json_reader::Format& ExpressionLibraryFormat();  // io/expression_library.cpp
 const json_reader::Format& ArkitMapFormat();  // io/arkit_map.cpp
+const json_reader::Format& ArkitTakeFormat();  // io/arkit_take.cpp (JSON takes)
 
 // A block that two formats share (defined in io/rig_file.cpp): the muscle wrinkle block of
 // docs/model.md §6, in rig files (mesh units) and templates (units of s, docs/template-format.md).

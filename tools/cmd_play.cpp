@@ -22,6 +22,7 @@
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/play_bake.h"
+#include "tools/play_golden.h"
 
 namespace mimetic::tools {
 namespace {
@@ -166,10 +167,10 @@ class Progress {
 
 int CmdPlay(const Args& args) {
   const ParsedArgs parsed =
-      ParseArgs(args, {"expression", "library", "time", "fps", "out", "threads"},
+      ParseArgs(args, {"expression", "library", "time", "fps", "out", "threads", "write-golden", "frames"},
                 {"no-thickness", "no-muscle-wrinkles", "no-curve-wrinkles", "no-normals",
                  "quiet"});
-  if (parsed.help) return std::fputs(kPlayUsage, stdout), 0;
+  if (parsed.help) return std::fputs(kPlayUsage, stdout), std::fputs(kPlayGoldenUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("play", parsed.error, kPlayUsage);
   if (parsed.positional.size() != 2)
     return UsageError("play",
@@ -177,6 +178,7 @@ int CmdPlay(const Args& args) {
                       : parsed.positional.size() == 1 ? "missing CLIP"
                                                       : "expected one RIG and one CLIP",
                       kPlayUsage);
+  if (parsed.Has("write-golden")) return PlayWriteGolden(parsed);
   const bool at_time = parsed.Has("time"), sequence = parsed.Has("fps");
   if (at_time == sequence)
     return UsageError("play", at_time ? "--time and --fps together; expected one of them"

@@ -27,6 +27,7 @@ const Command kCommands[] = {
     {"creases", mimetic::tools::CmdCreases, "how sharply each muscle folds the skin at its zone's edges"},
     {"calibrate", mimetic::tools::CmdCalibrate, "calibrate a muscle template on real expression shapes"},
     {"play", mimetic::tools::CmdPlay, "sample a clip and write the posed mesh or an OBJ sequence"},
+    {"import-arkit", mimetic::tools::CmdImportArkit, "turn a face-capture take (ARKit CSV/JSON) into a clip"},
     {"make-library", mimetic::tools::CmdMakeLibrary, "the expression library and ARKit map, solved on ICT-FaceKit"},
 };
 

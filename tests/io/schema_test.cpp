@@ -42,7 +42,8 @@ std::vector<SchemaFile> Schemas() {
             "assets/clips/smile.clip.json"}},
           {ExpressionLibraryFormat(), "mimetic-expression-library.schema.json",
            {"assets/expressions/default.library.json"}},
-          {ArkitMapFormat(), "mimetic-arkit-map.schema.json", {"assets/arkit/default.arkit.json"}}};
+          {ArkitMapFormat(), "mimetic-arkit-map.schema.json", {"assets/arkit/default.arkit.json"}},
+          {ArkitTakeFormat(), "mimetic-arkit-take.schema.json", {"tests/data/arkit/take.json"}}};
 }
 
 std::string ReadText(const std::string& path) {

@@ -135,3 +135,8 @@ clipfile('clip_unsorted_keys.clip.json',
 clipfile('clip_unknown_muscle.clip.json', [{'muscle': 'zygomatc', 'keys': [{'t': 0, 'v': 1}]}])
 clipfile('clip_value_above_one.clip.json', [{'muscle': 'frontalis', 'keys': [{'t': 0, 'v': 1.5}]}])
 write('clip_not_json.clip.json', '{"format": "mimetic-clip", "version": 1, "channels": [')
+
+# ARKit takes (through import-arkit, on the sample head with the default map).
+write('take_weight_above_one.csv', 'Timecode,BlendShapeCount,JawOpen\n00:00:00:00,1,0.5\n00:00:00:01,1,1.5\n')
+write('take_bad_timecode.csv', 'Timecode,JawOpen\n00:00:00:00,0.5\n00:00:00:75,0.2\n')
+write('take_not_json.json', '[{"time": 0, "blendshapes": {')

@@ -1,0 +1,116 @@
+// tools/play_golden.cpp: `mimetic play ... --write-golden DIR` (tools/play_golden.h).
+#include "tools/play_golden.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/file_util.h"
+#include "io/clip_file.h"
+#include "io/expression_file.h"
+#include "io/golden_file.h"
+#include "io/rig_loader.h"
+
+namespace mimetic::tools {
+
+const char* kPlayGoldenUsage =
+    "       mimetic play RIG CLIP [--expression FILE]... --write-golden DIR [--frames T1,T2,...]\n"
+    "  --write-golden DIR      write the playback golden DIR/<clip file name without\n"
+    "                          .clip.json>.golden: the outputs at the --frames times (default:\n"
+    "                          a quarter, half and all of the duration), every skin layer on\n"
+    "                          (tests/golden/README.md); only when a change of outputs is meant\n";
+
+namespace {
+
+int Usage(const std::string& error) {
+  std::fprintf(stderr, "mimetic play: %s\n%s", error.c_str(), kPlayGoldenUsage);
+  return kExitUsage;
+}
+
+std::string GoldenName(const std::string& clip_path) {
+  std::string name = std::filesystem::path(clip_path).filename().string();
+  for (const char* ext : {".clip.json", ".json"})
+    if (name.size() > std::strlen(ext) && name.ends_with(ext)) {
+      name.resize(name.size() - std::strlen(ext));
+      break;
+    }
+  return name + ".golden";
+}
+
+}  // namespace
+
+int PlayWriteGolden(const ParsedArgs& parsed) {
+  if (parsed.Has("time") || parsed.Has("fps") || parsed.Has("out"))
+    return Usage("--write-golden takes no --time, --fps or --out (it writes DIR/NAME.golden at "
+                 "--frames)");
+  const std::string dir = parsed.Get("write-golden");
+  if (dir.empty()) return Usage("--write-golden: expected a folder");
+  std::vector<double> frames;
+  if (parsed.Has("frames")) {
+    std::stringstream list(parsed.Get("frames"));
+    std::string item;
+    while (std::getline(list, item, ',')) {
+      double t = 0;
+      if (!ParseNumber(item, 0.0, 1e6, &t))
+        return Usage("--frames " + parsed.Get("frames") + ": \"" + item +
+                     "\" is not a time; expected seconds >= 0, comma-separated");
+      frames.push_back(t);
+    }
+    if (frames.empty() || frames.size() > 16)
+      return Usage("--frames " + parsed.Get("frames") + ": expected 1 to 16 times");
+  }
+  const std::string& rig_path = parsed.positional[0];
+  const std::string& clip_path = parsed.positional[1];
+  Diagnostics diag;
+  LoadedRig loaded;
+  const bool rig_ok = LoadRig(rig_path, &loaded, &diag);
+  ClipSpec spec;
+  const bool clip_ok = LoadClip(clip_path, &spec, &diag);
+  std::vector<Expression> expressions;
+  bool expressions_ok = true;
+  if (const auto it = parsed.values.find("expression"); it != parsed.values.end())
+    for (const std::string& path : it->second) {
+      Expression e;
+      if (LoadExpression(path, &e, &diag)) expressions.push_back(std::move(e));
+      else expressions_ok = false;
+    }
+  CompiledClip clip;
+  if (rig_ok && clip_ok && expressions_ok) {
+    Diagnostics build;
+    if (!BuildClip(spec, loaded.rig.muscle_names(), expressions, &clip, &build))
+      diag.Append(build, clip_path);
+  }
+  if (diag.HasErrors()) {
+    std::fputs(diag.Format().c_str(), stderr);
+    std::fprintf(stderr, "mimetic play: %zu error(s); no golden was written\n",
+                 diag.ErrorCount());
+    return kExitInput;
+  }
+  if (frames.empty()) {
+    const double d = double(clip.duration());
+    frames = {0.25 * d, 0.5 * d, d};
+  }
+  std::vector<float> times(frames.begin(), frames.end());
+  Golden golden;
+  if (!MakeGolden(loaded.rig, clip, times, &golden, &diag)) {
+    std::fputs(diag.Format().c_str(), stderr);
+    return kExitInput;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::string path = JoinPath(dir, GoldenName(clip_path));
+  Diagnostics write;
+  if (!SaveGolden(path, golden, &write)) {
+    std::fputs(write.Format().c_str(), stderr);
+    return kExitInput;
+  }
+  std::printf("wrote %s: %zu frames of %zu sampled vertices (of %u), %zu bytes\n", path.c_str(),
+              golden.frames.size(), golden.indices.size(), golden.vertex_count,
+              GoldenToBytes(golden).size());
+  return 0;
+}
+
+}  // namespace mimetic::tools
