@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -208,7 +207,6 @@ TEST(ArkitMap, TheSolvedSmileBeatsTheNeutralOnTheRealShape) {
   const std::string data = shared + "/data/ict-facekit/";
   if (shared.empty() || !std::ifstream(data + "arkit/mouthSmile_L.obj"))
     GTEST_SKIP() << "../shared/data/ict-facekit is absent: the solved smile is not recomputed";
-  const auto start = std::chrono::steady_clock::now();
   const std::vector<ArkitShape> shapes = LoadDefaultMap();
   const auto smile = std::find_if(shapes.begin(), shapes.end(),
                                   [](const ArkitShape& s) { return s.name == "mouthSmileLeft"; });
@@ -252,7 +250,6 @@ TEST(ArkitMap, TheSolvedSmileBeatsTheNeutralOnTheRealShape) {
   EXPECT_LT(r.b_to_a.mean, r.b_to_neutral.mean);
   EXPECT_NEAR(r.b_to_a.mean, smile->mean_distance, 0.01 * smile->mean_distance);
   EXPECT_NEAR(r.b_to_neutral.mean, smile->neutral_mean_distance, 0.01 * smile->neutral_mean_distance);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
 }
 
 }  // namespace
