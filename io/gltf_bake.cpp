@@ -20,6 +20,22 @@
 namespace mimetic {
 namespace {
 
+// delta = frame - base per vertex (xyz); a vertex whose three components all stay within
+// `epsilon` gets an exact zero, and otherwise is marked in `moved` (when given).
+void FrameDeltas(const float* frame, const float3* base, size_t nv, float epsilon, float* delta,
+                 uint8_t* moved) {
+  for (size_t v = 0; v < nv; ++v) {
+    float* d = delta + 3 * v;
+    d[0] = frame[3 * v + 0] - base[v].x;
+    d[1] = frame[3 * v + 1] - base[v].y;
+    d[2] = frame[3 * v + 2] - base[v].z;
+    if (std::abs(d[0]) <= epsilon && std::abs(d[1]) <= epsilon && std::abs(d[2]) <= epsilon)
+      d[0] = d[1] = d[2] = 0.f;
+    else if (moved)
+      moved[v] = 1;
+  }
+}
+
 struct Builder {
   tinygltf::Model model;
   tinygltf::Buffer buffer;
@@ -203,17 +219,7 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   for (size_t k = 0; k < nf; ++k) {
     std::map<std::string, int> target;
     const float* p = &f.positions[k * nv * 3];
-    for (size_t v = 0; v < nv; ++v) {
-      delta[3 * v + 0] = p[3 * v + 0] - f.base.positions[v].x;
-      delta[3 * v + 1] = p[3 * v + 1] - f.base.positions[v].y;
-      delta[3 * v + 2] = p[3 * v + 2] - f.base.positions[v].z;
-      if (std::abs(delta[3 * v]) <= f.position_epsilon &&
-          std::abs(delta[3 * v + 1]) <= f.position_epsilon &&
-          std::abs(delta[3 * v + 2]) <= f.position_epsilon)
-        delta[3 * v] = delta[3 * v + 1] = delta[3 * v + 2] = 0.f;
-      else
-        moved[v] = 1;
-    }
+    FrameDeltas(p, f.base.positions.data(), nv, f.position_epsilon, delta.data(), moved.data());
     bool sparse = false;
     size_t nonzero = 0;
     target["POSITION"] = b.Deltas(delta, nv, true, &sparse, &nonzero);
@@ -221,15 +227,7 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
     s.max_moved_in_frame = std::max(s.max_moved_in_frame, nonzero);
     if (normals && !f.normals.empty()) {
       const float* n = &f.normals[k * nv * 3];
-      for (size_t v = 0; v < nv; ++v) {
-        delta[3 * v + 0] = n[3 * v + 0] - f.base.normals[v].x;
-        delta[3 * v + 1] = n[3 * v + 1] - f.base.normals[v].y;
-        delta[3 * v + 2] = n[3 * v + 2] - f.base.normals[v].z;
-        if (std::abs(delta[3 * v]) <= f.normal_epsilon &&
-            std::abs(delta[3 * v + 1]) <= f.normal_epsilon &&
-            std::abs(delta[3 * v + 2]) <= f.normal_epsilon)
-          delta[3 * v] = delta[3 * v + 1] = delta[3 * v + 2] = 0.f;
-      }
+      FrameDeltas(n, f.base.normals.data(), nv, f.normal_epsilon, delta.data(), nullptr);
       bool unused_sparse;
       size_t unused_nonzero;
       target["NORMAL"] = b.Deltas(delta, nv, false, &unused_sparse, &unused_nonzero);

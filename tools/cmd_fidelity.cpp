@@ -122,43 +122,17 @@ int CmdFidelity(const Args& args) {
   }
 
   // The rig: the template fitted to the ICT neutral.
-  const auto start = std::chrono::steady_clock::now();
-  Diagnostics diag;
-  MuscleTemplate tmpl;
-  MeshData neutral;
-  Landmarks landmarks;
-  const std::string neutral_path = data + "/ict-facekit/ict_skin_neutral.obj";
-  Diagnostics local;
-  const bool tmpl_ok = LoadMuscleTemplate(template_path, &tmpl, &diag);
-  const bool mesh_ok = ImportMesh(neutral_path, "", &neutral, &local);
-  diag.Append(local, neutral_path);
-  const bool lm_ok = LoadLandmarks(landmarks_path, &landmarks, &diag);
-  if (!tmpl_ok || !mesh_ok || !lm_ok)
-    return Fail(diag, "cannot read the inputs (is --data the folder that holds ict-facekit/?)");
-  std::vector<float3> points;
-  FaceFrame frame;
-  local.Clear();
-  if (!ResolveLandmarks(landmarks, neutral, &points, &local) ||
-      !ComputeFaceFrame(points, &frame, &local)) {
-    diag.Append(local, landmarks_path);
-    return Fail(diag, "the landmarks do not fit the ICT neutral");
-  }
-  const std::string units = GuessUnits(frame.scale);
-  RigSpec spec;
-  local.Clear();
-  if (!FitTemplate(tmpl, neutral, landmarks, units, &spec, &local)) {
-    diag.Append(local, template_path);
-    return Fail(diag, "the template does not fit the ICT neutral");
-  }
-  Rig rig;
-  local.Clear();
-  if (!BuildRig(spec, neutral, {}, &rig, &local)) {
-    diag.Append(local, template_path);
-    return Fail(diag, "the fitted rig does not build");
-  }
+  Diagnostics diag, local;
+  IctRig ict;
+  std::string what;
+  if (!FitIctRig(data, template_path, landmarks_path, &ict, &diag, &what)) return Fail(diag, what);
+  const MeshData& neutral = ict.neutral;
+  const std::string& neutral_path = ict.neutral_path;
+  const std::string& units = ict.units;
+  const Rig& rig = ict.rig;
   std::printf("fidelity: %s fitted to %s (%u muscles, %u output vertices) in %.1f s\n",
               template_path.c_str(), neutral_path.c_str(), rig.muscle_count(), rig.vertex_count(),
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+              ict.seconds);
 
   std::error_code ec;
   std::filesystem::create_directories(images_dir, ec);

@@ -23,6 +23,7 @@
 #include "tools/commands.h"
 #include "tools/play_bake.h"
 #include "tools/play_golden.h"
+#include "tools/play_inputs.h"
 
 namespace mimetic::tools {
 namespace {
@@ -90,6 +91,35 @@ bool LoadPlayExpressions(const ParsedArgs& parsed, std::vector<Expression>* out,
     }
   return ok;
 }
+
+}  // namespace
+
+bool LoadPlayInputs(const ParsedArgs& parsed, const char* nothing_written, LoadedRig* loaded,
+                    CompiledClip* clip, Diagnostics* diag) {
+  const std::string& rig_path = parsed.positional[0];
+  const std::string& clip_path = parsed.positional[1];
+  const bool rig_ok = LoadRig(rig_path, loaded, diag);
+  ClipSpec spec;
+  const bool clip_ok = LoadClip(clip_path, &spec, diag);
+  std::vector<Expression> expressions;
+  const bool expressions_ok = LoadPlayExpressions(parsed, &expressions, diag);
+  if (!rig_ok || !clip_ok || !expressions_ok) {
+    PrintDiagnostics(*diag);
+    std::fprintf(stderr, "mimetic play: %zu error(s); %s\n", diag->ErrorCount(), nothing_written);
+    return false;
+  }
+  Diagnostics build;
+  if (!BuildClip(spec, loaded->rig.muscle_names(), expressions, clip, &build)) {
+    diag->Append(build, clip_path);
+    PrintDiagnostics(*diag);
+    std::fprintf(stderr, "mimetic play: %s does not play on %s: %zu error(s); %s\n",
+                 clip_path.c_str(), rig_path.c_str(), build.ErrorCount(), nothing_written);
+    return false;
+  }
+  return true;
+}
+
+namespace {
 
 // A frame-name pattern: `prefix %0Nd suffix` with %% for '%'. Empty `error` when it parses.
 struct FramePattern {
@@ -225,28 +255,9 @@ int CmdPlay(const Args& args) {
   const std::string& clip_path = parsed.positional[1];
   Diagnostics diag;
   LoadedRig loaded;
-  const bool rig_ok = LoadRig(rig_path, &loaded, &diag);
-  ClipSpec spec;
-  const bool clip_ok = LoadClip(clip_path, &spec, &diag);
-  std::vector<Expression> expressions;
-  const bool expressions_ok = LoadPlayExpressions(parsed, &expressions, &diag);
-  if (!rig_ok || !clip_ok || !expressions_ok) {
-    PrintDiagnostics(diag);
-    std::fprintf(stderr, "mimetic play: %zu error(s); nothing was written\n", diag.ErrorCount());
-    return kExitInput;
-  }
-  const Rig& rig = loaded.rig;
   CompiledClip clip;
-  {
-    Diagnostics build;
-    if (!BuildClip(spec, rig.muscle_names(), expressions, &clip, &build)) {
-      diag.Append(build, clip_path);
-      PrintDiagnostics(diag);
-      std::fprintf(stderr, "mimetic play: %s does not play on %s: %zu error(s); nothing was "
-                           "written\n", clip_path.c_str(), rig_path.c_str(), build.ErrorCount());
-      return kExitInput;
-    }
-  }
+  if (!LoadPlayInputs(parsed, "nothing was written", &loaded, &clip, &diag)) return kExitInput;
+  const Rig& rig = loaded.rig;
   PrintDiagnostics(diag);  // warnings (a rig's winding, ...)
 
   // The frames: times and file names.

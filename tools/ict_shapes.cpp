@@ -1,7 +1,14 @@
 // tools/ict_shapes.cpp: the table of tools/ict_shapes.h.
 #include "tools/ict_shapes.h"
 
+#include <chrono>
 #include <cstring>
+#include <vector>
+
+#include "fitting/fit.h"
+#include "io/landmarks_file.h"
+#include "io/mesh_io.h"
+#include "io/template_file.h"
 
 namespace mimetic::tools {
 namespace {
@@ -80,6 +87,48 @@ const IctShape* FindIctShape(const char* name) {
   for (const IctShape& s : kShapes)
     if (std::strcmp(s.name, name) == 0) return &s;
   return nullptr;
+}
+
+bool FitIctRig(const std::string& data, const std::string& template_path,
+               const std::string& landmarks_path, IctRig* out, Diagnostics* diag,
+               std::string* what) {
+  const auto start = std::chrono::steady_clock::now();
+  MuscleTemplate tmpl;
+  Landmarks landmarks;
+  Diagnostics local;
+  out->neutral_path = data + "/ict-facekit/ict_skin_neutral.obj";
+  const bool tmpl_ok = LoadMuscleTemplate(template_path, &tmpl, diag);
+  const bool mesh_ok = ImportMesh(out->neutral_path, "", &out->neutral, &local);
+  diag->Append(local, out->neutral_path);
+  const bool lm_ok = LoadLandmarks(landmarks_path, &landmarks, diag);
+  if (!tmpl_ok || !mesh_ok || !lm_ok) {
+    *what = "cannot read the inputs (is --data the folder that holds ict-facekit/?)";
+    return false;
+  }
+  std::vector<float3> points;
+  FaceFrame frame;
+  local.Clear();
+  if (!ResolveLandmarks(landmarks, out->neutral, &points, &local) ||
+      !ComputeFaceFrame(points, &frame, &local)) {
+    diag->Append(local, landmarks_path);
+    *what = "the landmarks do not fit the ICT neutral";
+    return false;
+  }
+  out->units = GuessUnits(frame.scale);
+  local.Clear();
+  if (!FitTemplate(tmpl, out->neutral, landmarks, out->units, &out->spec, &local)) {
+    diag->Append(local, template_path);
+    *what = "the template does not fit the ICT neutral";
+    return false;
+  }
+  local.Clear();
+  if (!BuildRig(out->spec, out->neutral, {}, &out->rig, &local)) {
+    diag->Append(local, template_path);
+    *what = "the fitted rig does not build";
+    return false;
+  }
+  out->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return true;
 }
 
 }  // namespace mimetic::tools

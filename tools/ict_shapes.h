@@ -3,7 +3,12 @@
 // claimed ones, `mimetic calibrate` trains on the ones marked `trained` (docs/fidelity.md).
 #pragma once
 
+#include <string>
+
 #include "core/span.h"
+#include "geometry/mesh.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/offline/rig_spec.h"
 
 namespace mimetic::tools {
 
@@ -16,5 +21,22 @@ struct IctShape {
 
 span<const IctShape> IctShapes();
 const IctShape* FindIctShape(const char* name);
+
+// The default template fitted to the ICT neutral and built, as `mimetic fidelity`,
+// `mimetic make-library` and docs/fitting.md do it.
+struct IctRig {
+  std::string neutral_path;  // data + /ict-facekit/ict_skin_neutral.obj
+  MeshData neutral;
+  std::string units;         // the fitted rig's units (GuessUnits of the landmark frame)
+  RigSpec spec;
+  Rig rig;
+  double seconds = 0;        // reading, fitting and building
+};
+// Reads the template, the ICT neutral under `data` and its landmarks, fits and builds. On
+// failure: false, every problem in `diag` (prefixed with its file) and what went wrong in
+// `what` (one sentence for the command's closing line).
+bool FitIctRig(const std::string& data, const std::string& template_path,
+               const std::string& landmarks_path, IctRig* out, Diagnostics* diag,
+               std::string* what);
 
 }  // namespace mimetic::tools

@@ -1,6 +1,8 @@
 // tools/play_golden.cpp: `mimetic play ... --write-golden DIR` (tools/play_golden.h).
 #include "tools/play_golden.h"
 
+#include "tools/play_inputs.h"
+
 #include <cstdio>
 #include <filesystem>
 #include <cstring>
@@ -9,8 +11,6 @@
 #include <vector>
 
 #include "core/file_util.h"
-#include "io/clip_file.h"
-#include "io/expression_file.h"
 #include "io/golden_file.h"
 #include "io/rig_loader.h"
 
@@ -62,33 +62,11 @@ int PlayWriteGolden(const ParsedArgs& parsed) {
     if (frames.empty() || frames.size() > 16)
       return Usage("--frames " + parsed.Get("frames") + ": expected 1 to 16 times");
   }
-  const std::string& rig_path = parsed.positional[0];
-  const std::string& clip_path = parsed.positional[1];
   Diagnostics diag;
   LoadedRig loaded;
-  const bool rig_ok = LoadRig(rig_path, &loaded, &diag);
-  ClipSpec spec;
-  const bool clip_ok = LoadClip(clip_path, &spec, &diag);
-  std::vector<Expression> expressions;
-  bool expressions_ok = true;
-  if (const auto it = parsed.values.find("expression"); it != parsed.values.end())
-    for (const std::string& path : it->second) {
-      Expression e;
-      if (LoadExpression(path, &e, &diag)) expressions.push_back(std::move(e));
-      else expressions_ok = false;
-    }
   CompiledClip clip;
-  if (rig_ok && clip_ok && expressions_ok) {
-    Diagnostics build;
-    if (!BuildClip(spec, loaded.rig.muscle_names(), expressions, &clip, &build))
-      diag.Append(build, clip_path);
-  }
-  if (diag.HasErrors()) {
-    std::fputs(diag.Format().c_str(), stderr);
-    std::fprintf(stderr, "mimetic play: %zu error(s); no golden was written\n",
-                 diag.ErrorCount());
-    return kExitInput;
-  }
+  if (!LoadPlayInputs(parsed, "no golden was written", &loaded, &clip, &diag)) return kExitInput;
+  const std::string& clip_path = parsed.positional[1];
   if (frames.empty()) {
     const double d = double(clip.duration());
     frames = {0.25 * d, 0.5 * d, d};

@@ -11,10 +11,12 @@
 #include "io/clip_file.h"
 #include "io/mesh_io.h"
 #include "test_support.h"
+#include "tools/mesh_expect.h"
 
 namespace mimetic {
 namespace {
 
+using test::ExpectSameMesh;
 using test::RunTool;
 
 std::string Data(const std::string& f) { return test::SourceDir() + "/tests/data/arkit/" + f; }
@@ -24,16 +26,6 @@ size_t Count(const std::string& s, const std::string& part) {
   size_t n = 0;
   for (size_t at = s.find(part); at != std::string::npos; at = s.find(part, at + 1)) ++n;
   return n;
-}
-
-void ExpectSameMesh(const std::string& a, const std::string& b) {
-  MeshData ma, mb;
-  Diagnostics diag;
-  ASSERT_TRUE(ImportMesh(a, "", &ma, &diag)) << diag.Format();
-  ASSERT_TRUE(ImportMesh(b, "", &mb, &diag)) << diag.Format();
-  ASSERT_EQ(ma.vertex_count(), mb.vertex_count());
-  EXPECT_EQ(ma.positions, mb.positions);
-  EXPECT_EQ(ma.normals, mb.normals);
 }
 
 // The take (times 0, 0.5, 1 s at 30 fps) and the test map:

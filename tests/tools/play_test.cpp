@@ -11,10 +11,13 @@
 #include "geometry/mesh.h"
 #include "io/mesh_io.h"
 #include "test_support.h"
+#include "tools/mesh_expect.h"
 
 namespace mimetic {
 namespace {
 
+using test::ExpectSameMesh;
+using test::ReadText;
 using test::RunTool;
 
 std::string SurfaceRig() { return test::SourceDir() + "/assets/surface/surface.rig.json"; }
@@ -26,13 +29,6 @@ bool Contains(const std::string& haystack, const std::string& needle) {
 std::string Write(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
   return path;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // zygomatic: linear 0 -> 1 over 2 s; the expression "Raise" (frontalis 0.5, zygomatic 0.25)
@@ -53,18 +49,6 @@ Files MakeFiles(const std::string& end = "clamp") {
                        R"({"format": "mimetic-expression", "version": 1, "name": "Raise",
                            "activations": {"frontalis": 0.5, "zygomatic": 0.25}})");
   return f;
-}
-
-void ExpectSameMesh(const std::string& a, const std::string& b) {
-  MeshData ma, mb;
-  Diagnostics diag;
-  ASSERT_TRUE(ImportMesh(a, "", &ma, &diag)) << diag.Format();
-  ASSERT_TRUE(ImportMesh(b, "", &mb, &diag)) << diag.Format();
-  ASSERT_EQ(ma.vertex_count(), mb.vertex_count());
-  EXPECT_EQ(ma.positions, mb.positions);
-  EXPECT_EQ(ma.normals, mb.normals);
-  EXPECT_EQ(ma.indices, mb.indices);
-  EXPECT_EQ(ReadText(a), ReadText(b));  // and the same bytes
 }
 
 TEST(Play, HelpAndUsageErrors) {
