@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -25,13 +27,14 @@
 #include "rig/offline/rig_builder.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/ict_shapes.h"
 
 namespace mimetic::tools {
 namespace {
 
 const char* kLibraryUsage =
     "usage: mimetic make-library [--data DIR] [--template FILE] [--landmarks FILE]\n"
-    "                            [--library FILE] [--arkit FILE]\n\n"
+    "                            [--library FILE] [--arkit FILE] [--only NAME,...]\n\n"
     "The expression library and the ARKit map of a muscle template (docs/facs.md,\n"
     "docs/arkit.md). Fits the template (default assets/head/default.template.json) to\n"
     "ICT-FaceKit's neutral head (DIR/ict-facekit/ict_skin_neutral.obj, DIR default\n"
@@ -43,6 +46,9 @@ const char* kLibraryUsage =
     "(--arkit, default assets/arkit/default.arkit.json). Activations are rounded to 3\n"
     "decimals; muscles below 0.01 are left out (the distances are measured as stored).\n"
     "Deterministic: a rerun writes the same files.\n"
+    "--only NAME,...: solve only these library expressions and ARKit shapes; every other\n"
+    "solved entry is kept as the existing --library and --arkit files have it (they must\n"
+    "exist); a quick check that the committed files are what the command writes.\n"
     "Run from the repository root.\n";
 
 using Activations = std::vector<std::pair<std::string, float>>;
@@ -262,11 +268,18 @@ Activations Rounded(const Activations& a) {
   return out;
 }
 
+// A read-back entry's activations in the rig's muscle order, the order a solve writes them.
+void InRigOrder(const Rig& rig, Activations* a) {
+  std::stable_sort(a->begin(), a->end(), [&](const auto& x, const auto& y) {
+    return unsigned(rig.FindMuscle(x.first)) < unsigned(rig.FindMuscle(y.first));
+  });
+}
+
 }  // namespace
 
 int CmdMakeLibrary(const Args& args) {
   const ParsedArgs parsed =
-      ParseArgs(args, {"data", "template", "landmarks", "library", "arkit"}, {});
+      ParseArgs(args, {"data", "template", "landmarks", "library", "arkit", "only"}, {});
   if (parsed.help) return std::fputs(kLibraryUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("make-library", parsed.error, kLibraryUsage);
   if (!parsed.positional.empty())
@@ -278,42 +291,44 @@ int CmdMakeLibrary(const Args& args) {
   const std::string library_path = parsed.Get("library", "assets/expressions/default.library.json");
   const std::string arkit_path = parsed.Get("arkit", "assets/arkit/default.arkit.json");
 
+  // --only: the entries to solve; the rest come from the existing files.
+  std::set<std::string> only;
+  std::vector<Expression> old_library;
+  std::vector<ArkitShape> old_shapes;
+  if (parsed.Has("only")) {
+    std::stringstream list(parsed.Get("only"));
+    for (std::string item; std::getline(list, item, ',');)
+      if (!item.empty()) only.insert(item);
+    std::set<std::string> known;
+    for (const LibraryEntry& e : LibraryTable()) known.insert(e.name);
+    for (const char* name : ArkitShapeNames()) known.insert(name);
+    for (const std::string& name : only)
+      if (!known.count(name))
+        return UsageError("make-library", "--only " + parsed.Get("only") + ": \"" + name +
+                                              "\" is neither a library expression nor an ARKit "
+                                              "shape name", kLibraryUsage);
+    if (only.empty())
+      return UsageError("make-library", "--only: expected one or more names", kLibraryUsage);
+    Diagnostics old;
+    const bool library_ok = LoadExpressionLibrary(library_path, &old_library, &old);
+    const bool arkit_ok = LoadArkitMap(arkit_path, &old_shapes, &old);
+    if (!library_ok || !arkit_ok)
+      return Fail(old, "--only keeps the other entries of --library and --arkit, which must be "
+                       "readable");
+  }
+  auto kept = [&](const std::string& name) { return !only.empty() && !only.count(name); };
+
   // The rig: the template fitted to the ICT neutral (as mimetic fidelity does).
   const auto start = std::chrono::steady_clock::now();
   Diagnostics diag, local;
-  MuscleTemplate tmpl;
-  MeshData neutral;
-  Landmarks landmarks;
-  const std::string neutral_path = data + "/ict-facekit/ict_skin_neutral.obj";
-  const bool tmpl_ok = LoadMuscleTemplate(template_path, &tmpl, &diag);
-  const bool mesh_ok = ImportMesh(neutral_path, "", &neutral, &local);
-  diag.Append(local, neutral_path);
-  const bool lm_ok = LoadLandmarks(landmarks_path, &landmarks, &diag);
-  if (!tmpl_ok || !mesh_ok || !lm_ok)
-    return Fail(diag, "cannot read the inputs (is --data the folder that holds ict-facekit/?)");
-  std::vector<float3> points;
-  FaceFrame frame;
-  local.Clear();
-  if (!ResolveLandmarks(landmarks, neutral, &points, &local) ||
-      !ComputeFaceFrame(points, &frame, &local)) {
-    diag.Append(local, landmarks_path);
-    return Fail(diag, "the landmarks do not fit the ICT neutral");
-  }
-  RigSpec spec;
-  local.Clear();
-  if (!FitTemplate(tmpl, neutral, landmarks, GuessUnits(frame.scale), &spec, &local)) {
-    diag.Append(local, template_path);
-    return Fail(diag, "the template does not fit the ICT neutral");
-  }
-  Rig rig;
-  local.Clear();
-  if (!BuildRig(spec, neutral, {}, &rig, &local)) {
-    diag.Append(local, template_path);
-    return Fail(diag, "the fitted rig does not build");
-  }
+  IctRig ict;
+  std::string what;
+  if (!FitIctRig(data, template_path, landmarks_path, &ict, &diag, &what)) return Fail(diag, what);
+  const MeshData& neutral = ict.neutral;
+  const std::string& neutral_path = ict.neutral_path;
+  const Rig& rig = ict.rig;
   std::printf("make-library: %s fitted to %s (%u muscles) in %.1f s\n", template_path.c_str(),
-              neutral_path.c_str(), rig.muscle_count(),
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+              neutral_path.c_str(), rig.muscle_count(), ict.seconds);
 
   std::map<std::string, Solved> cache;  // by target + mirror
   auto solve = [&](const SolveSpec& s, Solved* out) -> bool {
@@ -377,6 +392,15 @@ int CmdMakeLibrary(const Args& args) {
 
   std::vector<Expression> library;
   for (const LibraryEntry& e : LibraryTable()) {
+    if (!e.solve.shapes.empty() && kept(e.name)) {
+      const auto it = std::find_if(old_library.begin(), old_library.end(),
+                                   [&](const Expression& x) { return x.name == e.name; });
+      if (it == old_library.end())
+        return Fail(diag, library_path + " has no expression " + e.name + " to keep (--only)");
+      library.push_back(*it);
+      InRigOrder(rig, &library.back().activations);
+      continue;
+    }
     Expression x;
     x.name = e.name;
     x.description = e.description;
@@ -404,6 +428,15 @@ int CmdMakeLibrary(const Args& args) {
     const auto it = std::find_if(table.begin(), table.end(),
                                  [&](const ArkitEntry& e) { return e.name == name; });
     if (it == table.end()) return Fail(diag, std::string("internal: no table entry for ") + name);
+    if (it->how == ArkitShape::How::kSolved && kept(name)) {
+      const auto old = std::find_if(old_shapes.begin(), old_shapes.end(),
+                                    [&](const ArkitShape& x) { return x.name == name; });
+      if (old == old_shapes.end())
+        return Fail(diag, arkit_path + " has no shape " + name + " to keep (--only)");
+      shapes.push_back(*old);
+      InRigOrder(rig, &shapes.back().activations);
+      continue;
+    }
     ArkitShape s;
     s.name = name;
     s.how = it->how;
