@@ -35,6 +35,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   limit_levels_.assign(point_count_, 0);
   fold_limits_.assign(triangle_count_, 0.f);
   limit_flags_.assign(point_count_, 0);
+  slope_bounds_.assign(t.point_neighbors.size(), 0.f);
   limited_points_ = limiter_passes_ = 0;
   if (!rig.tables_checked()) return;  // IsFor refuses it; nothing below is safe to read
   // Rest values everywhere: a frame rewrites only the leading ranges that can change
@@ -57,7 +58,8 @@ static size_t Bytes(const std::vector<T>& v) {
 size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
          Bytes(point_ratios_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
-         Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_);
+         Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
+         Bytes(slope_bounds_);
 }
 
 size_t RequiredFloats(size_t count, size_t stride_bytes) {
@@ -197,6 +199,7 @@ struct FrameState {
   uint8_t* limit_levels;           // #P (context)
   float* fold_limits;              // #T (context)
   uint8_t* limit_flags;            // #P (context; 0 past the active points)
+  float* slope_bounds;             // RigTables::point_neighbors (context)
   const uint32_t* point_tri_offsets;  // Rig::point_triangle_offsets
   const uint32_t* point_tris;         // Rig::point_triangles
 };
@@ -239,39 +242,28 @@ void StageStrain(const FrameState& f) {
 }
 
 // One Jacobi pass of the thickness slope limit for point p: with t = in[p] > 0, the result is
-// max(0, min(t, min_q (in[q] + g L_pq))) over the corners q of p's triangles (L_pq the edge
-// length at X1); with t < 0, the mirror image. Only lowers magnitudes and never changes a sign,
-// so a peak (a pinched one-ring whose r is near r_min) comes down to its neighbours plus the
-// slope, and flat or gently sloped offsets keep their bits. The square root is taken only for
-// a neighbour that binds.
-inline float SlopeLimitPoint(const float* in, const float3* x, const uint32_t* off,
-                             const uint32_t* tri, const uint32_t* triangles, uint32_t p) {
+// max(0, min(t, min_q (in[q] + g L_pq))) over p's neighbours q (L_pq the edge length at X1,
+// `bound` = g L_pq per neighbour slot, computed once per frame); with t < 0, the mirror image.
+// Only lowers magnitudes and never changes a sign, so a peak (a pinched one-ring whose r is
+// near r_min) comes down to its neighbours plus the slope, and flat or gently sloped offsets
+// keep their bits. A NaN neighbour never binds (std::min/max keep the first argument).
+inline float SlopeLimitPoint(const float* in, const uint32_t* off, const uint32_t* nbr,
+                             const float* bound, uint32_t p) {
   const float t = in[p];
   if (t == 0.f) return t;
-  const float g = kOffsetSlope;
   float out = t;
-  const float3 xp = x[p];
-  for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
-    const uint32_t* c = triangles + 3 * size_t(tri[k]);
-    for (int j = 0; j < 3; ++j) {
-      const uint32_t q = c[j];
-      if (q == p) continue;
-      const float gap = t > 0.f ? out - in[q] : in[q] - out;  // how far p sits beyond q
-      if (!(gap > 0.f)) continue;
-      const float3 e = x[q] - xp;
-      const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
-      if (gap * gap <= g * g * l2) continue;
-      const float bound = g * std::sqrt(l2);
-      out = t > 0.f ? in[q] + bound : in[q] - bound;
-    }
+  if (t > 0.f) {
+    for (uint32_t k = off[p]; k < off[p + 1]; ++k) out = std::min(out, in[nbr[k]] + bound[k]);
+    return std::max(out, 0.f);
   }
-  return t > 0.f ? std::max(out, 0.f) : std::min(out, 0.f);
+  for (uint32_t k = off[p]; k < off[p + 1]; ++k) out = std::max(out, in[nbr[k]] - bound[k]);
+  return std::min(out, 0.f);
 }
 
 // The skin offset of each active point with the fold limiter on: d_p = t_p + w_p (t the
 // thickness term (1/max(r, r_min) - 1) h, w the wrinkle sum), then bounded by the local radius
-// of curvature of X1: |d_p| <= kOffsetCurvature * min_q L_pq / |N_p - N_q| over the corners q
-// of p's triangles (unit normals N of X1). An offset surface folds where the offset exceeds the
+// of curvature of X1: |d_p| <= kOffsetCurvature * min_q L_pq / |N_p - N_q| over p's neighbours q
+// (RigTables::point_neighbors; unit normals N of X1). An offset surface folds where the offset exceeds the
 // radius of curvature on the concave side; the bound keeps it a fraction of it on either side.
 // Then the thickness-style slope limit (SlopeLimitPoint) smooths the steps the bound leaves.
 // The one offset per point DisplaceAlongNormals then adds (with h = null).
@@ -290,9 +282,8 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       a[p] = d;
     }
   });
-  const uint32_t* triangles = r.triangles().data();
-  const uint32_t* off = f.point_tri_offsets;
-  const uint32_t* tri = f.point_tris;
+  const uint32_t* noff = f.tables.point_neighbor_offsets.data();
+  const uint32_t* nbr = f.tables.point_neighbors.data();
   const float3* rest_normals = f.tables.rest_point_normals.data();
   ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
     for (uint32_t p = lo; p < hi; ++p) {
@@ -304,19 +295,15 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       // min over q of L^2 / |dN|^2, compared without division
       const float3 xp = f.points[p], np = unit[p];
       float best_l2 = 1.f, best_n2 = 0.f;  // ratio best_l2 / best_n2 (infinite at first)
-      for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
-        const uint32_t* c = triangles + 3 * size_t(tri[k]);
-        for (int j = 0; j < 3; ++j) {
-          const uint32_t q = c[j];
-          if (q == p) continue;
-          const float3 nq = q < count ? unit[q] : rest_normals[q];
-          const float3 dn = nq - np, e = f.points[q] - xp;
-          const float n2 = (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
-          const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
-          if (l2 * best_n2 < best_l2 * n2) {
-            best_l2 = l2;
-            best_n2 = n2;
-          }
+      for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) {
+        const uint32_t q = nbr[k];
+        const float3 nq = q < count ? unit[q] : rest_normals[q];
+        const float3 dn = nq - np, e = f.points[q] - xp;
+        const float n2 = (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
+        const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
+        if (l2 * best_n2 < best_l2 * n2) {
+          best_l2 = l2;
+          best_n2 = n2;
         }
       }
       const float c2 = kOffsetCurvature * kOffsetCurvature;
@@ -329,10 +316,20 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
     }
   });
   std::swap(a, b);
+  // g L_pq per neighbour slot: the edge lengths at X1 are the same in every pass.
+  float* bound = f.slope_bounds;
+  ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+    for (uint32_t p = lo; p < hi; ++p) {
+      const float3 xp = f.points[p];
+      for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) {
+        const float3 e = f.points[nbr[k]] - xp;
+        bound[k] = kOffsetSlope * std::sqrt((e.x * e.x + e.y * e.y) + e.z * e.z);
+      }
+    }
+  });
   for (uint32_t pass = 0; pass < kOffsetSlopePasses; ++pass) {
     ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
-      for (uint32_t p = lo; p < hi; ++p)
-        b[p] = SlopeLimitPoint(a, f.points, off, tri, triangles, p);
+      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, bound, p);
     });
     std::swap(a, b);
   }
@@ -597,6 +594,7 @@ bool EvaluateJob::Run() const {
       .limit_levels = ctx.limit_levels_.data(),
       .fold_limits = ctx.fold_limits_.data(),
       .limit_flags = ctx.limit_flags_.data(),
+      .slope_bounds = ctx.slope_bounds_.data(),
       .point_tri_offsets = r.point_triangle_offsets().data(),
       .point_tris = r.point_triangles().data(),
   };

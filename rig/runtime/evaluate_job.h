@@ -102,6 +102,7 @@ class EvaluateContext {
   std::vector<uint8_t> limit_levels_;  // #P: how often the limiter reduced the point's offset
   std::vector<float> fold_limits_;     // #T: the limiter's cosine limit per triangle this frame
   std::vector<uint8_t> limit_flags_;   // #P: points with a triangle past its limit (one pass)
+  std::vector<float> slope_bounds_;    // RigTables::point_neighbors: kOffsetSlope * |X1q - X1p|
   uint32_t limited_points_ = 0, limiter_passes_ = 0;
 };
 

@@ -122,6 +122,10 @@ struct RigTables {
   std::vector<uint32_t> point_curve_offsets;  // active points + 1
   std::vector<uint32_t> point_curve_rows;     // curve-wrinkle rows
   std::vector<uint32_t> wrinkle_points;       // points with any row above, ascending
+  // Per active point: the points it shares a triangle with, each once, ascending (the fold
+  // limiter's offset bounds read them, docs/model.md §16).
+  std::vector<uint32_t> point_neighbor_offsets;  // active points + 1
+  std::vector<uint32_t> point_neighbors;
   uint32_t edge_count() const { return uint32_t(edge_pairs.size() / 2); }
 };
 

@@ -213,10 +213,26 @@ void BuildRigTables(const RigData& r, RigTables* out) {
                                                       r.point_triangles.data(),
                                                       t.rest_faces.data(), p));
   BuildStrainTables(r, out);
+  // The one-ring of each active point, each neighbour once, ascending.
+  t.point_neighbor_offsets.assign(size_t(r.active.points) + 1, 0);
+  t.point_neighbors.clear();
+  std::vector<uint32_t> ring;
+  for (uint32_t p = 0; p < r.active.points; ++p) {
+    ring.clear();
+    for (uint32_t k = r.point_triangle_offsets[p]; k < r.point_triangle_offsets[p + 1]; ++k)
+      for (int j = 0; j < 3; ++j) {
+        const uint32_t q = r.triangles[3 * size_t(r.point_triangles[k]) + j];
+        if (q != p) ring.push_back(q);
+      }
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    t.point_neighbors.insert(t.point_neighbors.end(), ring.begin(), ring.end());
+    t.point_neighbor_offsets[p + 1] = uint32_t(t.point_neighbors.size());
+  }
   // Built by push_back: give back the slack.
   for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
                                    &t.point_row_offsets, &t.point_curve_offsets,
-                                   &t.point_curve_rows, &t.wrinkle_points})
+                                   &t.point_curve_rows, &t.wrinkle_points, &t.point_neighbors})
     v->shrink_to_fit();
   for (std::vector<float>* v : {&t.entry_rest, &t.entry_coeffs, &t.row_profiles})
     v->shrink_to_fit();

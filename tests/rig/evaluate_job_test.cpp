@@ -2,6 +2,8 @@
 // strides, and normals/positions against hand-computed values.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -357,8 +359,21 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
             VectorBytes(t.entry_rest) + VectorBytes(t.entry_coeffs) +
             VectorBytes(t.row_profiles) + VectorBytes(t.probe_edges) +
             VectorBytes(t.point_row_offsets) + VectorBytes(t.point_curve_offsets) +
-            VectorBytes(t.point_curve_rows) + VectorBytes(t.wrinkle_points);
+            VectorBytes(t.point_curve_rows) + VectorBytes(t.wrinkle_points) +
+            VectorBytes(t.point_neighbor_offsets) + VectorBytes(t.point_neighbors);
   EXPECT_EQ(rig.ByteSize(), expect);
+  // One neighbour slot per edge end at an active point (edges counted from the triangles).
+  EXPECT_EQ(t.point_neighbor_offsets.size(), size_t(rig.active_point_count()) + 1);
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  for (uint32_t k = 0; k < rig.triangle_count(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      const uint32_t a = d.triangles[3 * k + j], b = d.triangles[3 * k + (j + 1) % 3];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  size_t ends = 0;
+  for (const auto& [a, b] : edges) ends += (a < rig.active_point_count()) + (b < rig.active_point_count());
+  EXPECT_EQ(t.point_neighbors.size(), ends);
+  EXPECT_EQ(t.point_neighbors.size(), size_t(t.point_neighbor_offsets.back()));
   EXPECT_GE(rig.ByteSize(), sizeof(Rig) + 12 * rig.point_count() + 16 * rig.triangle_count());
 
   // The context: per-frame scratch only, sized from the rig's counts.
@@ -366,10 +381,12 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
   const size_t E = t.edge_count();
   // activations, points (+1 pad), faces, ratios, sums, edge lengths, wrinkle offsets; the fold
-  // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits, flags
+  // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
+  // flags, the slope bound per neighbour slot
+  const size_t N = t.point_neighbors.size();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P +
                                 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
-                                4 * T + P);
+                                4 * T + P + 4 * N);
 }
 
 // A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context
