@@ -47,16 +47,38 @@ CsrTable BuildPointNeighbors(span<const uint32_t> triangles, size_t point_count)
 
 void BuildEdgeTable(span<const uint32_t> triangles, EdgeTable* et) {
   const size_t n = triangles.size() / 3 * 3;
-  std::vector<std::pair<uint64_t, uint32_t>> uses;  // (edge key, corner)
-  uses.reserve(n);
-  for (size_t t = 0; t < n; t += 3) {
+  // The (edge key, corner) pairs in ascending order, as a sort of all of them would give:
+  // a counting sort by the key's low vertex (stable: corners stay ascending), then each
+  // low vertex's few pairs sorted by (high vertex, corner).
+  // (Sparse indices, far more points than corners, take one sort of everything instead.)
+  size_t points = 0;
+  for (size_t i = 0; i < n; ++i) points = std::max(points, size_t(triangles[i]) + 1);
+  const bool sparse = points > 2 * n + 1024;
+  if (sparse) points = 1;
+  std::vector<uint32_t> bucket(points + 1, 0);
+  auto degenerate = [&](size_t t) {
     const uint32_t* v = &triangles[t];
-    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // degenerate: no edges
-    for (size_t k = 0; k < 3; ++k) {
-      uses.push_back({EdgeKey(v[k], v[(k + 1) % 3]), static_cast<uint32_t>(t + k)});
+    return v[0] == v[1] || v[1] == v[2] || v[0] == v[2];  // no edges
+  };
+  for (size_t t = 0; t < n; t += 3) {
+    if (degenerate(t)) continue;
+    for (size_t k = 0; k < 3; ++k)
+      ++bucket[sparse ? 1 : std::min(triangles[t + k], triangles[t + (k + 1) % 3]) + size_t(1)];
+  }
+  for (size_t p = 0; p < points; ++p) bucket[p + 1] += bucket[p];
+  std::vector<std::pair<uint64_t, uint32_t>> uses(bucket[points]);  // (edge key, corner)
+  {
+    std::vector<uint32_t> fill(bucket.begin(), bucket.end() - 1);
+    for (size_t t = 0; t < n; t += 3) {
+      if (degenerate(t)) continue;
+      for (size_t k = 0; k < 3; ++k) {
+        const uint32_t a = triangles[t + k], b = triangles[t + (k + 1) % 3];
+        uses[fill[sparse ? 0 : std::min(a, b)]++] = {EdgeKey(a, b), static_cast<uint32_t>(t + k)};
+      }
     }
   }
-  std::sort(uses.begin(), uses.end());
+  for (size_t p = 0; p < points; ++p)
+    std::sort(uses.begin() + bucket[p], uses.begin() + bucket[p + 1]);
   et->keys.clear();
   et->start.clear();
   et->tri_edge.assign(n, EdgeTable::kNoEdge);

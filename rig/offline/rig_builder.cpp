@@ -240,7 +240,11 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
       const float dx = std::max({c.lo.x - uv.x, 0.f, uv.x - c.hi.x});
       const float dy = std::max({c.lo.y - uv.y, 0.f, uv.y - c.hi.y});
       if (dx * dx + dy * dy > c.uv_reach * c.uv_reach) continue;
-      if (ClosestPointOnBezier(c.spec.control, uv).distance <= c.uv_reach) target = c.target;
+      const BezierReach near = ClassifyBezierReach(c.spec.control, uv, c.uv_reach);
+      if (near == BezierReach::kWithin ||
+          (near == BezierReach::kUnsure &&
+           ClosestPointOnBezier(c.spec.control, uv).distance <= c.uv_reach))
+        target = c.target;
     }
     return target;
   };

@@ -7,6 +7,10 @@
 // Every table below is worked out by hand.
 #include <gtest/gtest.h>
 
+#include <utility>
+
+#include <algorithm>
+
 #include <vector>
 
 #include "geometry/topology.h"
@@ -48,6 +52,43 @@ TEST(Topology, PointTrianglesOfA2x2Grid) {
   EXPECT_EQ(t.items.size(), 24u);
   // Out-of-range indices are skipped.
   EXPECT_EQ(BuildPointTriangles(std::vector<uint32_t>{0, 1, 7}, 2).items.size(), 2u);
+}
+
+// Against the plain definition (every (key, corner) pair sorted at once) on random soups with
+// degenerate, repeated and non-manifold triangles, dense and sparse indices.
+TEST(Topology, EdgeTableEqualsOneSortOfEveryCorner) {
+  uint64_t state = 12345;
+  auto next = [&](uint32_t n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return uint32_t((state >> 33) % n);
+  };
+  for (uint32_t points : {5u, 60u, 4000u, 4000000000u}) {
+    std::vector<uint32_t> tris;
+    for (int t = 0; t < 900; ++t)
+      for (int k = 0; k < 3; ++k) tris.push_back(points > 1e6 ? next(7) * 500000000u : next(points));
+    EdgeTable et;
+    BuildEdgeTable(tris, &et);
+    std::vector<std::pair<uint64_t, uint32_t>> uses;
+    for (uint32_t t = 0; t < tris.size(); t += 3) {
+      const uint32_t* v = &tris[t];
+      if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+      for (uint32_t k = 0; k < 3; ++k) uses.push_back({EdgeKey(v[k], v[(k + 1) % 3]), t + k});
+    }
+    std::sort(uses.begin(), uses.end());
+    ASSERT_EQ(et.corners.size(), uses.size()) << points;
+    size_t edges = 0;
+    for (size_t i = 0; i < uses.size(); ++i) {
+      if (i == 0 || uses[i].first != uses[i - 1].first) {
+        ASSERT_EQ(et.keys[edges], uses[i].first);
+        ASSERT_EQ(et.start[edges], i);
+        ++edges;
+      }
+      EXPECT_EQ(et.corners[i], uses[i].second);
+      EXPECT_EQ(et.tri_edge[uses[i].second], edges - 1);
+    }
+    EXPECT_EQ(et.keys.size(), edges);
+    EXPECT_EQ(et.start.back(), uses.size());
+  }
 }
 
 TEST(Topology, EdgesBoundaryAndNonManifold) {

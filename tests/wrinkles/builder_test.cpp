@@ -65,6 +65,56 @@ TEST(Bezier, QuarterCircleArc) {
   EXPECT_NEAR(ClosestPointOnBezier(point, {4, 5}).distance, 5.0, 1e-6);
 }
 
+// The shortcut is never wrong (a second method: brute-force sampling of the curve, 2e4
+// samples) and is conclusive well away from the curve and close to it: on an S curve, a loop
+// and a straight segment, over a grid of queries and reaches.
+TEST(Bezier, ReachClassificationIsNeverWrong) {
+  const float2 s_curve[4] = {{0, 0}, {2, 3}, {1, -3}, {3, 0}};
+  const float2 loop[4] = {{0, 0}, {4, 3}, {-1, 3}, {3, 0}};
+  const float2 line[4] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}};
+  size_t rejected = 0, far = 0, within = 0;
+  for (const float2* c : {s_curve, loop, line}) {
+    for (int i = -6; i <= 14; ++i) {
+      for (int j = -8; j <= 8; ++j) {
+        const float2 p{0.3f * i, 0.45f * j};
+        double best = 1e30;
+        for (int k = 0; k <= 20000; ++k) {
+          const double t = k / 20000.0, u = 1 - t;
+          const double x = u * u * u * c[0].x + 3 * u * u * t * c[1].x + 3 * u * t * t * c[2].x + t * t * t * c[3].x;
+          const double y = u * u * u * c[0].y + 3 * u * u * t * c[1].y + 3 * u * t * t * c[2].y + t * t * t * c[3].y;
+          best = std::fmin(best, std::hypot(x - p.x, y - p.y));
+        }
+        for (double reach : {0.05, 0.2, 0.5, 1.0}) {
+          const BezierReach near = ClassifyBezierReach(c, p, reach);
+          const bool out = near == BezierReach::kBeyond;
+          if (out) {
+            ++rejected;
+            EXPECT_GT(best, reach) << i << " " << j << " " << reach;
+          }
+          if (near == BezierReach::kWithin) {
+            ++within;
+            EXPECT_LE(best, reach + 1e-6) << i << " " << j << " " << reach;
+          }
+          // Within reach of a curve point 1/32 of the way along: the chord ends catch it.
+          if (best < reach - 0.5) EXPECT_EQ(near, BezierReach::kWithin) << i << " " << j;
+          if (best > 2 * reach + 0.2) {
+            ++far;
+            EXPECT_TRUE(out) << "not conclusive far from the curve: " << i << " " << j << " "
+                             << reach << " at distance " << best;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(far, 1000u);
+  EXPECT_GE(rejected, far);
+  EXPECT_GT(within, 100u);
+  const float2 bad[4] = {{NAN, 0}, {1, 0}, {2, 0}, {3, 0}};
+  EXPECT_EQ(ClassifyBezierReach(bad, {100, 100}, 1.0), BezierReach::kUnsure);
+  EXPECT_EQ(ClassifyBezierReach(line, {NAN, 0}, 1.0), BezierReach::kUnsure);
+  EXPECT_EQ(ClassifyBezierReach(line, {100, 0}, NAN), BezierReach::kUnsure);
+}
+
 // A fan of points in the xy plane at distance D and angle theta (degrees) from the origin.
 float3 Polar(double D, double deg) {
   return {float(D * std::cos(deg * kDeg)), float(D * std::sin(deg * kDeg)), 0.f};

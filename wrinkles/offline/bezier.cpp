@@ -1,6 +1,7 @@
 // wrinkles/offline/bezier.cpp: see bezier.h.
 #include "wrinkles/offline/bezier.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -43,6 +44,40 @@ constexpr int kSamples = 64;
 float2 BezierPoint(const float2 c[4], double t) {
   const D2 b = Eval(c, t, 0);
   return {static_cast<float>(b.x), static_cast<float>(b.y)};
+}
+
+BezierReach ClassifyBezierReach(const float2 c[4], float2 query, double reach) {
+  for (int k = 0; k < 4; ++k)
+    if (!std::isfinite(c[k].x) || !std::isfinite(c[k].y)) return BezierReach::kUnsure;
+  if (!std::isfinite(query.x) || !std::isfinite(query.y) || !(reach >= 0.0))
+    return BezierReach::kUnsure;
+  constexpr int kChords = 16;
+  const double ax = double(c[2].x) - 2.0 * c[1].x + c[0].x, ay = double(c[2].y) - 2.0 * c[1].y + c[0].y;
+  const double bx = double(c[3].x) - 2.0 * c[2].x + c[1].x, by = double(c[3].y) - 2.0 * c[2].y + c[1].y;
+  const double second = 6.0 * std::sqrt(std::max(ax * ax + ay * ay, bx * bx + by * by));
+  const double h = 1.0 / kChords;
+  const double deviation = second * h * h / 8.0;
+  const D2 p = {query.x, query.y};
+  // Compared squared: the distance to every chord must exceed reach + deviation (with a
+  // relative margin for rounding).
+  const double need = (reach + deviation) * (1.0 + 1e-9) + 1e-12;
+  const double need2 = need * need;
+  const double reach2 = reach * reach;
+  bool beyond = true;
+  D2 a = Eval(c, 0.0, 0);
+  if ((a.x - p.x) * (a.x - p.x) + (a.y - p.y) * (a.y - p.y) <= reach2) return BezierReach::kWithin;
+  for (int i = 1; i <= kChords; ++i) {
+    const D2 b = Eval(c, double(i) / kChords, 0);
+    if ((b.x - p.x) * (b.x - p.x) + (b.y - p.y) * (b.y - p.y) <= reach2) return BezierReach::kWithin;
+    const double ex = b.x - a.x, ey = b.y - a.y;
+    const double l2 = ex * ex + ey * ey;
+    double u = l2 > 0.0 ? ((p.x - a.x) * ex + (p.y - a.y) * ey) / l2 : 0.0;
+    u = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
+    const double dx = a.x + u * ex - p.x, dy = a.y + u * ey - p.y;
+    if (dx * dx + dy * dy <= need2) beyond = false;
+    a = b;
+  }
+  return beyond ? BezierReach::kBeyond : BezierReach::kUnsure;
 }
 
 BezierClosest ClosestPointOnBezier(const float2 c[4], float2 query) {

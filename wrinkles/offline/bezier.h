@@ -24,4 +24,12 @@ float2 BezierPoint(const float2 c[4], double t);
 // degenerate, straight or self-intersecting ones). Non-finite input gives distance +inf.
 BezierClosest ClosestPointOnBezier(const float2 c[4], float2 p);
 
+// Whether the curve comes within `reach` of `p`, decided cheaply where that is certain (an
+// exact shortcut before ClosestPointOnBezier): 16 chords between curve points B(i/16), each
+// within h^2/8 max|B''| of its arc (h = 1/16, |B''| <= 6 max(|c2 - 2c1 + c0|, |c3 - 2c2 + c1|)).
+// kWithin when one of the curve points is within reach; kBeyond when the distance to every
+// chord, less that bound, exceeds it; kUnsure otherwise and for non-finite input.
+enum class BezierReach { kWithin, kBeyond, kUnsure };
+BezierReach ClassifyBezierReach(const float2 c[4], float2 p, double reach);
+
 }  // namespace mimetic

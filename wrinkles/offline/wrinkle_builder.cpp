@@ -291,6 +291,8 @@ bool BuildCurveWrinkleTable(span<const CurveWrinkleSpec> specs, span<const float
               uv.y > box.y1 + reach) {
             continue;
           }
+          // Beyond the reach it cannot give an entry, nor beat a corner within it.
+          if (ClassifyBezierReach(specs[w].control, uv, reach) == BezierReach::kBeyond) continue;
           const BezierClosest hit = ClosestPointOnBezier(specs[w].control, uv);
           if (hit.distance < best) {
             best = hit.distance;
