@@ -6,11 +6,13 @@
 //                                      strain, thickness, 4 wrinkled muscles, 4 curve
 //                                      wrinkles, output normals, scatter
 //   BM_EvaluateMusclesOnly/<vertices>  the same rig with the skin layers off
+//   BM_EvaluateNoLimiter/<vertices>    every layer, the fold limiter off (EvaluateJob::limit_folds)
 //   BM_Reference/<vertices>            52 sparse blendshapes x 15% of the vertices + the
 //                                      same normal recomputation and scatter
 // The sample head (assets/head: the default template fitted to the procedural head generated
 // at about <vertices> vertices; refinement off so the count stays the one named):
-//   BM_EvaluateHead/<vertices>, BM_EvaluateHeadMusclesOnly/<vertices>, BM_ReferenceHead/<vertices>
+//   BM_EvaluateHead/<vertices>, BM_EvaluateHeadMusclesOnly/<vertices>,
+//   BM_EvaluateHeadNoLimiter/<vertices>, BM_ReferenceHead/<vertices>
 //                                      (the blendshapes move balls of 15% of the head's
 //                                      points centred on the face)
 //   BM_EvaluateHeadHardPose/<vertices>/<pose>, BM_EvaluateHeadHardPoseFullScan/<vertices>/<pose>
@@ -165,21 +167,28 @@ struct EvaluateSetup {
   EvaluateJob job;
 };
 
-void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers) {
+void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool limit_folds = true) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;
   EvaluateSetup setup(rig, layers);
+  setup.job.limit_folds = limit_folds;
   const EvaluateJob& job = setup.job;
   std::vector<float>& positions = setup.positions;
   std::vector<float>& normals = setup.normals;
   uint32_t frame = 0;
+  double passes = 0, limited = 0;
   for (auto _ : state) {
     FillWeights(&setup.activations, frame);
     if (!job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
+    passes += setup.context.limiter_passes();
+    limited += setup.context.limited_point_count();
     ++frame;
   }
   SetCounters(state, rig);
+  // The fold limiter's passes and limited points, per frame on average.
+  state.counters["limiter_passes"] = frame ? passes / frame : 0.0;
+  state.counters["limited_points"] = frame ? limited / frame : 0.0;
   state.counters["influences_per_vertex"] =
       double(rig.muscles().entries.size()) / double(rig.point_count());
   state.counters["active_fraction"] = double(rig.active_point_count()) / double(rig.point_count());
@@ -299,11 +308,13 @@ void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}); }
 void BM_EvaluateMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, false, SkinLayers{false, false, false});
 }
+void BM_EvaluateNoLimiter(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}, false); }
 void BM_Reference(benchmark::State& s) { RunReference(s, false); }
 void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}); }
 void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, true, SkinLayers{false, false, false});
 }
+void BM_EvaluateHeadNoLimiter(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}, false); }
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
@@ -319,9 +330,11 @@ double Fastest(const std::vector<double>& v) { return *std::min_element(v.begin(
       ->ComputeStatistics("min", Fastest)
 BENCHMARK(BM_Evaluate) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateMusclesOnly) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_Reference) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHead) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHeadMusclesOnly) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateHeadNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
