@@ -461,28 +461,6 @@ inline bool CosBelow(const float4& a, const float4& q, float limit) {
   return CosToRest(a, q) < limit;
 }
 
-// docs/model.md §16, the fold limiter. The skin layers move each point along N1 (X3 = X1 +
-// d N1); where the muscles crease the skin, offsets along normals that turn fast fold the
-// surface. LimitedOffsets bounds the offsets first; what still folds is caught here. Pass
-// after pass: face normals of the current points; a point is flagged when one of its
-// triangles is below its limit (kFoldLimitDot against rest, or X1's own cosine where the
-// muscles already went below it); every flagged point and its one-ring move back toward X1
-// (half of the offset, a quarter, an eighth, then none from kFoldLimitCutLevel on); stop when
-// a pass flags nothing, or after kFoldLimitPasses.
-// As a worklist (FoldLimitWorklist): a triangle none of whose corners the previous pass moved
-// keeps its normal bits, hence its verdict, and a point none of whose triangles changed keeps
-// its flag; so after the first pass only the triangles touching a moved point are recomputed
-// and only the points around them retested, and the points to reduce are gathered from the
-// list of flagged points. Every quantity is the full scan's (FoldLimitFullScan: the same
-// per-triangle and per-point expressions, of the same inputs), so are the bits; it relies on
-// RigTables::point_triangles_exact (the full scan runs where a rig lacks it, and with
-// EvaluateJob::limit_folds_full_scan). A pass that moves nothing is a fixed point: the full
-// scan would repeat it until kFoldLimitPasses, so the worklist stops there and counts them.
-// The lists are built serially in a fixed order; each point or triangle of a parallel phase
-// reads only the previous phase's values and writes only itself, so the result does not
-// depend on how parallel_for splits the work. Points never reduced keep their bits.
-// Returns true when the face slots hold the normals of the final points.
-
 // A limiter pass's test of point p: one of its triangles is below its limit.
 inline bool FoldFlag(const FrameState& f, const float4* rest, uint32_t p) {
   const uint32_t* off = f.point_tri_offsets;
@@ -676,6 +654,27 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
   return current;
 }
 
+// docs/model.md §16, the fold limiter. The skin layers move each point along N1 (X3 = X1 +
+// d N1); where the muscles crease the skin, offsets along normals that turn fast fold the
+// surface. LimitedOffsets bounds the offsets first; what still folds is caught here. Pass
+// after pass: face normals of the current points; a point is flagged when one of its
+// triangles is below its limit (kFoldLimitDot against rest, or X1's own cosine where the
+// muscles already went below it); every flagged point and its one-ring move back toward X1
+// (half of the offset, a quarter, an eighth, then none from kFoldLimitCutLevel on); stop when
+// a pass flags nothing, or after kFoldLimitPasses.
+// As a worklist (FoldLimitWorklist): a triangle none of whose corners the previous pass moved
+// keeps its normal bits, hence its verdict, and a point none of whose triangles changed keeps
+// its flag; so after the first pass only the triangles touching a moved point are recomputed
+// and only the points around them retested, and the points to reduce are gathered from the
+// list of flagged points. Every quantity is the full scan's (FoldLimitFullScan: the same
+// per-triangle and per-point expressions, of the same inputs), so are the bits; it relies on
+// RigTables::point_triangles_exact (the full scan runs where a rig lacks it, and with
+// EvaluateJob::limit_folds_full_scan). A pass that moves nothing is a fixed point: the full
+// scan would repeat it until kFoldLimitPasses, so the worklist stops there and counts them.
+// The lists are built serially in a fixed order; each point or triangle of a parallel phase
+// reads only the previous phase's values and writes only itself, so the result does not
+// depend on how parallel_for splits the work. Points never reduced keep their bits.
+// Returns true when the face slots hold the normals of the final points.
 bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
   const Rig& r = f.rig;
   std::fill(f.limit_levels, f.limit_levels + r.active_point_count(), uint8_t{0});
