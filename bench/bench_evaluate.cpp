@@ -6,13 +6,22 @@
 //                                      strain, thickness, 4 wrinkled muscles, 4 curve
 //                                      wrinkles, output normals, scatter
 //   BM_EvaluateMusclesOnly/<vertices>  the same rig with the skin layers off
+//   BM_EvaluateNoLimiter/<vertices>    every layer, the fold limiter off (EvaluateJob::limit_folds)
 //   BM_Reference/<vertices>            52 sparse blendshapes x 15% of the vertices + the
 //                                      same normal recomputation and scatter
 // The sample head (assets/head: the default template fitted to the procedural head generated
 // at about <vertices> vertices; refinement off so the count stays the one named):
-//   BM_EvaluateHead/<vertices>, BM_EvaluateHeadMusclesOnly/<vertices>, BM_ReferenceHead/<vertices>
+//   BM_EvaluateHead/<vertices>, BM_EvaluateHeadMusclesOnly/<vertices>,
+//   BM_EvaluateHeadNoLimiter/<vertices>, BM_ReferenceHead/<vertices>
 //                                      (the blendshapes move balls of 15% of the head's
 //                                      points centred on the face)
+//   BM_EvaluateHeadHardPose/<vertices>/<pose>, BM_EvaluateHeadHardPoseFullScan/<vertices>/<pose>
+//                                      every layer at one fixed pose where the fold limiter
+//                                      is busy (0 Smile, 1 Fear of
+//                                      assets/expressions/default.library.json, 2 every muscle
+//                                      at 1); the limiter as its worklist, and as the full scan
+//                                      it replaced (EvaluateJob::limit_folds_full_scan, the
+//                                      same bits); counters `limiter_passes`, `limited_points`
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -31,6 +40,7 @@
 #include "fitting/fit.h"
 #include "fitting/landmarks.h"
 #include "fitting/muscle_template.h"
+#include "io/expression_library.h"
 #include "io/template_file.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
@@ -157,21 +167,28 @@ struct EvaluateSetup {
   EvaluateJob job;
 };
 
-void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers) {
+void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool limit_folds = true) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;
   EvaluateSetup setup(rig, layers);
+  setup.job.limit_folds = limit_folds;
   const EvaluateJob& job = setup.job;
   std::vector<float>& positions = setup.positions;
   std::vector<float>& normals = setup.normals;
   uint32_t frame = 0;
+  double passes = 0, limited = 0;
   for (auto _ : state) {
     FillWeights(&setup.activations, frame);
     if (!job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
+    passes += setup.context.limiter_passes();
+    limited += setup.context.limited_point_count();
     ++frame;
   }
   SetCounters(state, rig);
+  // The fold limiter's passes and limited points, per frame on average.
+  state.counters["limiter_passes"] = frame ? passes / frame : 0.0;
+  state.counters["limited_points"] = frame ? limited / frame : 0.0;
   state.counters["influences_per_vertex"] =
       double(rig.muscles().entries.size()) / double(rig.point_count());
   state.counters["active_fraction"] = double(rig.active_point_count()) / double(rig.point_count());
@@ -246,18 +263,63 @@ void RunPaired(benchmark::State& state, bool head) {
   state.counters["context_bytes"] = double(setup.context.ByteSize());
 }
 
+// Activations of hard pose `pose` (0 Smile, 1 Fear, 2 every muscle at 1) on `rig`.
+std::vector<float> HardPose(const Rig& rig, int pose) {
+  std::vector<float> a(rig.muscle_count(), pose == 2 ? 1.f : 0.f);
+  if (pose == 2) return a;
+  std::vector<Expression> library;
+  Diagnostics diag;
+  if (!LoadExpressionLibrary(
+          std::string(MIMETIC_SOURCE_DIR) + "/assets/expressions/default.library.json", &library,
+          &diag))
+    Die(diag, "cannot load the expression library");
+  const std::string name = pose == 0 ? "Smile" : "Fear";
+  for (const Expression& e : library) {
+    if (e.name != name) continue;
+    for (const auto& [muscle, value] : e.activations) {
+      const int m = rig.FindMuscle(muscle);
+      if (m < 0) Die(diag, ("no muscle " + muscle + " in the head rig").c_str());
+      a[size_t(m)] = value;
+    }
+    return a;
+  }
+  Die(diag, ("no expression " + name + " in the library").c_str());
+  return a;
+}
+
+// One fixed pose, every layer, every frame the same (the limiter's work is the pose's).
+void RunHardPose(benchmark::State& state, bool full_scan) {
+  const Rig& rig = GetFixture(true, int(state.range(0))).rig;
+  EvaluateSetup setup(rig, SkinLayers{});
+  setup.activations = HardPose(rig, int(state.range(1)));
+  setup.job.activations = setup.activations;
+  setup.job.limit_folds_full_scan = full_scan;
+  for (auto _ : state) {
+    if (!setup.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(setup.positions.data());
+    benchmark::DoNotOptimize(setup.normals.data());
+  }
+  SetCounters(state, rig);
+  state.counters["limiter_passes"] = setup.context.limiter_passes();
+  state.counters["limited_points"] = setup.context.limited_point_count();
+}
+
 void BM_Evaluate(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}); }
 void BM_EvaluateMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, false, SkinLayers{false, false, false});
 }
+void BM_EvaluateNoLimiter(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}, false); }
 void BM_Reference(benchmark::State& s) { RunReference(s, false); }
 void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}); }
 void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, true, SkinLayers{false, false, false});
 }
+void BM_EvaluateHeadNoLimiter(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}, false); }
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
+void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
+void BM_EvaluateHeadHardPoseFullScan(benchmark::State& s) { RunHardPose(s, true); }
 
 // The fastest repetition next to the median: on a shared machine the minimum is the least
 // disturbed estimate of what the code costs.
@@ -268,12 +330,19 @@ double Fastest(const std::vector<double>& v) { return *std::min_element(v.begin(
       ->ComputeStatistics("min", Fastest)
 BENCHMARK(BM_Evaluate) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateMusclesOnly) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_Reference) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHead) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHeadMusclesOnly) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateHeadNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
+#define MIMETIC_HARD_POSES                                                     \
+  ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
+      ->ComputeStatistics("min", Fastest)
+BENCHMARK(BM_EvaluateHeadHardPose) MIMETIC_HARD_POSES;
+BENCHMARK(BM_EvaluateHeadHardPoseFullScan) MIMETIC_HARD_POSES;
 
 }  // namespace
 

@@ -36,6 +36,15 @@ void EvaluateContext::Resize(const Rig& rig) {
   fold_limits_.assign(triangle_count_, 0.f);
   limit_flags_.assign(point_count_, 0);
   slope_bounds_.assign(t.point_neighbors.size(), 0.f);
+  // (Clamped: an unchecked rig's ranges are not trusted, and IsFor refuses it anyway.)
+  const uint32_t active = std::min(rig.active_point_count(), point_count_);
+  const uint32_t active_tris = std::min(rig.active_triangle_count(), triangle_count_);
+  limit_moved_.assign(active, 0);
+  limit_flagged_.assign(active, 0);
+  limit_recheck_.assign(active, 0);
+  limit_tris_.assign(active_tris, 0);
+  limit_point_marks_.assign(active, 0);
+  limit_tri_marks_.assign(active_tris, 0);
   limited_points_ = limiter_passes_ = 0;
   if (!rig.tables_checked()) return;  // IsFor refuses it; nothing below is safe to read
   // Rest values everywhere: a frame rewrites only the leading ranges that can change
@@ -59,7 +68,9 @@ size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
          Bytes(point_ratios_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
-         Bytes(slope_bounds_);
+         Bytes(slope_bounds_) +
+         Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
+         Bytes(limit_point_marks_) + Bytes(limit_tri_marks_);
 }
 
 size_t RequiredFloats(size_t count, size_t stride_bytes) {
@@ -200,6 +211,12 @@ struct FrameState {
   float* fold_limits;              // #T (context)
   uint8_t* limit_flags;            // #P (context; 0 past the active points)
   float* slope_bounds;             // RigTables::point_neighbors (context)
+  uint32_t* limit_moved;           // active points (context)
+  uint32_t* limit_flagged;         // active points (context)
+  uint32_t* limit_recheck;         // active points (context)
+  uint32_t* limit_tris;            // active triangles (context)
+  uint8_t* limit_point_marks;      // active points (context; 0 between StageLimit's phases)
+  uint8_t* limit_tri_marks;        // active triangles (context; 0 between its phases)
   const uint32_t* point_tri_offsets;  // Rig::point_triangle_offsets
   const uint32_t* point_tris;         // Rig::point_triangles
 };
@@ -441,31 +458,42 @@ inline bool CosBelow(const float4& a, const float4& q, float limit) {
   return CosToRest(a, q) < limit;
 }
 
-// docs/model.md §16, the fold limiter. The skin layers move each point along N1 (X3 = X1 +
-// d N1); where the muscles crease the skin, offsets along normals that turn fast fold the
-// surface. LimitedOffsets bounds the offsets first; what still folds is caught here. Pass
-// after pass: face normals of the current points; a point is flagged when one of its
-// triangles is below its limit (kFoldLimitDot against rest, or X1's own cosine where the
-// muscles already went below it); every flagged point and its one-ring move back toward X1
-// (half of the offset, a quarter, an eighth, then none from kFoldLimitCutLevel on); stop when
-// a pass flags nothing, or after kFoldLimitPasses. Each point reads only the face slots and
-// flags of the previous phase and writes only itself, so the result does not depend on how
-// parallel_for splits the work. Points never reduced keep their bits.
-// Returns true when the face slots hold the normals of the final points.
-bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
+// A limiter pass's test of point p: one of its triangles is below its limit.
+inline bool FoldFlag(const FrameState& f, const float4* rest, uint32_t p) {
+  const uint32_t* off = f.point_tri_offsets;
+  const uint32_t* tri = f.point_tris;
+  const float4* faces = f.faces;
+  const float* limits = f.fold_limits;
+  bool bad = false;
+  for (uint32_t k = off[p]; k < off[p + 1] && !bad; ++k)
+    bad = CosBelow(faces[tri[k]], rest[tri[k]], limits[tri[k]]);
+  return bad;
+}
+
+// One more reduction of point p, whose level is below kFoldLimitCutLevel: the next power of two
+// of its offset, or none from the cut on. True when it is p's first.
+inline bool ReduceOffset(const FrameState& f, uint32_t p) {
+  uint8_t level = f.limit_levels[p];
+  const bool first = level == 0;
+  if (first) f.skin_full[p] = f.points[p];
+  f.limit_levels[p] = ++level;
+  if (level >= kFoldLimitCutLevel) {
+    f.points[p] = f.skin_base[p];
+  } else {
+    const float s = 1.f / float(1u << level);  // a power of two: exact
+    const float3 x1 = f.skin_base[p], x3 = f.skin_full[p];
+    f.points[p] = float3{x1.x + (x3.x - x1.x) * s, x1.y + (x3.y - x1.y) * s,
+                         x1.z + (x3.z - x1.z) * s};
+  }
+  return first;
+}
+
+// The limiter as a full scan: every pass recomputes the face normals of every active triangle,
+// tests every active point, and reduces every flagged point and its one-ring.
+bool FoldLimitFullScan(const FrameState& f, uint32_t* limited, uint32_t* passes) {
   const Rig& r = f.rig;
   const uint32_t count = r.active_point_count();
-  std::fill(f.limit_levels, f.limit_levels + count, uint8_t{0});
   const float4* rest = f.tables.rest_faces.data();
-  // Each triangle's limit: kFoldLimitDot, or below X1's own cosine where the muscles already
-  // brought it closer to turning over (the skin layers may not make it worse; X1 keeps it).
-  float* limits = f.fold_limits;
-  ParallelFor(f.job, r.active_triangle_count(), [&](uint32_t b, uint32_t e) {
-    for (uint32_t t = b; t < e; ++t) {
-      const float c = CosToRest(f.faces[t], rest[t]);
-      limits[t] = c > kFoldLimitDot ? kFoldLimitDot : c - 1e-4f;
-    }
-  });
   uint32_t first_total = 0, pass = 0;
   bool current = false;
   while (pass < kFoldLimitPasses) {
@@ -478,12 +506,9 @@ bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
     uint8_t* flags = f.limit_flags;
     // Flag the points with a triangle below its limit.
     ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
-      const float4* faces = f.faces;
       uint32_t n = 0;
       for (uint32_t p = b; p < e; ++p) {
-        bool bad = false;
-        for (uint32_t k = off[p]; k < off[p + 1] && !bad; ++k)
-          bad = CosBelow(faces[tri[k]], rest[tri[k]], limits[tri[k]]);
+        const bool bad = FoldFlag(f, rest, p);
         flags[p] = bad;
         n += bad;
       }
@@ -498,27 +523,13 @@ bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
     ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
       uint32_t n_first = 0;
       for (uint32_t p = b; p < e; ++p) {
-        uint8_t level = f.limit_levels[p];
-        if (level >= kFoldLimitCutLevel) continue;  // already at X1
+        if (f.limit_levels[p] >= kFoldLimitCutLevel) continue;  // already at X1
         bool near = flags[p] != 0;
         for (uint32_t k = off[p]; k < off[p + 1] && !near; ++k) {
           const uint32_t* c = triangles + 3 * size_t(tri[k]);
           near = flags[c[0]] | flags[c[1]] | flags[c[2]];
         }
-        if (!near) continue;
-        if (level == 0) {
-          f.skin_full[p] = f.points[p];
-          ++n_first;
-        }
-        f.limit_levels[p] = ++level;
-        if (level >= kFoldLimitCutLevel) {
-          f.points[p] = f.skin_base[p];
-        } else {
-          const float s = 1.f / float(1u << level);  // a power of two: exact
-          const float3 x1 = f.skin_base[p], x3 = f.skin_full[p];
-          f.points[p] = float3{x1.x + (x3.x - x1.x) * s, x1.y + (x3.y - x1.y) * s,
-                               x1.z + (x3.z - x1.z) * s};
-        }
+        if (near) n_first += ReduceOffset(f, p);
       }
       first.fetch_add(n_first, std::memory_order_relaxed);
     });
@@ -527,6 +538,156 @@ bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
   *limited = first_total;
   *passes = pass;
   return current;
+}
+
+// The same passes as a worklist (see StageLimit; needs RigTables::point_triangles_exact).
+bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes) {
+  const Rig& r = f.rig;
+  const uint32_t count = r.active_point_count();
+  const float4* rest = f.tables.rest_faces.data();
+  const uint32_t* off = f.point_tri_offsets;
+  const uint32_t* tri = f.point_tris;
+  const uint32_t* triangles = r.triangles().data();
+  uint8_t* flags = f.limit_flags;
+  uint32_t* moved = f.limit_moved;      // [0, n_moved): the points the last pass moved
+  uint32_t* flagged = f.limit_flagged;  // [0, n_flagged): every point flagged now
+  uint32_t* recheck = f.limit_recheck;
+  uint32_t* dirty = f.limit_tris;
+  uint8_t* point_mark = f.limit_point_marks;
+  uint8_t* tri_mark = f.limit_tri_marks;
+  uint32_t n_moved = 0, n_flagged = 0, first_total = 0, pass = 0;
+  bool current = false;
+  while (pass < kFoldLimitPasses) {
+    if (pass == 0) {  // every active triangle and point
+      FaceNormalsOfActive(f, false);
+      ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
+        for (uint32_t p = b; p < e; ++p) flags[p] = FoldFlag(f, rest, p);
+      });
+      for (uint32_t p = 0; p < count; ++p)
+        if (flags[p]) flagged[n_flagged++] = p;
+    } else {
+      // The triangles touching a point the last pass moved: the only normals that can differ.
+      uint32_t n_dirty = 0;
+      for (uint32_t i = 0; i < n_moved; ++i) {
+        const uint32_t p = moved[i];
+        for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+          const uint32_t t = tri[k];
+          if (tri_mark[t]) continue;
+          tri_mark[t] = 1;
+          dirty[n_dirty++] = t;
+        }
+      }
+      ParallelFor(f.job, n_dirty, [&](uint32_t b, uint32_t e) {
+        FaceNormals4Listed(f.points, triangles, dirty + b, e - b, f.faces);
+      });
+      // The points with one of those in their one-ring: the only flags that can differ.
+      uint32_t n_recheck = 0;
+      for (uint32_t i = 0; i < n_dirty; ++i) {
+        const uint32_t* c = triangles + 3 * size_t(dirty[i]);
+        tri_mark[dirty[i]] = 0;
+        for (int j = 0; j < 3; ++j) {
+          const uint32_t q = c[j];
+          if (q >= count || point_mark[q]) continue;
+          point_mark[q] = 1;
+          recheck[n_recheck++] = q;
+        }
+      }
+      ParallelFor(f.job, n_recheck, [&](uint32_t b, uint32_t e) {
+        for (uint32_t i = b; i < e; ++i) flags[recheck[i]] = FoldFlag(f, rest, recheck[i]);
+      });
+      // Flagged now: the flagged points not retested, and the retested ones that are.
+      uint32_t n = 0;
+      for (uint32_t i = 0; i < n_flagged; ++i)
+        if (!point_mark[flagged[i]]) flagged[n++] = flagged[i];
+      for (uint32_t i = 0; i < n_recheck; ++i) {
+        point_mark[recheck[i]] = 0;
+        if (flags[recheck[i]]) flagged[n++] = recheck[i];
+      }
+      n_flagged = n;
+    }
+    ++pass;
+    if (n_flagged == 0) {
+      current = true;
+      break;
+    }
+    // The points the full scan reduces: the flagged ones and their one-rings (the points that
+    // share a triangle with one), below the cut, to the front; those at the cut to the back.
+    uint32_t front = 0, back = count;
+    auto visit = [&](uint32_t q) {
+      if (point_mark[q]) return;
+      point_mark[q] = 1;
+      if (f.limit_levels[q] < kFoldLimitCutLevel)
+        moved[front++] = q;
+      else
+        moved[--back] = q;
+    };
+    for (uint32_t i = 0; i < n_flagged; ++i) {
+      const uint32_t q = flagged[i];
+      visit(q);
+      for (uint32_t k = off[q]; k < off[q + 1]; ++k) {
+        const uint32_t* c = triangles + 3 * size_t(tri[k]);
+        for (int j = 0; j < 3; ++j)
+          if (c[j] < count) visit(c[j]);
+      }
+    }
+    for (uint32_t i = 0; i < front; ++i) point_mark[moved[i]] = 0;
+    for (uint32_t i = back; i < count; ++i) point_mark[moved[i]] = 0;
+    n_moved = front;
+    std::atomic<uint32_t> first{0};
+    ParallelFor(f.job, n_moved, [&](uint32_t b, uint32_t e) {
+      uint32_t n_first = 0;
+      for (uint32_t i = b; i < e; ++i) n_first += ReduceOffset(f, moved[i]);
+      first.fetch_add(n_first, std::memory_order_relaxed);
+    });
+    first_total += first.load();
+    if (n_moved == 0) {  // a fixed point: the full scan repeats this pass to the last
+      pass = kFoldLimitPasses;
+      current = true;  // nothing moved since the face slots were computed
+      break;
+    }
+  }
+  *limited = first_total;
+  *passes = pass;
+  return current;
+}
+
+// docs/model.md §16, the fold limiter. The skin layers move each point along N1 (X3 = X1 +
+// d N1); where the muscles crease the skin, offsets along normals that turn fast fold the
+// surface. LimitedOffsets bounds the offsets first; what still folds is caught here. Pass
+// after pass: face normals of the current points; a point is flagged when one of its
+// triangles is below its limit (kFoldLimitDot against rest, or X1's own cosine where the
+// muscles already went below it); every flagged point and its one-ring move back toward X1
+// (half of the offset, a quarter, an eighth, then none from kFoldLimitCutLevel on); stop when
+// a pass flags nothing, or after kFoldLimitPasses.
+// As a worklist (FoldLimitWorklist): a triangle none of whose corners the previous pass moved
+// keeps its normal bits, hence its verdict, and a point none of whose triangles changed keeps
+// its flag; so after the first pass only the triangles touching a moved point are recomputed
+// and only the points around them retested, and the points to reduce are gathered from the
+// list of flagged points. Every quantity is the full scan's (FoldLimitFullScan: the same
+// per-triangle and per-point expressions, of the same inputs), so are the bits; it relies on
+// RigTables::point_triangles_exact (the full scan runs where a rig lacks it, and with
+// EvaluateJob::limit_folds_full_scan). A pass that moves nothing is a fixed point: the full
+// scan would repeat it until kFoldLimitPasses, so the worklist stops there and counts them.
+// The lists are built serially in a fixed order; each point or triangle of a parallel phase
+// reads only the previous phase's values and writes only itself, so the result does not
+// depend on how parallel_for splits the work. Points never reduced keep their bits.
+// Returns true when the face slots hold the normals of the final points.
+bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
+  const Rig& r = f.rig;
+  std::fill(f.limit_levels, f.limit_levels + r.active_point_count(), uint8_t{0});
+  const float4* rest = f.tables.rest_faces.data();
+  // Each triangle's limit: kFoldLimitDot, or below X1's own cosine where the muscles already
+  // brought it closer to turning over (the skin layers may not make it worse; X1 keeps it).
+  float* limits = f.fold_limits;
+  ParallelFor(f.job, r.active_triangle_count(), [&](uint32_t b, uint32_t e) {
+    for (uint32_t t = b; t < e; ++t) {
+      const float c = CosToRest(f.faces[t], rest[t]);
+      limits[t] = c > kFoldLimitDot ? kFoldLimitDot : c - 1e-4f;
+    }
+  });
+  if (f.job.limit_folds_full_scan || !f.tables.point_triangles_exact)
+    return FoldLimitFullScan(f, limited, passes);
+  return FoldLimitWorklist(f, limited, passes);
 }
 
 // Face normals of the final points (the per-point gather happens in StageOutputs).
@@ -595,6 +756,12 @@ bool EvaluateJob::Run() const {
       .fold_limits = ctx.fold_limits_.data(),
       .limit_flags = ctx.limit_flags_.data(),
       .slope_bounds = ctx.slope_bounds_.data(),
+      .limit_moved = ctx.limit_moved_.data(),
+      .limit_flagged = ctx.limit_flagged_.data(),
+      .limit_recheck = ctx.limit_recheck_.data(),
+      .limit_tris = ctx.limit_tris_.data(),
+      .limit_point_marks = ctx.limit_point_marks_.data(),
+      .limit_tri_marks = ctx.limit_tri_marks_.data(),
       .point_tri_offsets = r.point_triangle_offsets().data(),
       .point_tris = r.point_triangles().data(),
   };

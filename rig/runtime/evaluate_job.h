@@ -18,8 +18,8 @@
 //                  along edges (LimitedOffsets)                        docs/model.md §16
 //   StageLimit     the fold limiter: face normals of X3; points with a triangle that the
 //                  skin layers turned within kFoldLimitDot of over (against rest), and their
-//                  one-ring, get their offset halved, then cut, pass after pass
-//                                                                      docs/model.md §16
+//                  one-ring, get their offset halved, then cut, pass after pass (after the
+//                  first, a worklist: only what touches a moved point) docs/model.md §16
 //   StageNormals   face normals of X3 (only when normals are requested and StageLimit did
 //                  not leave them current)
 //   StageOutputs   per vertex: positions scattered to the file's vertex layout, normals of X3
@@ -103,6 +103,14 @@ class EvaluateContext {
   std::vector<float> fold_limits_;     // #T: the limiter's cosine limit per triangle this frame
   std::vector<uint8_t> limit_flags_;   // #P: points with a triangle past its limit (one pass)
   std::vector<float> slope_bounds_;    // RigTables::point_neighbors: kOffsetSlope * |X1q - X1p|
+  // The limiter's worklists (StageLimit), A = Rig::active_point_count(), AT =
+  // Rig::active_triangle_count(); the marks are all 0 between its phases.
+  std::vector<uint32_t> limit_moved_;    // A: points the last pass moved (front), at the cut (back)
+  std::vector<uint32_t> limit_flagged_;  // A: the flagged points
+  std::vector<uint32_t> limit_recheck_;  // A: points whose one-ring holds a recomputed triangle
+  std::vector<uint32_t> limit_tris_;     // AT: triangles touching a moved point
+  std::vector<uint8_t> limit_point_marks_;  // A
+  std::vector<uint8_t> limit_tri_marks_;    // AT
   uint32_t limited_points_ = 0, limiter_passes_ = 0;
 };
 
@@ -134,6 +142,9 @@ struct EvaluateJob {
   // The fold limiter (docs/model.md §16): reduce the skin layers' offset where it would turn
   // a triangle over. On by default; off gives the layers' raw displacement (for comparison).
   bool limit_folds = true;
+  // Testing and measurement only: run the fold limiter as the full scan its worklist replaces
+  // (every pass recomputes every active triangle and tests every active point). The same bits.
+  bool limit_folds_full_scan = false;
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
   void* parallel_for_user = nullptr;

@@ -126,6 +126,11 @@ struct RigTables {
   // limiter's offset bounds read them, docs/model.md §16).
   std::vector<uint32_t> point_neighbor_offsets;  // active points + 1
   std::vector<uint32_t> point_neighbors;
+  // True when every active point's triangle list (RigData::point_triangles) is exactly the
+  // triangles that have it as a corner, ascending, each once (what the builder writes). The
+  // fold limiter's worklist (docs/model.md §16) relies on it; without it, every pass scans
+  // every active point and triangle (the same bits).
+  bool point_triangles_exact = false;
   uint32_t edge_count() const { return uint32_t(edge_pairs.size() / 2); }
 };
 

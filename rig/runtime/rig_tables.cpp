@@ -195,6 +195,30 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
     if (!rows_of[p].empty() || !curves_of[p].empty()) t.wrinkle_points.push_back(p);
 }
 
+// RigTables::point_triangles_exact: each active point lists, ascending and once each, exactly
+// the triangles with it as a corner (a triangle counted once per point however often the point
+// repeats among its corners).
+bool PointTrianglesExact(const RigData& r) {
+  const uint32_t n_active = r.active.points;
+  const uint32_t* off = r.point_triangle_offsets.data();
+  const uint32_t* items = r.point_triangles.data();
+  std::vector<uint32_t> incident(n_active, 0);
+  for (uint32_t t = 0; t < r.triangle_count(); ++t) {
+    const uint32_t* c = &r.triangles[3 * size_t(t)];
+    for (int j = 0; j < 3; ++j)
+      if (c[j] < n_active && (j < 1 || c[j] != c[0]) && (j < 2 || c[j] != c[1])) ++incident[c[j]];
+  }
+  for (uint32_t p = 0; p < n_active; ++p) {
+    if (off[p + 1] - off[p] != incident[p]) return false;
+    for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+      if (k > off[p] && items[k] <= items[k - 1]) return false;
+      const uint32_t* c = &r.triangles[3 * size_t(items[k])];
+      if (c[0] != p && c[1] != p && c[2] != p) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 void BuildRigTables(const RigData& r, RigTables* out) {
@@ -229,6 +253,7 @@ void BuildRigTables(const RigData& r, RigTables* out) {
     t.point_neighbors.insert(t.point_neighbors.end(), ring.begin(), ring.end());
     t.point_neighbor_offsets[p + 1] = uint32_t(t.point_neighbors.size());
   }
+  t.point_triangles_exact = PointTrianglesExact(r);
   // Built by push_back: give back the slack.
   for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
                                    &t.point_row_offsets, &t.point_curve_offsets,

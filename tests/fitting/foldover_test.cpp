@@ -12,6 +12,7 @@
 // template (fitting); the link lists in tests/CMakeLists.txt keep tests/rig off io.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -27,6 +28,7 @@
 #include "fitting/landmarks.h"
 #include "fitting/muscle_template.h"
 #include "geometry/mesh.h"
+#include "io/expression_library.h"
 #include "io/landmarks_file.h"
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
@@ -34,6 +36,8 @@
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "test_support.h"
+// Global allocation counter: the worklist's frames allocate nothing.
+#include "alloc_counter.h"
 
 namespace mimetic {
 namespace {
@@ -291,6 +295,83 @@ TEST(FoldOver, LimiterGivesTheSameBitsHoweverTheWorkIsSplit) {
   EXPECT_EQ(limited[0], limited[1]);
   EXPECT_EQ(std::memcmp(pos[0].data(), pos[1].data(), pos[0].size() * 4), 0);
   EXPECT_EQ(std::memcmp(nrm[0].data(), nrm[1].data(), nrm[0].size() * 4), 0);
+}
+
+// The limiter's worklist (docs/model.md §16: after the first pass only the triangles touching
+// a moved point and the points around them) against the full scan it replaces
+// (EvaluateJob::limit_folds_full_scan recomputes every active triangle and tests every active
+// point in every pass): the same positions, normals, limited points and passes, to the bit, on
+// hard poses (every expression of assets/expressions/default.library.json, every 20th sampled
+// pose, every muscle at 1), serially (allocating nothing) and split over two threads. The
+// expected bits are the full scan's.
+void CheckWorklistAgainstFullScan(const Rig& rig, const char* label) {
+  ASSERT_TRUE(rig.tables().point_triangles_exact) << label << ": the worklist would not run";
+  std::vector<std::pair<std::string, std::vector<float>>> poses;
+  std::vector<Expression> library;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadExpressionLibrary(test::SourceDir() + "/assets/expressions/default.library.json",
+                                    &library, &diag))
+      << diag.Format();
+  for (const Expression& e : library) {
+    std::vector<float> a(rig.muscle_count(), 0.f);
+    for (const auto& [name, value] : e.activations) {
+      const int m = rig.FindMuscle(name);
+      ASSERT_GE(m, 0) << label << ": no muscle " << name << " (" << e.name << ")";
+      a[size_t(m)] = value;
+    }
+    poses.emplace_back(e.name, a);
+  }
+  const auto sampled = Poses(rig);
+  for (size_t i = 0; i < sampled.size(); ++i)
+    if (i % 20 == 0 || i + 1 == sampled.size()) poses.push_back(sampled[i]);
+  const size_t n3 = 3 * size_t(rig.vertex_count());
+  EvaluateContext ctx(rig);
+  size_t busy = 0;  // poses where the limiter ran more than one pass (the worklist's part)
+  uint32_t most_passes = 0;
+  for (const auto& [pose, a] : poses) {
+    std::vector<float> pos[3], nrm[3];
+    uint32_t limited[3], passes[3];
+    for (int k = 0; k < 3; ++k) {  // full scan, worklist, worklist over two threads
+      pos[k].assign(n3, -1.f);
+      nrm[k].assign(n3, -1.f);
+      EvaluateJob job;
+      job.rig = &rig;
+      job.context = &ctx;
+      job.activations = a;
+      job.out_positions = pos[k];
+      job.out_normals = nrm[k];
+      job.limit_folds_full_scan = k == 0;
+      if (k == 2) job.parallel_for = TwoThreads;
+      const long allocations = g_allocations.load();
+      ASSERT_TRUE(job.Run());
+      if (k == 1) EXPECT_EQ(g_allocations.load() - allocations, 0) << label << ", " << pose;
+      limited[k] = ctx.limited_point_count();
+      passes[k] = ctx.limiter_passes();
+    }
+    for (int k = 1; k < 3; ++k) {
+      EXPECT_EQ(limited[k], limited[0]) << label << ", " << pose << ", run " << k;
+      EXPECT_EQ(passes[k], passes[0]) << label << ", " << pose << ", run " << k;
+      EXPECT_EQ(std::memcmp(pos[k].data(), pos[0].data(), n3 * 4), 0)
+          << label << ", " << pose << ", run " << k << ": positions differ";
+      EXPECT_EQ(std::memcmp(nrm[k].data(), nrm[0].data(), n3 * 4), 0)
+          << label << ", " << pose << ", run " << k << ": normals differ";
+    }
+    busy += passes[0] > 1;
+    most_passes = std::max(most_passes, passes[0]);
+  }
+  std::printf("%s: %zu poses, the limiter ran more than one pass in %zu (at most %u)\n", label,
+              poses.size(), busy, most_passes);
+  EXPECT_GT(busy, 0u) << label << ": no pose exercises the worklist";
+}
+
+TEST(FoldOver, LimiterWorklistGivesTheFullScansBits) {
+  CheckWorklistAgainstFullScan(DefaultRig(), "sample head rig");
+}
+
+TEST(FoldOver, IctFittedRigLimiterWorklistGivesTheFullScansBits) {
+  const Rig* rig = IctRig();
+  if (!rig) GTEST_SKIP() << "../shared/data/ict-facekit is absent: the ICT-fitted rig is not checked";
+  CheckWorklistAgainstFullScan(*rig, "ICT-fitted rig");
 }
 
 TEST(FoldOver, IctFittedRigSkinLayersNeverFlipATriangle) {

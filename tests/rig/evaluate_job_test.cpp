@@ -11,6 +11,7 @@
 #include <new>
 #include <thread>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "muscles/offline/waters.h"
@@ -382,11 +383,13 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const size_t E = t.edge_count();
   // activations, points (+1 pad), faces, ratios, sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
-  // flags, the slope bound per neighbour slot
+  // flags, the slope bound per neighbour slot; its worklists over the active points (three
+  // lists, marks) and triangles (list, marks)
   const size_t N = t.point_neighbors.size();
+  const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P +
                                 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
-                                4 * T + P + 4 * N);
+                                4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT);
 }
 
 // A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context
@@ -421,6 +424,34 @@ TEST(EvaluateJob, EditedRigIsANewRig) {
   const std::vector<float> act = SomeActivations(bad);
   std::vector<float> pos, nrm;
   EXPECT_FALSE(MakeJob(bad, &bad_ctx, act, &pos, &nrm).Validate());
+}
+
+// RigTables::point_triangles_exact (the fold limiter's worklist relies on it, docs/model.md
+// §16): true for the builder's adjacency; false when an active point's list is out of order,
+// repeats a triangle, or names one without the point; the rig still builds.
+TEST(EvaluateJob, PointTrianglesExactOnlyForTheTrueAdjacency) {
+  const Surface s = MakeSurface(12, 3);
+  ASSERT_GT(s.rig.active_point_count(), 0u);
+  EXPECT_TRUE(s.rig.tables().point_triangles_exact);
+  // An active point with at least two triangles, and a triangle that does not have it.
+  const RigData& d = s.rig.data();
+  uint32_t p = 0;
+  while (d.point_triangle_offsets[p + 1] - d.point_triangle_offsets[p] < 2) ++p;
+  ASSERT_LT(p, s.rig.active_point_count());
+  const uint32_t lo = d.point_triangle_offsets[p], hi = d.point_triangle_offsets[p + 1];
+  uint32_t other = 0;
+  while (d.triangles[3 * other] == p || d.triangles[3 * other + 1] == p ||
+         d.triangles[3 * other + 2] == p)
+    ++other;
+  for (int edit = 0; edit < 3; ++edit) {
+    RigData e = d;
+    if (edit == 0) std::swap(e.point_triangles[lo], e.point_triangles[lo + 1]);  // order
+    if (edit == 1) e.point_triangles[lo + 1] = e.point_triangles[lo];            // repeat
+    if (edit == 2) e.point_triangles[hi - 1] = other;                             // a stranger
+    Rig r;
+    ASSERT_TRUE(Rig::Build(e, &r)) << "edit " << edit;
+    EXPECT_FALSE(r.tables().point_triangles_exact) << "edit " << edit;
+  }
 }
 
 }  // namespace
