@@ -17,6 +17,17 @@ bool CheckRigData(const RigData& r) {
   const uint32_t points = r.point_count(), tris = r.triangle_count();
   for (uint32_t p : r.vertex_points)
     if (p >= points) return false;
+  // The file's layout (read by RestMesh / PosedMesh and every exporter).
+  if (r.vertex_indices.size() % 3 != 0) return false;
+  for (uint32_t v : r.vertex_indices)
+    if (v >= r.vertex_points.size()) return false;
+  if (!r.vertex_uvs.empty() && r.vertex_uvs.size() != r.vertex_points.size()) return false;
+  // Names, when given, are one per muscle / curve wrinkle; a wrinkled muscle exists.
+  if (!r.curve_wrinkles.names.empty() &&
+      r.curve_wrinkles.names.size() != r.curve_wrinkles.wrinkles.size())
+    return false;
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
+    if (w.muscle >= r.muscle_count()) return false;
   for (uint32_t i : r.triangles)
     if (i >= points) return false;
   if (r.point_triangle_offsets.size() != size_t(points) + 1) return false;
@@ -59,6 +70,9 @@ bool CheckRigData(const RigData& r) {
   }
   for (const MuscleInfluence& e : r.muscles.entries)
     if (e.muscle >= r.muscle_count()) return false;
+  // The muscle CSR is non-decreasing (MuscleDeformJob::Validate checks its ends only).
+  for (size_t p = 0; p + 1 < r.muscles.offsets.size(); ++p)
+    if (r.muscles.offsets[p] > r.muscles.offsets[p + 1]) return false;
   const bool skin = r.layers.thickness || r.layers.muscle_wrinkles || r.layers.curve_wrinkles;
   if (!skin) return true;
   if (r.rest_triangle_areas.size() < tris || r.point_thickness.size() < points) return false;
