@@ -8,6 +8,10 @@
 #include "io/json_reader.h"
 #include "io/mesh_io.h"
 #include "io/rig_file.h"
+#include "rig/runtime/rig_binary.h"
+
+#include <cctype>
+#include <cstdio>
 
 namespace mimetic {
 namespace {
@@ -35,10 +39,42 @@ void CheckMeshOfBrokenRig(const std::string& rig_path, Diagnostics* diag) {
   }
 }
 
+bool LoadCompiledRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag) {
+  LoadedRig loaded;
+  std::string bytes, why;
+  RigBinaryInfo info;
+  if (!ReadRigBinaryFile(rig_path, &bytes, &why) ||
+      !ReadRigBinary(span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()),
+                                         bytes.size()),
+                     &loaded.rig, &info, &why)) {
+    diag->Error(rig_path, why);
+    return false;
+  }
+  loaded.compiled = true;
+  loaded.spec.units = info.units;
+  loaded.source_vertex_count = info.source_vertex_count;
+  *out = std::move(loaded);
+  return true;
+}
+
 }  // namespace
+
+bool IsCompiledRigPath(const std::string& path) {
+  std::string lower = path;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (lower.size() >= 5 && lower.compare(lower.size() - 5, 5, ".mrig") == 0) return true;
+  if (!CheckRegularFile(path, kMaxRigBinaryFileBytes, "rig file").empty()) return false;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  uint8_t tag[4] = {};
+  const size_t got = std::fread(tag, 1, 4, f);
+  std::fclose(f);
+  return got == 4 && HasRigBinaryTag(span<const uint8_t>(tag, 4));
+}
 
 bool LoadRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag,
              const BuildOptions& options) {
+  if (IsCompiledRigPath(rig_path)) return LoadCompiledRig(rig_path, out, diag);
   Diagnostics local;
   LoadedRig loaded;
   // LoadRigSpec names the file in its messages already.

@@ -1,6 +1,7 @@
 // io/rig_loader.h: a rig file, its mesh and its images, built into a runtime Rig.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "core/diagnostics.h"
@@ -13,11 +14,19 @@ namespace mimetic {
 
 // Everything a tool needs about one rig file.
 struct LoadedRig {
-  RigSpec spec;
-  MeshData mesh;
+  RigSpec spec;  // a compiled rig: only `units` (the rest is not kept in a .mrig)
+  MeshData mesh;  // a compiled rig: empty
   Rig rig;
+  bool compiled = false;             // loaded from a .mrig (docs/mrig-format.md)
+  uint32_t source_vertex_count = 0;  // the source mesh file's vertices (0: not known)
 };
-// LoadRigSpec + ImportMesh + the thickness image (LoadGrayImage) + BuildRig. Diagnostics are prefixed with the file they concern.
+
+// True when `path` names a compiled rig: it ends in .mrig (any case) or starts with "MRIG".
+bool IsCompiledRigPath(const std::string& path);
+
+// LoadRigSpec + ImportMesh + the thickness image (LoadGrayImage) + BuildRig; or, for a
+// compiled rig (IsCompiledRigPath), ReadRigBinary alone. Diagnostics are prefixed with the file
+// they concern.
 bool LoadRig(const std::string& rig_path, LoadedRig* out, Diagnostics* diag,
              const BuildOptions& options = {});
 

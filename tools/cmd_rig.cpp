@@ -22,7 +22,8 @@ namespace {
 
 const char* kInfoUsage =
     "usage: mimetic info RIG\n\n"
-    "Loads RIG (a .rig.json file, docs/rig-format.md) and its mesh and prints the mesh size,\n"
+    "Loads RIG (a .rig.json file, docs/rig-format.md, or a compiled .mrig, mimetic build)\n"
+    "and its mesh and prints the mesh size,\n"
     "units, skin thickness and every muscle with the number of vertices it moves; warns\n"
     "about a muscle that moves fewer than 50 of the mesh file's vertices.\n";
 
@@ -90,26 +91,32 @@ int CmdInfo(const Args& args) {
   LoadedRig loaded;
   if (int rc = LoadFromArgs("info", parsed, kInfoUsage, &loaded)) return rc;
   const Rig& rig = loaded.rig;
-  float3 lo = rig.rest_points()[0], hi = rig.rest_points()[0];
+  float3 lo{}, hi{};
+  if (rig.point_count() > 0) lo = hi = rig.rest_points()[0];
   for (const float3& p : rig.rest_points()) {
     lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
     hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
   }
-  float hmin = rig.point_thickness()[0], hmax = hmin;
+  float hmin = rig.point_thickness().empty() ? 0.f : rig.point_thickness()[0], hmax = hmin;
   for (float h : rig.point_thickness()) hmin = std::fmin(hmin, h), hmax = std::fmax(hmax, h);
-  std::printf("rig:        %s\n", parsed.positional[0].c_str());
-  std::printf("mesh:       %s\n", loaded.spec.mesh_path.c_str());
+  // A compiled rig (.mrig) keeps the built rig only: no mesh file, no muscle specs.
+  const uint32_t file_vertices =
+      loaded.compiled ? loaded.source_vertex_count : uint32_t(loaded.mesh.vertex_count());
+  std::printf("rig:        %s%s\n", parsed.positional[0].c_str(),
+              loaded.compiled ? " (compiled, docs/mrig-format.md)" : "");
+  if (!loaded.compiled) std::printf("mesh:       %s\n", loaded.spec.mesh_path.c_str());
   std::printf("units:      %s\n", loaded.spec.units.c_str());
   std::printf("vertices:   %u (%u surface points after welding seams)", rig.vertex_count(),
               rig.point_count());
-  if (rig.vertex_count() != loaded.mesh.vertex_count())
-    std::printf("; the file has %zu, refined where wrinkles act", loaded.mesh.vertex_count());
+  if (file_vertices != 0 && rig.vertex_count() != file_vertices)
+    std::printf("; the file has %u, refined where wrinkles act", file_vertices);
   std::printf("\n");
   std::printf("triangles:  %u\n", rig.triangle_count());
   std::printf("bounds:     [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] (size %.4g x %.4g x %.4g %s)\n",
               lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, hi.x - lo.x, hi.y - lo.y, hi.z - lo.z,
               loaded.spec.units.c_str());
-  std::printf("thickness:  %s, %.4g .. %.4g %s\n", ThicknessKind(loaded.spec.thickness.kind), hmin,
+  std::printf("thickness:  %s, %.4g .. %.4g %s\n",
+              loaded.compiled ? "per point" : ThicknessKind(loaded.spec.thickness.kind), hmin,
               hmax, loaded.spec.units.c_str());
   std::printf("per frame:  %u of %u points can move (%.0f%%), %u more can change normal\n",
               rig.active_point_count(), rig.point_count(),
@@ -119,14 +126,19 @@ int CmdInfo(const Args& args) {
               rig.layers().thickness ? "on" : "off", rig.layers().muscle_wrinkles ? "on" : "off",
               rig.layers().curve_wrinkles ? "on" : "off");
   std::printf("muscles:    %u\n", rig.muscle_count());
-  const std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles());
+  std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles());
+  influenced.resize(rig.muscle_count(), 0u);
   std::vector<const RigMuscleWrinkles*> wrinkles_of(rig.muscle_count(), nullptr);
   for (const RigMuscleWrinkles& w : rig.muscle_wrinkles())
     if (w.muscle < wrinkles_of.size()) wrinkles_of[w.muscle] = &w;
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
-    const MuscleSpec& ms = loaded.spec.muscles[m];
-    std::printf("  %-28s %-6s strength %-8.4g moves %u points", ms.name.c_str(),
-                MuscleTypeName(ms.type), ms.strength, influenced[m]);
+    if (m < loaded.spec.muscles.size()) {
+      const MuscleSpec& ms = loaded.spec.muscles[m];
+      std::printf("  %-28s %-6s strength %-8.4g moves %u points", ms.name.c_str(),
+                  MuscleTypeName(ms.type), ms.strength, influenced[m]);
+    } else {
+      std::printf("  %-28s moves %u points", rig.muscle_names()[m].c_str(), influenced[m]);
+    }
     if (const RigMuscleWrinkles* w = wrinkles_of[m])
       std::printf(", wrinkles on %u (half cycle %.3g %s)", w->row_count(), w->half_cycle,
                   loaded.spec.units.c_str());
@@ -134,8 +146,8 @@ int CmdInfo(const Args& args) {
   }
   // A muscle that moves almost none of the mesh's own vertices is usually misplaced for this
   // head (its zone or insertion off the face); say so.
-  {
-    const uint32_t nv = uint32_t(loaded.mesh.vertex_count());
+  if (file_vertices > 0) {
+    const uint32_t nv = file_vertices;
     std::vector<uint32_t> reach(rig.muscle_count(), 0);
     std::vector<uint8_t> seen(rig.point_count(), 0);
     const MuscleTable& table = rig.muscles();
@@ -155,7 +167,8 @@ int CmdInfo(const Args& args) {
   if (!rig.curve_wrinkles().names.empty()) {
     std::printf("curve wrinkles: %zu\n", rig.curve_wrinkles().names.size());
     std::vector<uint32_t> reach(rig.curve_wrinkles().names.size(), 0);
-    for (const CurveWrinkleEntry& e : rig.curve_wrinkles().entries) ++reach[e.wrinkle];
+    for (const CurveWrinkleEntry& e : rig.curve_wrinkles().entries)
+      if (e.wrinkle < reach.size()) ++reach[e.wrinkle];
     for (size_t c = 0; c < reach.size(); ++c)
       std::printf("  %-28s reaches %u points\n", rig.curve_wrinkles().names[c].c_str(), reach[c]);
   }

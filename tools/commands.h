@@ -12,6 +12,7 @@ using Args = std::vector<std::string>;
 int CmdInfo(const Args& args);
 int CmdValidate(const Args& args);
 int CmdEval(const Args& args);
+int CmdBuild(const Args& args);       // the compiled rig .mrig (tools/cmd_build.cpp)
 int CmdMakeSurface(const Args& args);  // the procedural test surface
 int CmdMakeHead(const Args& args);     // the sample head (tools/cmd_head.cpp)
 int CmdRender(const Args& args);       // software render to PNG (tools/cmd_render.cpp)

@@ -17,6 +17,7 @@ const Command kCommands[] = {
     {"info", mimetic::tools::CmdInfo, "print what a rig contains"},
     {"validate", mimetic::tools::CmdValidate, "check a rig and its mesh; list every problem"},
     {"eval", mimetic::tools::CmdEval, "pose a rig with muscle activations and write the mesh"},
+    {"build", mimetic::tools::CmdBuild, "compile a rig into a .mrig the runtime loads alone"},
     {"make-surface", mimetic::tools::CmdMakeSurface, "write the procedural test surface mesh"},
     {"make-head", mimetic::tools::CmdMakeHead, "write the procedural sample head and its landmarks"},
     {"render", mimetic::tools::CmdRender, "render a mesh to a PNG image (software, no GPU)"},
