@@ -55,9 +55,10 @@ bool LoadRigBinaryFile(const std::string& path, Rig* out, RigBinaryInfo* info,
 
 // FNV-1a 64 of `bytes`.
 uint64_t Fnv1a64(span<const uint8_t> bytes);
-// The format's checksum: FNV-1a 64 of the whole file except the checksum field (bytes
-// [24, 32)), so that a flipped header byte is caught as well. 0 for a file shorter than the
-// header.
+// The format's checksum (docs/mrig-format.md): over the file's 64-bit little-endian words (the
+// tail zero padded; word 3, the checksum field [24, 32), as 0), h = (rotl(h, 23) ^ word) *
+// 0x100000001b3 from h = 0xcbf29ce484222325 (FNV-1a's constants, word-wise), so that a flipped
+// header byte is caught too. 0 for a file shorter than the header.
 uint64_t RigBinaryChecksum(span<const uint8_t> file);
 
 }  // namespace mimetic

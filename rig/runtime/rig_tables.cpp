@@ -3,7 +3,6 @@
 #include "rig/runtime/rig_tables.h"
 
 #include <algorithm>
-#include <unordered_map>
 
 #include "rig/runtime/face_kernels.h"
 #include "wrinkles/runtime/profiles.h"
@@ -133,19 +132,31 @@ namespace {
 // and the shrinkage probes, each once; per-row coefficients; per-point row lists.
 void BuildStrainTables(const RigData& r, RigTables* out) {
   RigTables& t = *out;
-  std::unordered_map<uint64_t, uint32_t> edge_ids;
   t.edge_pairs.clear();
+  // Edge ids in first-seen order, through an open-addressing table (linear probing) sized for
+  // every lookup below: at most half full, so a probe sequence always ends.
+  size_t lookups = 4 * r.curve_wrinkles.probes.size();
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) lookups += w.edge_neighbors.size();
+  size_t capacity = 16;
+  while (capacity < 2 * lookups) capacity *= 2;
+  constexpr uint64_t kEmpty = ~uint64_t{0};  // no edge (a <= b < #P < 2^32 - 1)
+  std::vector<uint64_t> slot_keys(capacity, kEmpty);
+  std::vector<uint32_t> slot_ids(capacity);
+  const size_t mask = capacity - 1;
   auto edge = [&](uint32_t a, uint32_t b) {
     if (a > b) std::swap(a, b);
     const uint64_t key = (uint64_t(a) << 32) | b;
-    auto [it, added] = edge_ids.emplace(key, uint32_t(t.edge_pairs.size() / 2));
-    if (added) {
-      t.edge_pairs.push_back(a);
-      t.edge_pairs.push_back(b);
+    size_t i = size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    while (slot_keys[i] != kEmpty) {
+      if (slot_keys[i] == key) return slot_ids[i];
+      i = (i + 1) & mask;
     }
-    return it->second;
-  };
-  // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
+    slot_keys[i] = key;
+    slot_ids[i] = uint32_t(t.edge_pairs.size() / 2);
+    t.edge_pairs.push_back(a);
+    t.edge_pairs.push_back(b);
+    return slot_ids[i];
+  };  // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
   // themselves, so its sum adds them in the order MuscleWrinkleJob would), and so are their
   // entries.
   const uint32_t active = r.active.points;

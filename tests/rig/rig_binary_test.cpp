@@ -80,13 +80,14 @@ void PutU64(std::string* b, size_t at, uint64_t v) {
   PutU32(b, at, uint32_t(v));
   PutU32(b, at + 4, uint32_t(v >> 32));
 }
-// FNV-1a 64 over the file without bytes [24, 32), written into [24, 32).
+// The checksum of docs/mrig-format.md, written into [24, 32).
 void Rechecksum(std::string* b) {
   uint64_t h = 0xcbf29ce484222325ull;
-  for (size_t i = 0; i < b->size(); ++i) {
-    if (i >= 24 && i < 32) continue;
-    h ^= uint8_t((*b)[i]);
-    h *= 0x100000001b3ull;
+  std::string padded = *b;
+  padded.resize((b->size() + 7) / 8 * 8, '\0');
+  for (size_t i = 0; i < padded.size() / 8; ++i) {
+    const uint64_t w = i == 3 ? 0 : U64At(padded, 8 * i);
+    h = ((h << 23 | h >> 41) ^ w) * 0x100000001b3ull;
   }
   PutU64(b, 24, h);
 }
