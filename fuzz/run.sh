@@ -24,14 +24,17 @@ seeds() {  # the seed files of one target
     mesh_gltf) echo "$src/fuzz/seeds/*.gltf $bad/*.gltf" ;;
     mesh_obj) echo "$src/fuzz/seeds/*.obj $bad/*.obj" ;;
     image) echo "$src/fuzz/seeds/*.png $bad/*.png" ;;
+    mrig) echo "$work/mrig-seed/*.mrig" ;;  # written below by fuzz_mrig_seed
   esac
 }
 artifacts=$build/fuzz-artifacts
 mkdir -p "$artifacts"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/mrig-seed"
+"$build/fuzz/fuzz_mrig_seed" "$work/mrig-seed/surface.mrig" >/dev/null
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for name in rig template landmarks expression clip expression_library arkit_map arkit_take golden mesh_glb mesh_gltf mesh_obj image; do
+for name in rig template landmarks expression clip expression_library arkit_map arkit_take golden mesh_glb mesh_gltf mesh_obj image mrig; do
   mkdir -p "$work/$name/corpus" "$work/$name/seeds"
   # shellcheck disable=SC2046
   cp $(seeds "$name") "$work/$name/seeds/"
