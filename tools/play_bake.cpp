@@ -177,9 +177,10 @@ int PlayBake(const PlayBakeRequest& r) {
     std::printf("played %s (%g s, %s) on %s at %g fps\n", r.clip_path.c_str(),
                 double(r.clip->duration()), end, r.rig_path.c_str(), r.fps);
     std::printf("baked %zu frames (0 .. %g s) into %s: %.2f MB, %zu vertices, %zu triangles, "
-                "%zu morph targets (%zu sparse), one LINEAR weights animation\n",
+                "%zu morph targets (%zu sparse; held and neutral frames share), one LINEAR "
+                "weights animation\n",
                 stats.frames, r.times.back(), r.out.c_str(), double(stats.bytes) / 1e6, nv,
-                size_t(rig.triangle_count()), stats.frames, stats.sparse_targets);
+                size_t(rig.triangle_count()), stats.targets, stats.sparse_targets);
     std::printf("vertices moved: %zu of %zu in some frame, at most %zu in one frame; took %.2f s "
                 "on %u thread(s)\n", stats.moved_vertices, nv, stats.max_moved_in_frame, seconds,
                 threads);
