@@ -185,6 +185,9 @@ const Object kJaw = {
                    "rotation about right -> left"),
         Number("range_deg", "a number in (0, 90] (degrees)").Above(0).Max(90).Required()
             .About("opening angle at jaw = 1"),
+        Numbers("translation", 3, "array of 3 numbers [x, y, z] (mesh units)")
+            .About("the condyles' glide at jaw = 1 (forward and down), added with the weight "
+                   "after the turn; default [0, 0, 0]"),
         Numbers("mouth", 3, "array of 3 numbers [x, y, z] (between the lips on the midline)")
             .About("the lip line's point on the midline; required unless `weights` is given"),
         Number("mouth_width", "a number > 0 (mouth corner to corner, mesh units)").Above(0)
@@ -198,6 +201,10 @@ const Object kJaw = {
         Numbers("back", 2, "array of 2 numbers [b0, b1] in [-1, 1], b0 < b1 (fractions of the "
                            "hinge-to-mouth distance)")
             .About("forward distance from the hinge where the weight fades in; default [0.2, 0.6]"),
+        Numbers("neck_deg", 2, "array of 2 numbers [n0, n1] in [0, 180], n0 < n1 (degrees below "
+                               "the lip line)")
+            .About("angles about the hinge below the lip line where the weight fades out toward "
+                   "the neck (1 above -n0, 0 below -n1); default [90, 180]"),
         Array("weights", Number("").Min(0).Max(1),
               "array of numbers in [0, 1], one per vertex of the mesh file")
             .About("explicit per-vertex jaw weights (file order); replace the region function")},
@@ -338,6 +345,7 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
                                     "(the subject's right, then left condyle)");
   }
   j.Read("range_deg", &jaw.range_deg);
+  j.Read("translation", &jaw.translation);
   const bool explicit_weights = j.Has("weights");
   if (!explicit_weights) {
     if (!j.Has("mouth"))
@@ -359,6 +367,14 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
       ok = Fail(j.Path("back"), "is [" + FormatFloat(jaw.back[0]) + ", " +
                                     FormatFloat(jaw.back[1]) + "]; expected [b0, b1] in [-1, 1] "
                                     "with b0 < b1 (fractions of the hinge-to-mouth distance)");
+  }
+  if (const json* neck = j.Get("neck_deg")) {
+    jaw.neck_deg[0] = static_cast<float>((*neck)[0].get<double>());
+    jaw.neck_deg[1] = static_cast<float>((*neck)[1].get<double>());
+    if (!(jaw.neck_deg[0] >= 0.f && jaw.neck_deg[1] <= 180.f && jaw.neck_deg[0] < jaw.neck_deg[1]))
+      ok = Fail(j.Path("neck_deg"), "is [" + FormatFloat(jaw.neck_deg[0]) + ", " +
+                                        FormatFloat(jaw.neck_deg[1]) + "]; expected [n0, n1] in "
+                                        "[0, 180] with n0 < n1 (degrees below the lip line)");
   }
   if (const json* weights = j.Get("weights"))
     for (const json& e : *weights) jaw.weights.push_back(static_cast<float>(e.get<double>()));
@@ -708,6 +724,8 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
     ordered_json j;
     j["condyles"] = ordered_json::array({Vec3Json(jw.condyles[0]), Vec3Json(jw.condyles[1])});
     j["range_deg"] = ShortestDecimal(jw.range_deg);
+    if (!(jw.translation.x == 0.f && jw.translation.y == 0.f && jw.translation.z == 0.f))
+      j["translation"] = Vec3Json(jw.translation);
     if (jw.weights.empty()) {
       j["mouth"] = Vec3Json(jw.mouth);
       j["mouth_width"] = ShortestDecimal(jw.mouth_width);
@@ -715,6 +733,8 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       j["cheek_blend_deg"] = ShortestDecimal(jw.cheek_blend_deg);
       j["cheek_drop_deg"] = ShortestDecimal(jw.cheek_drop_deg);
       j["back"] = ordered_json::array({ShortestDecimal(jw.back[0]), ShortestDecimal(jw.back[1])});
+      j["neck_deg"] =
+          ordered_json::array({ShortestDecimal(jw.neck_deg[0]), ShortestDecimal(jw.neck_deg[1])});
     } else {
       ordered_json w = ordered_json::array();
       for (float v : jw.weights) w.push_back(ShortestDecimal(v));

@@ -129,11 +129,15 @@ const Object kJaw = {"the jaw", {
     ObjectOf("condyle", kCondyle, "a condyle object {\"landmarks\": [...], \"offset\": [dx, dy, dz]}")
         .Required().About("the subject's right condyle; the left one mirrors it"),
     Number("range_deg", "a number in (0, 90] (degrees)").Above(0).Max(90).Required(),
+    Numbers("translation", 3, "[dx, dy, dz], three finite numbers (units of s, face frame)")
+        .About("the condyles' glide at jaw = 1 (forward and down); default [0, 0, 0]"),
     Number("lip_blend_deg", "a number in (0, 45] (degrees)").Above(0).Max(45),
     Number("cheek_blend_deg", "a number in (0, 90] (degrees)").Above(0).Max(90),
     Number("cheek_drop_deg", "a number in [0, 45] (degrees)").Min(0).Max(45),
     Numbers("back", 2, "[b0, b1], two numbers in [-1, 1] with b0 < b1 (fractions of the "
-                       "hinge-to-mouth distance)")}};
+                       "hinge-to-mouth distance)"),
+    Numbers("neck_deg", 2, "[n0, n1], two numbers in [0, 180] with n0 < n1 (degrees below the "
+                           "lip line)")}};
 
 const Object kTemplate = {"a muscle template", {
     Enum("format", {kFormatName}).Required(),
@@ -208,6 +212,7 @@ void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
     c.Read("offset", &jaw.offset);
   }
   j.Read("range_deg", &jaw.range_deg);
+  j.Read("translation", &jaw.translation);
   j.Read("lip_blend_deg", &jaw.lip_blend_deg);
   j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
   j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
@@ -222,6 +227,18 @@ void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
     }
     jaw.back[0] = back.x;
     jaw.back[1] = back.y;
+  }
+  float2 neck{jaw.neck_deg[0], jaw.neck_deg[1]};
+  if (j.Read("neck_deg", &neck)) {
+    if (!(neck.x >= 0.f && neck.y <= 180.f && neck.x < neck.y)) {
+      auto g = [](float v) { char b[32]; std::snprintf(b, sizeof b, "%g", double(v)); return std::string(b); };
+      r_.Error(j.Path("neck_deg"), "is [" + g(neck.x) + ", " + g(neck.y) +
+                                       "]; expected [n0, n1] in [0, 180] with n0 < n1 (degrees "
+                                       "below the lip line about the hinge)");
+      ok = false;
+    }
+    jaw.neck_deg[0] = neck.x;
+    jaw.neck_deg[1] = neck.y;
   }
   if (ok) out->jaw = std::move(jaw);
 }
@@ -594,10 +611,13 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     ordered_json e;
     e["condyle"] = c;
     e["range_deg"] = Short(jw.range_deg);
+    e["translation"] = ordered_json::array({Short(jw.translation.x), Short(jw.translation.y),
+                                            Short(jw.translation.z)});
     e["lip_blend_deg"] = Short(jw.lip_blend_deg);
     e["cheek_blend_deg"] = Short(jw.cheek_blend_deg);
     e["cheek_drop_deg"] = Short(jw.cheek_drop_deg);
     e["back"] = ordered_json::array({Short(jw.back[0]), Short(jw.back[1])});
+    e["neck_deg"] = ordered_json::array({Short(jw.neck_deg[0]), Short(jw.neck_deg[1])});
     j["jaw"] = e;
   }
   std::string out;

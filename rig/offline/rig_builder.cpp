@@ -77,7 +77,7 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
 
 
 // docs/model.md §18: the jaw's hinge, range and per-point weights (explicit per file vertex,
-// averaged over a point's vertices, or the region function of the rest position). Only points
+// averaged over a point's vertices, or the region function of the rest position and normal). Only points
 // with w > 0 are listed.
 bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
                 RigData* rig, Diagnostics* diag) {
@@ -90,6 +90,13 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
                              "expected jaw.mouth in front of the condyles"
                            : "the two condyles coincide; expected two distinct points (the "
                              "subject's right, then left condyle)");
+    return false;
+  }
+  if (!IsFinite(jaw.translation) || Length(jaw.translation) > frame.reach) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "is %g long; expected a glide no longer than the hinge-to-mouth "
+                  "distance (%g mesh units)", double(Length(jaw.translation)), double(frame.reach));
+    diag->Error("jaw.translation", buf);
     return false;
   }
   const uint32_t points = uint32_t(welded.points.size());
@@ -108,12 +115,17 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
     }
     for (uint32_t p = 0; p < points; ++p) w[p] = std::min(w[p] / float(count[p] ? count[p] : 1), 1.f);
   } else {
-    for (uint32_t p = 0; p < points; ++p) w[p] = JawRegionWeight(jaw, frame, welded.points[p]);
+    VertexNormalOptions no;
+    no.fallback = {};  // a point without a normal takes no side on the lip line
+    const std::vector<float3> normals = ComputeVertexNormals(welded.points, welded.triangles, no);
+    for (uint32_t p = 0; p < points; ++p)
+      w[p] = JawRegionWeight(jaw, frame, welded.points[p], normals[p]);
   }
   RigJaw& out = rig->jaw;
   out.pivot = frame.pivot;
   out.axis = frame.axis;
   out.range = float(double(jaw.range_deg) * 3.14159265358979323846 / 180.0);
+  out.translation = jaw.translation;
   for (uint32_t p = 0; p < points; ++p)
     if (w[p] > 0.f) {
       out.points.push_back(p);

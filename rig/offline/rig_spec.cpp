@@ -29,7 +29,7 @@ bool MakeJawFrame(const JawSpec& jaw, JawFrame* out) {
   return true;
 }
 
-float JawRegionWeight(const JawSpec& jaw, const JawFrame& f, float3 p) {
+float JawRegionWeight(const JawSpec& jaw, const JawFrame& f, float3 p, float3 n) {
   const float3 r = p - f.pivot;
   const float x = Dot(r, f.axis), z = Dot(r, f.forward), y = Dot(r, f.up);
   const float phi = std::atan2(y, z) * float(180.0 / std::numbers::pi);
@@ -37,10 +37,12 @@ float JawRegionWeight(const JawSpec& jaw, const JawFrame& f, float3 p) {
   const float e = jaw.mouth_width > 0.f ? Smoothstep(0.f, 1.f, (std::fabs(x) - half) / jaw.mouth_width)
                                         : 1.f;
   const float beta = jaw.lip_blend_deg + (jaw.cheek_blend_deg - jaw.lip_blend_deg) * e;
-  const float phi0 = -jaw.cheek_drop_deg * e;
+  const float side = std::fmin(std::fmax(2.f * Dot(n, f.up), -1.f), 1.f);
+  const float phi0 = -jaw.cheek_drop_deg * e + beta * (1.f - e) * side;
   const float open = 1.f - Smoothstep(phi0 - beta, phi0 + beta, phi);
   const float front = Smoothstep(jaw.back[0] * f.reach, jaw.back[1] * f.reach, z);
-  return open * front;
+  const float neck = Smoothstep(-jaw.neck_deg[1], -jaw.neck_deg[0], phi);
+  return open * front * neck;
 }
 
 WrinkleMuscleGeometry WrinkleGeometryOf(const MuscleSpec& m) {

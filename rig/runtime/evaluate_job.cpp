@@ -224,11 +224,12 @@ void StageMuscles(const FrameState& f) {
 
 // docs/model.md §18, the jaw: each carried point p turns about the hinge (pivot, unit axis k)
 // by theta_p = w_p jaw range, Rodrigues' formula v' = v cos + (k x v) sin + k (k.v)(1 - cos) on
-// v = X - pivot. X is the muscles' X0 + U, so this is J(X0) + R_p U: the jaw pose with the
-// muscle displacement turned with the jaw. Each point reads and writes itself only.
+// v = X - pivot, then the glide w_p jaw T. X is the muscles' X0 + U, so this is J(X0) + R_p U:
+// the jaw pose with the muscle displacement turned with the jaw. Each point reads and writes
+// itself only.
 void StageJaw(const FrameState& f, float jaw) {
   const RigJaw& j = f.rig.jaw();
-  const float3 c = j.pivot, k = j.axis;
+  const float3 c = j.pivot, k = j.axis, tr = j.translation;
   const float angle = jaw * j.range;
   const uint32_t* points = j.points.data();
   const float* weights = j.weights.data();
@@ -241,8 +242,10 @@ void StageJaw(const FrameState& f, float jaw) {
       const float3 v = x[p] - c;
       const float3 kv = Cross(k, v);
       const float d = Dot(k, v) * (1.f - cs);
-      x[p] = float3{c.x + (v.x * cs + kv.x * sn + k.x * d), c.y + (v.y * cs + kv.y * sn + k.y * d),
-                    c.z + (v.z * cs + kv.z * sn + k.z * d)};
+      const float g = weights[i] * jaw;  // the glide's share
+      x[p] = float3{c.x + (v.x * cs + kv.x * sn + k.x * d) + g * tr.x,
+                    c.y + (v.y * cs + kv.y * sn + k.y * d) + g * tr.y,
+                    c.z + (v.z * cs + kv.z * sn + k.z * d) + g * tr.z};
     }
   });
 }

@@ -58,11 +58,13 @@ struct RigCurveWrinkles {
 
 // The jaw (docs/model.md §18): a hinge through the two condyles and a per-point weight. At jaw
 // value j in [0, 1] a carried point p turns about the hinge by the angle w_p j range (Rodrigues'
-// rotation); the muscles' displacement at p turns with it. Points with w_p = 0 are not listed.
+// rotation) and then moves by w_p j translation (the condyles' glide); the muscles'
+// displacement at p turns with it. Points with w_p = 0 are not listed.
 struct RigJaw {
   float3 pivot{};         // a point on the hinge axis (the condyles' midpoint), mesh units
   float3 axis{};          // unit: subject's right condyle -> left one; opening = positive angle
   float range = 0.f;      // radians at jaw = 1, > 0
+  float3 translation{};   // the condyles' glide at jaw = 1, mesh units: + w_p jaw translation
   std::vector<uint32_t> points;  // carried points, ascending, all < active points
   std::vector<float> weights;    // per entry of `points`, in (0, 1]
   bool empty() const { return points.empty(); }

@@ -47,7 +47,7 @@ bool CheckRigData(const RigData& r) {
       if (p >= n_active) return false;
   for (uint32_t p : r.curve_wrinkles.points)
     if (p >= n_active) return false;
-  {  // the jaw: carried points ascending and active, weights in (0, 1], a unit axis
+  {  // the jaw: carried points ascending and active, weights in (0, 1], a unit axis, finite glide
     const RigJaw& j = r.jaw;
     if (j.weights.size() != j.points.size()) return false;
     for (size_t i = 0; i < j.points.size(); ++i) {
@@ -56,7 +56,7 @@ bool CheckRigData(const RigData& r) {
     }
     if (!j.points.empty()) {
       const float len2 = Dot(j.axis, j.axis);
-      if (!(std::fabs(len2 - 1.f) < 1e-4f) || !IsFinite(j.pivot) || !(j.range > 0.f) ||
+      if (!(std::fabs(len2 - 1.f) < 1e-4f) || !IsFinite(j.pivot) || !IsFinite(j.translation) || !(j.range > 0.f) ||
           !std::isfinite(j.range))
         return false;
     }

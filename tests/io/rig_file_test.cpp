@@ -393,7 +393,17 @@ std::vector<BadCase> BadCases() {
       {"jaw weight string", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "weights": ["x"])"),
        {"jaw.weights[0]: expected a number in [0, 1], got string"}},
       {"unknown key in jaw", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "hinge": [0, 0, 0])"),
-       {"jaw.hinge: unknown key \"hinge\"; allowed keys for jaw: condyles, range_deg, mouth"}},
+       {"jaw.hinge: unknown key \"hinge\"; allowed keys for jaw: condyles, range_deg, translation, mouth"}},
+      {"jaw translation of 2", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "translation": [0, 1])"),
+       {"jaw.translation: expected array of 3 numbers [x, y, z] (mesh units)", "got array of 2 elements"}},
+      {"jaw translation string", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "translation": "down")"),
+       {"jaw.translation: expected array of 3 numbers [x, y, z] (mesh units), got string"}},
+      {"jaw neck reversed", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [60, 20])"),
+       {"jaw.neck_deg: is [60, 20]; expected [n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line)"}},
+      {"jaw neck beyond 180", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20, 200])"),
+       {"jaw.neck_deg: is [20, 200]; expected [n0, n1] in [0, 180]"}},
+      {"jaw neck of 1", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20])"),
+       {"jaw.neck_deg: expected array of 2 numbers [n0, n1]", "got array of 1 elements"}},
   };
 }
 
@@ -1310,7 +1320,8 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
   RigSpec spec;
   Diagnostics diag;
   ASSERT_TRUE(ParseRigSpec(Jaw(R"("mouth_width": 40)",
-                               R"("mouth_width": 40, "lip_blend_deg": 3, "back": [0.1, 0.5])"),
+                               R"("mouth_width": 40, "lip_blend_deg": 3, "back": [0.1, 0.5], )"
+                               R"("translation": [0, -4, 2.5], "neck_deg": [25, 55])"),
                            "", &spec, &diag))
       << diag.Format();
   ASSERT_TRUE(spec.jaw.has_value());
@@ -1323,6 +1334,9 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
   EXPECT_EQ(spec.jaw->cheek_blend_deg, JawSpec().cheek_blend_deg);  // default
   EXPECT_EQ(spec.jaw->back[0], 0.1f);
   EXPECT_EQ(spec.jaw->back[1], 0.5f);
+  ExpectVec(spec.jaw->translation, 0, -4, 2.5);
+  EXPECT_EQ(spec.jaw->neck_deg[0], 25.f);
+  EXPECT_EQ(spec.jaw->neck_deg[1], 55.f);
   EXPECT_TRUE(spec.jaw->weights.empty());
   const std::string dir = test::TempDir();
   for (bool explicit_weights : {false, true}) {
@@ -1337,7 +1351,10 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
     ExpectVec(loaded.jaw->condyles[1], 60, 0, -50);
     EXPECT_EQ(loaded.jaw->range_deg, 20.f);
     EXPECT_EQ(loaded.jaw->weights, spec.jaw->weights);
+    ExpectVec(loaded.jaw->translation, 0, -4, 2.5);
     if (!explicit_weights) {
+      EXPECT_EQ(loaded.jaw->neck_deg[0], 25.f);
+      EXPECT_EQ(loaded.jaw->neck_deg[1], 55.f);
       ExpectVec(loaded.jaw->mouth, 0, 0, 10);
       EXPECT_EQ(loaded.jaw->lip_blend_deg, 3.f);
       EXPECT_EQ(loaded.jaw->back[1], 0.5f);

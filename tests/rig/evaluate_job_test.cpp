@@ -483,6 +483,80 @@ TEST(EvaluateJobJaw, FullyWeightedPointsTurnByTheExactRotationZeroWeightedOnesSt
   EXPECT_LT(turned.z, chin.z);
 }
 
+// The glide (docs/model.md §18): X' = c + R(w jaw range)(X - c) + w jaw T, T the rig's
+// translation; computed here in double from the equation.
+TEST(EvaluateJobJaw, TheGlideMovesEachPointByItsWeightTimesTheJawTimesTheTranslation) {
+  Surface s;
+  s.mesh = MakeSurfaceMesh(30, 30, 100.f, 100.f, 10.f);
+  s.spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 30.f, -40.f};
+  jaw.condyles[1] = {60.f, 30.f, -40.f};
+  jaw.range_deg = float(kJawRangeDeg);
+  jaw.translation = {0.5f, -6.f, 3.f};
+  for (const float3& p : s.mesh.positions) jaw.weights.push_back(SurfaceJawWeight(p));
+  s.spec.jaw = jaw;
+  s.rig = BuildOrDie(s.spec, s.mesh);
+  EvaluateContext ctx(s.rig);
+  const std::vector<float> zero(s.rig.muscle_count(), 0.f);
+  std::vector<float> pos, nrm;
+  EvaluateJob job = MakeJob(s.rig, &ctx, zero, &pos, &nrm);
+  job.layers = {false, false, false};
+  job.jaw = 0.6f;
+  ASSERT_TRUE(job.Run());
+  const float3 c{0.f, 30.f, -40.f}, k{1.f, 0.f, 0.f};
+  const double range = kJawRangeDeg * std::acos(-1.0) / 180.0;
+  size_t full = 0, part = 0;
+  for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+    const float3 x0 = s.mesh.positions[v];
+    const double w = SurfaceJawWeight(x0);
+    const float3 r = RotateAbout(x0, c, k, w * 0.6 * range);
+    const float3 want{float(r.x + w * 0.6 * 0.5), float(r.y + w * 0.6 * -6.0),
+                      float(r.z + w * 0.6 * 3.0)};
+    const float3 got{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
+    ASSERT_NEAR(Length(got - want), 0.f, 1e-3f) << v;
+    full += w == 1.0;
+    part += w > 0.0 && w < 1.0;
+  }
+  EXPECT_GT(full, 0u);
+  EXPECT_GT(part, 0u);
+}
+
+// The region weight's lip side and neck fade (docs/model.md §18), from its formula: on the lip
+// line between the corners a point facing up joins the jaw, one facing down stays, one facing
+// forward gets one half; below the lip line the weight fades out between -n0 and -n1.
+TEST(EvaluateJobJaw, RegionWeightTakesTheLipSideFromTheNormalAndFadesTowardTheNeck) {
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 0.f, 0.f};
+  jaw.condyles[1] = {60.f, 0.f, 0.f};
+  jaw.range_deg = 20.f;
+  jaw.mouth = {0.f, 0.f, 100.f};  // forward = +z, up = forward x axis = +y
+  jaw.mouth_width = 40.f;
+  jaw.lip_blend_deg = 2.f;
+  jaw.back[0] = -1.f, jaw.back[1] = -0.5f;  // no fade from the back in front of the hinge
+  jaw.neck_deg[0] = 30.f, jaw.neck_deg[1] = 60.f;
+  JawFrame f;
+  ASSERT_TRUE(MakeJawFrame(jaw, &f));
+  EXPECT_NEAR(f.up.y, 1.f, 1e-6f);
+  const float3 lip{0.f, 0.f, 100.f};
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip), 0.5f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, 0.f, 1.f}), 0.5f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, 1.f, 0.f}), 1.f, 1e-6f);   // the lower lip's top
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, -1.f, 0.f}), 0.f, 1e-6f);  // the upper's underside
+  // A quarter of the way up the normal's clamp: phi moved by beta / 2 = 1 degree.
+  const double t = 0.75, sm = t * t * (3 - 2 * t);  // 1 - smoothstep(-1, 3, 0): t = 1 - 1/4
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, 0.25f, 0.968246f}), float(sm), 1e-5f);
+  auto at = [](double deg) {
+    const double a = deg * std::acos(-1.0) / 180.0;
+    return float3{0.f, float(100 * std::sin(a)), float(100 * std::cos(a))};
+  };
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-20)), 1.f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-45)), 0.5f, 1e-5f);  // halfway through the fade
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-70)), 0.f, 1e-6f);
+  const double u = (-40.0 + 60.0) / 30.0;  // phi = -40: smoothstep(-60, -30, -40)
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-40)), float(u * u * (3 - 2 * u)), 1e-5f);
+}
+
 TEST(EvaluateJobJaw, MuscleDisplacementAtACarriedPointTurnsWithTheJaw) {
   const Surface s = MakeJawSurface();
   const std::vector<float> act = SomeActivations(s.rig);
