@@ -522,6 +522,39 @@ TEST(EvaluateJobJaw, TheGlideMovesEachPointByItsWeightTimesTheJawTimesTheTransla
   EXPECT_GT(part, 0u);
 }
 
+// The builder's jaw checks name the key and the expectation: a glide longer than the
+// hinge-to-mouth distance (here |mouth - pivot| without its axis part: sqrt(30^2 + 50^2)), and
+// explicit weights that are not one per vertex.
+TEST(EvaluateJobJaw, TooLongAGlideAndAWrongWeightCountAreBuildErrors) {
+  const MeshData mesh = MakeSurfaceMesh(8, 8, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(2, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 30.f, -40.f};
+  jaw.condyles[1] = {60.f, 30.f, -40.f};
+  jaw.range_deg = 20.f;
+  jaw.mouth = {0.f, 0.f, 10.f};
+  jaw.mouth_width = 40.f;
+  const float reach = std::sqrt(30.f * 30.f + 50.f * 50.f);
+  jaw.translation = {0.f, -reach * 1.01f, 0.f};
+  spec.jaw = jaw;
+  Rig rig;
+  Diagnostics diag;
+  EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &diag));
+  EXPECT_TRUE(diag.Contains("jaw.translation")) << diag.Format();
+  EXPECT_TRUE(diag.Contains("expected a glide no longer than the hinge-to-mouth distance (58.3"))
+      << diag.Format();
+  spec.jaw->translation = {0.f, -reach * 0.99f, 0.f};
+  Diagnostics ok;
+  EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &ok)) << ok.Format();
+  spec.jaw->weights = {0.f, 1.f};
+  Diagnostics count;
+  EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &count));
+  EXPECT_TRUE(count.Contains("jaw.weights")) << count.Format();
+  EXPECT_TRUE(count.Contains("expected one value per mesh vertex (" +
+                             std::to_string(mesh.vertex_count()) + "), got 2"))
+      << count.Format();
+}
+
 // The region weight's lip side and neck fade (docs/model.md §18), from its formula: on the lip
 // line between the corners a point facing up joins the jaw, one facing down stays, one facing
 // forward gets one half; below the lip line the weight fades out between -n0 and -n1.
