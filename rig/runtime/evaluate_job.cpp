@@ -20,6 +20,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   muscle_count_ = rig.muscle_count();
   const RigTables& t = rig.tables();
   activations_.assign(muscle_count_, 0.f);
+  jaw_ = 0.f;
   // One float3 of padding covers kPointPadFloats.
   static_assert(kPointPadFloats <= 3, "pad points_ by more than one float3");
   points_.assign(point_count_ + 1, float3{});
@@ -238,6 +239,34 @@ void FaceNormalsOfActive(const FrameState& f, bool ratios) {
 void StageMuscles(const FrameState& f) {
   ParallelFor(f.job, f.rig.active_point_count(), [&](uint32_t b, uint32_t e) {
     MusclePoints(f.rig.muscles(), f.activations, f.base, b, e, f.points);
+  });
+}
+
+// docs/model.md §18, the jaw: each carried point p turns about the hinge (pivot, unit axis k)
+// by theta_p = w_p jaw range, Rodrigues' formula v' = v cos + (k x v) sin + k (k.v)(1 - cos) on
+// v = X - pivot, then the glide w_p jaw T. X is the muscles' X0 + U, so this is J(X0) + R_p U:
+// the jaw pose with the muscle displacement turned with the jaw. Each point reads and writes
+// itself only.
+void StageJaw(const FrameState& f, float jaw) {
+  const RigJaw& j = f.rig.jaw();
+  const float3 c = j.pivot, k = j.axis, tr = j.translation;
+  const float angle = jaw * j.range;
+  const uint32_t* points = j.points.data();
+  const float* weights = j.weights.data();
+  float3* x = f.points;
+  ParallelFor(f.job, uint32_t(j.points.size()), [&](uint32_t b, uint32_t e) {
+    for (uint32_t i = b; i < e; ++i) {
+      const uint32_t p = points[i];
+      const float t = weights[i] * angle;
+      const float cs = std::cos(t), sn = std::sin(t);
+      const float3 v = x[p] - c;
+      const float3 kv = Cross(k, v);
+      const float d = Dot(k, v) * (1.f - cs);
+      const float g = weights[i] * jaw;  // the glide's share
+      x[p] = float3{c.x + (v.x * cs + kv.x * sn + k.x * d) + g * tr.x,
+                    c.y + (v.y * cs + kv.y * sn + k.y * d) + g * tr.y,
+                    c.z + (v.z * cs + kv.z * sn + k.z * d) + g * tr.z};
+    }
   });
 }
 
@@ -729,6 +758,7 @@ bool EvaluateJob::Run() const {
   const Rig& r = *rig;
   const RigTables& t = r.tables();
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
+  ctx.jaw_ = jaw >= 0.f ? (jaw <= 1.f ? jaw : 1.f) : 0.f;  // NaN -> 0
   FrameState f{
       .job = *this,
       .rig = r,
@@ -768,6 +798,7 @@ bool EvaluateJob::Run() const {
   f.limit_folds = limit_folds && f.skin();
   ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
+  if (ctx.jaw_ > 0.f && !r.jaw().empty()) StageJaw(f, ctx.jaw_);
   bool faces_current = false;
   if (f.skin()) {
     StageStrain(f);
