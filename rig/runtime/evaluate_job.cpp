@@ -46,6 +46,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   limit_tris_.assign(active_tris, 0);
   limit_point_marks_.assign(active, 0);
   limit_tri_marks_.assign(active_tris, 0);
+  limit_tri_bad_.assign(active_tris, 0);
   limited_points_ = limiter_passes_ = 0;
   if (!rig.tables_checked()) return;  // IsFor refuses it; nothing below is safe to read
   // Rest values everywhere: a frame rewrites only the leading ranges that can change
@@ -71,7 +72,7 @@ size_t EvaluateContext::ByteSize() const {
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
-         Bytes(limit_point_marks_) + Bytes(limit_tri_marks_);
+         Bytes(limit_point_marks_) + Bytes(limit_tri_marks_) + Bytes(limit_tri_bad_);
 }
 
 size_t RequiredFloats(size_t count, size_t stride_bytes) {
@@ -218,6 +219,7 @@ struct FrameState {
   uint32_t* limit_tris;            // active triangles (context)
   uint8_t* limit_point_marks;      // active points (context; 0 between StageLimit's phases)
   uint8_t* limit_tri_marks;        // active triangles (context; 0 between its phases)
+  uint8_t* limit_tri_bad;          // active triangles (context): FoldVerdict of this pass
   const uint32_t* point_tri_offsets;  // Rig::point_triangle_offsets
   const uint32_t* point_tris;         // Rig::point_triangles
 };
@@ -487,16 +489,31 @@ inline bool CosBelow(const float4& a, const float4& q, float limit) {
   return CosToRest(a, q) < limit;
 }
 
-// A limiter pass's test of point p: one of its triangles is below its limit.
-inline bool FoldFlag(const FrameState& f, const float4* rest, uint32_t p) {
+// The limiter's verdict of triangle t this pass: below its limit (CosBelow), once per triangle.
+inline void FoldVerdict(const FrameState& f, const float4* rest, uint32_t t) {
+  f.limit_tri_bad[t] = CosBelow(f.faces[t], rest[t], f.fold_limits[t]);
+}
+
+// A limiter pass's test of point p: one of its triangles is below its limit (the verdicts of
+// this pass's face normals, FoldVerdict).
+inline bool FoldFlag(const FrameState& f, uint32_t p) {
   const uint32_t* off = f.point_tri_offsets;
   const uint32_t* tri = f.point_tris;
-  const float4* faces = f.faces;
-  const float* limits = f.fold_limits;
-  bool bad = false;
-  for (uint32_t k = off[p]; k < off[p + 1] && !bad; ++k)
-    bad = CosBelow(faces[tri[k]], rest[tri[k]], limits[tri[k]]);
-  return bad;
+  const uint8_t* bad = f.limit_tri_bad;
+  uint8_t any = 0;
+  for (uint32_t k = off[p]; k < off[p + 1]; ++k) any |= bad[tri[k]];
+  return any != 0;
+}
+
+// Face normals of every active triangle and their verdicts.
+void FoldVerdictsOfActive(const FrameState& f, const float4* rest) {
+  const float3* points = f.points;
+  float4* faces = f.faces;
+  const uint32_t* triangles = f.rig.triangles().data();
+  ParallelFor(f.job, f.rig.active_triangle_count(), [&](uint32_t b, uint32_t e) {
+    FaceNormals4(points, triangles, b, e, nullptr, faces);
+    for (uint32_t t = b; t < e; ++t) FoldVerdict(f, rest, t);
+  });
 }
 
 // One more reduction of point p, whose level is below kFoldLimitCutLevel: the next power of two
@@ -526,7 +543,7 @@ bool FoldLimitFullScan(const FrameState& f, uint32_t* limited, uint32_t* passes)
   uint32_t first_total = 0, pass = 0;
   bool current = false;
   while (pass < kFoldLimitPasses) {
-    FaceNormalsOfActive(f, false);
+    FoldVerdictsOfActive(f, rest);
     ++pass;
     std::atomic<uint32_t> flagged{0}, first{0};
     const uint32_t* off = f.point_tri_offsets;
@@ -537,7 +554,7 @@ bool FoldLimitFullScan(const FrameState& f, uint32_t* limited, uint32_t* passes)
     ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
       uint32_t n = 0;
       for (uint32_t p = b; p < e; ++p) {
-        const bool bad = FoldFlag(f, rest, p);
+        const bool bad = FoldFlag(f, p);
         flags[p] = bad;
         n += bad;
       }
@@ -588,9 +605,9 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
   bool current = false;
   while (pass < kFoldLimitPasses) {
     if (pass == 0) {  // every active triangle and point
-      FaceNormalsOfActive(f, false);
+      FoldVerdictsOfActive(f, rest);
       ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
-        for (uint32_t p = b; p < e; ++p) flags[p] = FoldFlag(f, rest, p);
+        for (uint32_t p = b; p < e; ++p) flags[p] = FoldFlag(f, p);
       });
       for (uint32_t p = 0; p < count; ++p)
         if (flags[p]) flagged[n_flagged++] = p;
@@ -608,6 +625,7 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
       }
       ParallelFor(f.job, n_dirty, [&](uint32_t b, uint32_t e) {
         FaceNormals4Listed(f.points, triangles, dirty + b, e - b, f.faces);
+        for (uint32_t i = b; i < e; ++i) FoldVerdict(f, rest, dirty[i]);
       });
       // The points with one of those in their one-ring: the only flags that can differ.
       uint32_t n_recheck = 0;
@@ -622,7 +640,7 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
         }
       }
       ParallelFor(f.job, n_recheck, [&](uint32_t b, uint32_t e) {
-        for (uint32_t i = b; i < e; ++i) flags[recheck[i]] = FoldFlag(f, rest, recheck[i]);
+        for (uint32_t i = b; i < e; ++i) flags[recheck[i]] = FoldFlag(f, recheck[i]);
       });
       // Flagged now: the flagged points not retested, and the retested ones that are.
       uint32_t n = 0;
@@ -792,6 +810,7 @@ bool EvaluateJob::Run() const {
       .limit_tris = ctx.limit_tris_.data(),
       .limit_point_marks = ctx.limit_point_marks_.data(),
       .limit_tri_marks = ctx.limit_tri_marks_.data(),
+      .limit_tri_bad = ctx.limit_tri_bad_.data(),
       .point_tri_offsets = r.point_triangle_offsets().data(),
       .point_tris = r.point_triangles().data(),
   };

@@ -113,6 +113,7 @@ class EvaluateContext {
   std::vector<uint32_t> limit_tris_;     // AT: triangles touching a moved point
   std::vector<uint8_t> limit_point_marks_;  // A
   std::vector<uint8_t> limit_tri_marks_;    // AT
+  std::vector<uint8_t> limit_tri_bad_;      // AT: each triangle's verdict in the current pass
   uint32_t limited_points_ = 0, limiter_passes_ = 0;
 };
 
