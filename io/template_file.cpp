@@ -216,30 +216,23 @@ void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
   j.Read("lip_blend_deg", &jaw.lip_blend_deg);
   j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
   j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
-  float2 back{jaw.back[0], jaw.back[1]};
-  if (j.Read("back", &back)) {
-    if (!(back.x >= -1.f && back.y <= 1.f && back.x < back.y)) {
-      auto g = [](float v) { char b[32]; std::snprintf(b, sizeof b, "%g", double(v)); return std::string(b); };
-      r_.Error(j.Path("back"), "is [" + g(back.x) + ", " + g(back.y) +
-                                   "]; expected [b0, b1] in [-1, 1] with b0 < b1 (fractions of "
-                                   "the hinge-to-mouth distance)");
+  // An ordered pair [a, b] in [lo, hi] with a < b; `what` says what the numbers are.
+  auto pair = [&](const char* key, float lo, float hi, const char* what, float* dst) {
+    float2 v{dst[0], dst[1]};
+    if (!j.Read(key, &v)) return;
+    if (!(v.x >= lo && v.y <= hi && v.x < v.y)) {
+      auto g = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); };
+      r_.Error(j.Path(key), "is [" + g(v.x) + ", " + g(v.y) + "]; expected " + what);
       ok = false;
     }
-    jaw.back[0] = back.x;
-    jaw.back[1] = back.y;
-  }
-  float2 neck{jaw.neck_deg[0], jaw.neck_deg[1]};
-  if (j.Read("neck_deg", &neck)) {
-    if (!(neck.x >= 0.f && neck.y <= 180.f && neck.x < neck.y)) {
-      auto g = [](float v) { char b[32]; std::snprintf(b, sizeof b, "%g", double(v)); return std::string(b); };
-      r_.Error(j.Path("neck_deg"), "is [" + g(neck.x) + ", " + g(neck.y) +
-                                       "]; expected [n0, n1] in [0, 180] with n0 < n1 (degrees "
-                                       "below the lip line about the hinge)");
-      ok = false;
-    }
-    jaw.neck_deg[0] = neck.x;
-    jaw.neck_deg[1] = neck.y;
-  }
+    dst[0] = v.x;
+    dst[1] = v.y;
+  };
+  pair("back", -1.f, 1.f,
+       "[b0, b1] in [-1, 1] with b0 < b1 (fractions of the hinge-to-mouth distance)", jaw.back);
+  pair("neck_deg", 0.f, 180.f,
+       "[n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line about the hinge)",
+       jaw.neck_deg);
   if (ok) out->jaw = std::move(jaw);
 }
 

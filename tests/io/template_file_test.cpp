@@ -260,6 +260,10 @@ TEST(MuscleTemplate, BadInputTable) {
        {"jaw.neck_deg", "is [60, 20]; expected [n0, n1] in [0, 180] with n0 < n1"}},
       {"jaw neck beyond 180", WithJaw(R"("neck_deg": [20, 190])"),
        {"jaw.neck_deg", "is [20, 190]; expected [n0, n1] in [0, 180]"}},
+      {"jaw back reversed", WithJaw(R"("back": [0.6, 0.2])"),
+       {"jaw.back", "is [0.6, 0.2]; expected [b0, b1] in [-1, 1] with b0 < b1 (fractions of "
+                    "the hinge-to-mouth distance)"}},
+      {"jaw back below -1", WithJaw(R"("back": [-1.5, 0.2])"), {"jaw.back", "is [-1.5, 0.2]"}},
       {"jaw without range", Replace(WithJaw(R"("lip_blend_deg": 1)"), R"("range_deg": 5, )", ""),
        {"jaw.range_deg", "missing"}},
   };
