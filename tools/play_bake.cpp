@@ -37,9 +37,11 @@ struct Worker {
     const size_t nv = rig.vertex_count();
     EvaluateContext context(rig);
     std::vector<float> activations(rig.muscle_count(), 0.f);
+    float jaw = 0.f;
     ClipSampleJob sample;
     sample.clip = r->clip;
     sample.out_activations = activations;
+    sample.out_jaw = span<float>(&jaw, 1);
     EvaluateJob evaluate;
     evaluate.rig = &rig;
     evaluate.context = &context;
@@ -49,7 +51,9 @@ struct Worker {
       sample.time = float(r->times[k]);
       evaluate.out_positions = span<float>(&frames->positions[k * nv * 3], nv * 3);
       if (r->normals) evaluate.out_normals = span<float>(&frames->normals[k * nv * 3], nv * 3);
-      if (!sample.Run() || !evaluate.Run()) failed->store(true);
+      const bool sampled = sample.Run();
+      evaluate.jaw = jaw;
+      if (!sampled || !evaluate.Run()) failed->store(true);
       done->fetch_add(1);
     }
   }
