@@ -143,7 +143,9 @@ TEST(Bake, SampleHeadFramesEqualTheRuntime) {
       moved += mv;
     }
     EXPECT_LT(worst, epsilon + 1e-4) << "frame " << k << " (mm)";  // the epsilon, float rounding
-    if (k == 0) EXPECT_EQ(moved, 0u);                     // frame 0 is the neutral
+    if (k == 0) {
+      EXPECT_EQ(moved, 0u);  // frame 0 is the neutral
+    }
     if (k == 4) {
       EXPECT_GT(moved, 0u);
       EXPECT_LT(moved, nv / 2) << "the corrugators move a small part of the head";

@@ -57,7 +57,9 @@ TEST(ImportArkit, CsvToClipPlaysAsTheHandComputedActivations) {
   EXPECT_EQ(spec.duration, 1.f);
   ASSERT_EQ(spec.channels.size(), 4u);
   for (const auto& c : spec.channels)
-    if (c.target == "risorius_L") EXPECT_EQ(c.keys.size(), 2u);  // 0, 0.25, 0.5: on a line
+    if (c.target == "risorius_L") {
+      EXPECT_EQ(c.keys.size(), 2u);  // 0, 0.25, 0.5: on a line
+    }
 
   struct At {
     const char* time;
