@@ -329,6 +329,33 @@ struct Placer {
 
 }  // namespace
 
+void PlaceJaw(const TemplateJaw& tj, const std::vector<float3>& lm, const FaceFrame& frame,
+              JawSpec* out) {
+  const float s = frame.scale;
+  JawSpec jaw;
+  for (int side = 0; side < 2; ++side) {
+    float3 mean{};
+    for (size_t k = 0; k < tj.landmarks.size(); ++k) {
+      const int l = side == 0 ? tj.landmarks[k] : IbugMirrorLandmark(tj.landmarks[k]);
+      mean += lm[size_t(l)] * tj.weights[k];
+    }
+    const float3 off{side == 0 ? tj.offset.x : -tj.offset.x, tj.offset.y, tj.offset.z};
+    jaw.condyles[side] = mean + frame.DirectionToWorld(off) * s;
+  }
+  jaw.range_deg = tj.range_deg;
+  jaw.translation = frame.DirectionToWorld(tj.translation) * s;
+  jaw.mouth = (lm[62] + lm[66]) * 0.5f;
+  jaw.mouth_width = Length(lm[54] - lm[48]);
+  jaw.lip_blend_deg = tj.lip_blend_deg;
+  jaw.cheek_blend_deg = tj.cheek_blend_deg;
+  jaw.cheek_drop_deg = tj.cheek_drop_deg;
+  jaw.back[0] = tj.back[0];
+  jaw.back[1] = tj.back[1];
+  jaw.neck_deg[0] = tj.neck_deg[0];
+  jaw.neck_deg[1] = tj.neck_deg[1];
+  *out = std::move(jaw);
+}
+
 bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
                  const std::string& units, RigSpec* out, Diagnostics* diag, FitReport* report) {
   bool units_ok = false;
@@ -485,6 +512,25 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
   for (size_t v = 0; v < head.vertex_count(); ++v)
     spec.thickness.per_vertex[v] =
         EvaluateTemplateThickness(tmpl.thickness, frame.ToLocal(head.positions[v])) * s;
+  // The jaw (docs/model.md §18): condyles from the landmarks (the right one as the template
+  // says, the left one mirrored), the mouth point on the inner lip midline (62, 66), the mouth
+  // width between the outer corners (48, 54); the region parameters as they are.
+  if (tmpl.jaw) {
+    JawSpec jaw;
+    PlaceJaw(*tmpl.jaw, lm, frame, &jaw);
+    JawFrame jf;
+    if (!MakeJawFrame(jaw, &jf)) {
+      diag->Error("jaw.condyle", "the placed condyles coincide or the mouth lies on their axis; "
+                                 "expected condyles on either side of the head, behind the mouth");
+      ok = false;
+    } else if (Dot(jf.axis, frame.x) <= 0.f) {
+      diag->Error("jaw.condyle", "the placed right condyle lies on the subject's left of the "
+                                 "left one; expected an offset dx that keeps it on the right "
+                                 "(landmark 0's side)");
+      ok = false;
+    }
+    spec.jaw = std::move(jaw);
+  }
   if (!ok) return false;
   spec.file = out->file;
   spec.mesh_path = out->mesh_path;

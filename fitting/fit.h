@@ -92,6 +92,14 @@ struct FitReport {
   std::vector<PlacedCurve> curves;
 };
 
+// The jaw block of the rig from the template's (docs/model.md §18, docs/template-format.md):
+// the right condyle at the weighted landmark mean plus `offset` (face frame, times s), the left
+// one mirrored; the glide `translation` turned into the mesh frame and times s; the mouth point
+// the midpoint of the inner lip midline (62, 66), the width the outer corners' distance (48, 54);
+// the blend parameters copied. `lm` are the 68 resolved landmarks, `frame` their face frame.
+void PlaceJaw(const TemplateJaw& tmpl, const std::vector<float3>& lm, const FaceFrame& frame,
+              JawSpec* out);
+
 // Places `tmpl` on `head` (units `units`: "mm", "cm", "dm", "m" or "in"; written into the
 // rig). Fills every field of `out` except `file`, `mesh_path` and `mesh_name`, which the
 // caller sets; `mesh_fingerprint` is `head`'s (geometry/fingerprint.h). Thickness is per vertex (`ThicknessSpec::kPerVertex`), in mesh units.

@@ -92,12 +92,29 @@ struct TemplateThickness {
   std::vector<ThicknessRegion> regions;
 };
 
+// The jaw (docs/model.md §18) placed from the landmarks: the subject's right condyle is the
+// weighted mean of `landmarks` moved by `offset` (face frame, units of s; no projection: the
+// condyle lies inside the head); the left one mirrors it (landmarks mirrored, dx negated). The
+// fit takes the mouth point from the inner lip midline (62, 66) and the mouth width from the
+// outer corners (48, 54); the blend parameters are copied into the rig.
+struct TemplateJaw {
+  std::vector<int> landmarks;  // iBUG indices, at least one, no repeats
+  std::vector<float> weights;  // one per landmark, normalised to sum 1
+  float3 offset{};             // face-frame (dx, dy, dz), units of s
+  float range_deg = 0.f;       // (0, 90]
+  float3 translation{};        // the glide at jaw = 1: face-frame (dx, dy, dz), units of s
+  float lip_blend_deg = 2.f, cheek_blend_deg = 12.f, cheek_drop_deg = 0.f;
+  float back[2] = {0.2f, 0.6f};
+  float neck_deg[2] = {90.f, 180.f};
+};
+
 struct MuscleTemplate {
   std::string file;  // where it was loaded from ("" when parsed from text)
   std::string description;
   TemplateThickness thickness;
   std::vector<TemplateMuscle> muscles;  // `mirror` entries already expanded, file order
   std::vector<TemplateCurveWrinkle> curve_wrinkles;  // likewise
+  std::optional<TemplateJaw> jaw;  // absent = the fitted rig has no jaw
 };
 
 // Thickness at face-frame position `p` (units of s, as FaceFrame::ToLocal gives), units of s.

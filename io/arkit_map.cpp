@@ -9,6 +9,7 @@
 
 #include "core/file_util.h"
 #include "expressions/offline/activation_binding.h"
+#include "expressions/runtime/clip.h"
 #include "io/formats.h"
 #include "io/json_reader.h"
 
@@ -241,7 +242,7 @@ bool CheckArkitMuscles(const std::vector<ArkitShape>& shapes,
   const std::string prefix = where.empty() ? "" : where + ": ";
   for (const ArkitShape& s : shapes)
     for (const auto& [muscle, value] : s.activations)
-      if (!known.count(muscle))
+      if (!known.count(muscle) && muscle != kJawInputName)  // "jaw": any rig (clip.h)
         diag->Error(prefix + "shapes." + s.name + ".activations." + muscle,
                     "unknown muscle '" + muscle + "'; the closest muscles of the rig: " +
                         ClosestNames(muscle_names, muscle));

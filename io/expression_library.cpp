@@ -9,6 +9,7 @@
 
 #include "core/file_util.h"
 #include "expressions/offline/activation_binding.h"
+#include "expressions/runtime/clip.h"
 #include "io/formats.h"
 #include "io/json_reader.h"
 
@@ -146,7 +147,7 @@ bool CheckLibraryMuscles(const std::vector<Expression>& library,
   const std::string prefix = where.empty() ? "" : where + ": ";
   for (size_t i = 0; i < library.size(); ++i)
     for (const auto& [muscle, value] : library[i].activations)
-      if (!known.count(muscle))
+      if (!known.count(muscle) && muscle != kJawInputName)
         diag->Error(prefix + "expressions[" + std::to_string(i) + "].activations." + muscle,
                     "expression '" + library[i].name + "' names the unknown muscle '" + muscle +
                         "'; the closest muscles of the rig: " + ClosestNames(muscle_names, muscle));

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 
 #include <tiny_gltf.h>
 
@@ -34,6 +35,18 @@ void FrameDeltas(const float* frame, const float3* base, size_t nv, float epsilo
     else if (moved)
       moved[v] = 1;
   }
+}
+
+// FNV-1a over the bits of a frame's positions and (when given) normals.
+uint64_t FrameHash(const float* positions, const float* normals, size_t count) {
+  uint64_t h = 1469598103934665603ull;
+  auto add = [&](const float* v) {
+    const auto* b = reinterpret_cast<const unsigned char*>(v);
+    for (size_t i = 0; i < count * sizeof(float); ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  add(positions);
+  if (normals) add(normals);
+  return h;
 }
 
 struct Builder {
@@ -213,33 +226,69 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, f.base.indices.size(),
                             TINYGLTF_TYPE_SCALAR);
 
-  // The morph targets: frame k minus the base.
+  // The morph targets: frame k minus the base, one per distinct frame. A frame bit-identical
+  // to an earlier one (a held pose) shows that frame's target; a frame whose every delta is
+  // within the epsilons shows the base (no target, all weights 0).
   std::vector<uint8_t> moved(nv, 0);
-  std::vector<float> delta(nv * 3);
+  std::vector<float> delta(nv * 3), normal_delta(normals ? nv * 3 : 0);
+  std::vector<int> target_of(nf, -1);
+  std::unordered_multimap<uint64_t, size_t> seen;  // frame hash -> an earlier frame
+  const bool with_normal_deltas = normals && !f.normals.empty();
+  auto same = [&](size_t a, size_t k) {
+    const size_t n = nv * 3 * sizeof(float);
+    return std::memcmp(&f.positions[a * nv * 3], &f.positions[k * nv * 3], n) == 0 &&
+           (!with_normal_deltas ||
+            std::memcmp(&f.normals[a * nv * 3], &f.normals[k * nv * 3], n) == 0);
+  };
   for (size_t k = 0; k < nf; ++k) {
-    std::map<std::string, int> target;
     const float* p = &f.positions[k * nv * 3];
+    const float* n = with_normal_deltas ? &f.normals[k * nv * 3] : nullptr;
+    const uint64_t h = FrameHash(p, n, nv * 3);
+    bool reused = false;
+    for (auto [it, end] = seen.equal_range(h); it != end && !reused; ++it)
+      if (same(it->second, k)) {
+        target_of[k] = target_of[it->second];
+        reused = true;
+      }
+    if (reused) continue;
+    seen.insert({h, k});
     FrameDeltas(p, f.base.positions.data(), nv, f.position_epsilon, delta.data(), moved.data());
+    if (n) FrameDeltas(n, f.base.normals.data(), nv, f.normal_epsilon, normal_delta.data(), nullptr);
+    auto nonzero = [](const std::vector<float>& d) {
+      return std::any_of(d.begin(), d.end(), [](float x) { return x != 0.f; });
+    };
+    if (!nonzero(delta) && (!n || !nonzero(normal_delta))) continue;  // the base
+    std::map<std::string, int> target;
     bool sparse = false;
-    size_t nonzero = 0;
-    target["POSITION"] = b.Deltas(delta, nv, true, &sparse, &nonzero);
+    size_t count = 0;
+    target["POSITION"] = b.Deltas(delta, nv, true, &sparse, &count);
     s.sparse_targets += sparse;
-    s.max_moved_in_frame = std::max(s.max_moved_in_frame, nonzero);
-    if (normals && !f.normals.empty()) {
-      const float* n = &f.normals[k * nv * 3];
-      FrameDeltas(n, f.base.normals.data(), nv, f.normal_epsilon, delta.data(), nullptr);
+    s.max_moved_in_frame = std::max(s.max_moved_in_frame, count);
+    if (n) {
       bool unused_sparse;
-      size_t unused_nonzero;
-      target["NORMAL"] = b.Deltas(delta, nv, false, &unused_sparse, &unused_nonzero);
+      size_t unused_count;
+      target["NORMAL"] = b.Deltas(normal_delta, nv, false, &unused_sparse, &unused_count);
     }
+    target_of[k] = int(prim.targets.size());
     prim.targets.push_back(std::move(target));
   }
+  if (prim.targets.empty()) {
+    // Every frame is the base: one all-zero target keeps the weights animation well formed.
+    std::fill(delta.begin(), delta.end(), 0.f);
+    std::map<std::string, int> target;
+    bool unused_sparse;
+    size_t unused_count;
+    target["POSITION"] = b.Deltas(delta, nv, true, &unused_sparse, &unused_count);
+    if (with_normal_deltas) target["NORMAL"] = b.Deltas(delta, nv, false, &unused_sparse, &unused_count);
+    prim.targets.push_back(std::move(target));
+  }
+  const size_t nt = prim.targets.size();
   s.moved_vertices = size_t(std::count(moved.begin(), moved.end(), 1));
 
   tinygltf::Mesh mesh;
   mesh.name = "baked";
   mesh.primitives.push_back(std::move(prim));
-  mesh.weights.assign(nf, 0.0);
+  mesh.weights.assign(nt, 0.0);
   b.model.meshes.push_back(std::move(mesh));
 
   tinygltf::Node node;
@@ -253,11 +302,12 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   b.model.scenes.push_back(scene);
   b.model.defaultScene = 0;
 
-  // The animation: input times[k]; output row k is the unit vector e_k (LINEAR between rows).
-  std::vector<float> input(nf), output(nf * nf, 0.f);
+  // The animation: input times[k]; output row k is 1 at frame k's target and 0 elsewhere
+  // (all 0 for a frame that is the base); LINEAR between rows.
+  std::vector<float> input(nf), output(nf * nt, 0.f);
   for (size_t k = 0; k < nf; ++k) {
     input[k] = float(f.times[k]);
-    output[k * nf + k] = 1.f;
+    if (target_of[k] >= 0) output[k * nt + size_t(target_of[k])] = 1.f;
   }
   for (size_t k = 1; k < nf; ++k)
     if (!(input[k] > input[k - 1])) {
@@ -299,6 +349,7 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   }
   *out = ss.str();
   s.frames = nf;
+  s.targets = nt;
   s.bytes = out->size();
   if (stats) *stats = s;
   return true;

@@ -32,6 +32,7 @@ struct BakedFrames {
 
 struct BakeStats {
   size_t frames = 0;
+  size_t targets = 0;              // morph targets: the distinct frames that are not the base
   size_t sparse_targets = 0;       // morph targets whose POSITION deltas are sparse
   size_t moved_vertices = 0;       // vertices whose position differs from the base in any frame
   size_t max_moved_in_frame = 0;   // the most vertices moved in one frame
@@ -40,13 +41,17 @@ struct BakeStats {
 
 // The .glb bytes. Layout (docs/expressions.md "Bake"): one scene, one node ("mimetic_units",
 // scaling mesh units to metres, as ExportMesh) holding mesh 0 ("baked") with one primitive:
-// POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices, and #F morph targets (target k =
-// frame k minus the base: POSITION deltas with min/max, NORMAL deltas). A target's deltas are a
+// POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices, and one morph target per distinct
+// frame (frame minus the base: POSITION deltas with min/max, NORMAL deltas; a frame
+// bit-identical to an earlier one, a held pose, shares its target; a frame whose deltas are all
+// within the epsilons is the base and has none; a clip of base frames only gets one all-zero
+// target so the animation stays well formed). A target's deltas are a
 // sparse accessor (u16 or u32 indices of the vertices whose delta is above the epsilon, their
 // deltas; no bufferView, so the rest are zero) when that is fewer bytes than the dense array;
 // a target with no moved vertex is an accessor with neither bufferView nor sparse (all zeros).
-// One animation ("clip"), one LINEAR sampler over input times[k]: output row k is 1 at target
-// k and 0 elsewhere, so frame k is shown exactly at its time and neighbouring frames blend
+// One animation ("clip"), one LINEAR sampler over input times[k]: output row k is 1 at frame
+// k's target and 0 elsewhere (all 0 for a base frame), so frame k is shown exactly at its time
+// and neighbouring frames blend
 // linearly between (vertex positions move linearly from frame k to frame k+1). Refuses (false,
 // a message) empty frames, mismatched sizes, non-increasing or non-finite times, non-finite
 // values, out-of-range indices.

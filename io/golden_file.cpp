@@ -58,10 +58,13 @@ bool EvaluateClipFrame(const Rig& rig, const CompiledClip& clip, float time,
   std::vector<float> activations(rig.muscle_count(), 0.f);
   positions->assign(size_t(rig.vertex_count()) * 3, 0.f);
   normals->assign(size_t(rig.vertex_count()) * 3, 0.f);
+  float jaw = 0.f;
   ClipSampleJob sample;
   sample.clip = &clip;
   sample.time = time;
   sample.out_activations = activations;
+  sample.out_jaw = span<float>(&jaw, 1);
+  if (!sample.Run()) return false;
   EvaluateContext context(rig);
   EvaluateJob evaluate;
   evaluate.rig = &rig;
@@ -69,7 +72,8 @@ bool EvaluateClipFrame(const Rig& rig, const CompiledClip& clip, float time,
   evaluate.activations = activations;
   evaluate.out_positions = *positions;
   evaluate.out_normals = *normals;
-  return sample.Run() && evaluate.Run();
+  evaluate.jaw = jaw;
+  return evaluate.Run();
 }
 
 bool MakeGolden(const Rig& rig, const CompiledClip& clip, const std::vector<float>& times,

@@ -174,6 +174,43 @@ const Object kRefinement = {"refinement", {
     Bool("enabled"),
     Number("edge_fraction", "a number in (0, 1] (fraction of the wrinkle width)").Above(0).Max(1)}};
 
+// docs/model.md §18: the jaw's hinge, range and weights.
+const Object kJaw = {
+    .owner = "jaw",
+    .fields = {
+        Array("condyles", Numbers("", 3),
+              "array of 2 points (the subject's right, then left condyle, each [x, y, z])")
+            .Count(2).Required()
+            .About("the hinge axis runs through them; mesh units; the jaw opens by a positive "
+                   "rotation about right -> left"),
+        Number("range_deg", "a number in (0, 90] (degrees)").Above(0).Max(90).Required()
+            .About("opening angle at jaw = 1"),
+        Numbers("translation", 3, "array of 3 numbers [x, y, z] (mesh units)")
+            .About("the condyles' glide at jaw = 1 (forward and down), added with the weight "
+                   "after the turn; default [0, 0, 0]"),
+        Numbers("mouth", 3, "array of 3 numbers [x, y, z] (between the lips on the midline)")
+            .About("the lip line's point on the midline; required unless `weights` is given"),
+        Number("mouth_width", "a number > 0 (mouth corner to corner, mesh units)").Above(0)
+            .About("mouth corner to corner; required unless `weights` is given"),
+        Number("lip_blend_deg", "a number in (0, 45] (degrees)").Above(0).Max(45)
+            .About("blend half-width about the lip line between the mouth corners; default 2"),
+        Number("cheek_blend_deg", "a number in (0, 90] (degrees)").Above(0).Max(90)
+            .About("blend half-width a mouth width beyond the corners; default 12"),
+        Number("cheek_drop_deg", "a number in [0, 45] (degrees)").Min(0).Max(45)
+            .About("how far the blend's centre drops beyond the corners; default 0"),
+        Numbers("back", 2, "array of 2 numbers [b0, b1] in [-1, 1], b0 < b1 (fractions of the "
+                           "hinge-to-mouth distance)")
+            .About("forward distance from the hinge where the weight fades in; default [0.2, 0.6]"),
+        Numbers("neck_deg", 2, "array of 2 numbers [n0, n1] in [0, 180], n0 < n1 (degrees below "
+                               "the lip line)")
+            .About("angles about the hinge below the lip line where the weight fades out toward "
+                   "the neck (1 above -n0, 0 below -n1); default [90, 180]"),
+        Array("weights", Number("").Min(0).Max(1),
+              "array of numbers in [0, 1], one per vertex of the mesh file")
+            .About("explicit per-vertex jaw weights (file order); replace the region function")},
+    .description = "The jaw (docs/model.md §18): a hinge through the condyles, an opening range "
+                   "and a per-vertex weight, explicit or from the region parameters."};
+
 const std::string kReserved =
     "(reserved for a later version of the format; this build reads version 1)";
 const Object kRig = {
@@ -193,7 +230,9 @@ const Object kRig = {
         ObjectOf("layers", kLayers, "object {\"thickness\": true, \"muscle_wrinkles\": true, "
                                     "\"curve_wrinkles\": true}"),
         ObjectOf("refinement", kRefinement,
-                 "object {\"enabled\": true, \"edge_fraction\": 0.25}")},
+                 "object {\"enabled\": true, \"edge_fraction\": 0.25}"),
+        ObjectOf("jaw", kJaw, "object {\"condyles\": [...], \"range_deg\": ..., ...}")
+            .About("the jaw (docs/model.md §18); absent = none")},
     .notes = {{"fine_scale", kReserved},
               {"expressions", kReserved},
               {"wrinkles", "(muscle-derived wrinkles go inside each muscle: muscles[i].wrinkles)"}},
@@ -227,6 +266,7 @@ class RigRules {
     return false;
   }
   void Thickness(const View& t, ThicknessSpec* out);
+  void Jaw(const View& j, RigSpec* spec);
   void Fingerprint(const View& f, MeshFingerprint* out);
   bool Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkleSpec>* wrinkles);
   bool Linear(const View& m, LinearMuscleSpec* out);
@@ -289,6 +329,62 @@ void RigRules::Root(const View& top, RigSpec* spec) {
   const View refinement = top.Member("refinement");
   refinement.Read("enabled", &spec->refinement.enabled);
   refinement.Read("edge_fraction", &spec->refinement.edge_fraction);
+  if (top.Has("jaw")) Jaw(top.Member("jaw"), spec);
+}
+
+void RigRules::Jaw(const View& j, RigSpec* spec) {
+  if (!j.present() || !j.value()->is_object()) return;
+  JawSpec jaw;
+  bool ok = j.ok();
+  std::vector<float3> condyles;
+  if (j.Read("condyles", &condyles) && condyles.size() == 2) {
+    jaw.condyles[0] = condyles[0];
+    jaw.condyles[1] = condyles[1];
+    if (!(Length(condyles[1] - condyles[0]) > 0.f))
+      ok = Fail(j.Path("condyles"), "the two condyles coincide; expected two distinct points "
+                                    "(the subject's right, then left condyle)");
+  }
+  j.Read("range_deg", &jaw.range_deg);
+  j.Read("translation", &jaw.translation);
+  const bool explicit_weights = j.Has("weights");
+  if (!explicit_weights) {
+    if (!j.Has("mouth"))
+      ok = Fail(j.Path("mouth"), "missing required key (jaw.weights is absent); expected a "
+                                 "point [x, y, z] between the lips on the midline");
+    if (!j.Has("mouth_width"))
+      ok = Fail(j.Path("mouth_width"), "missing required key (jaw.weights is absent); expected "
+                                       "a number > 0 (mouth corner to corner, mesh units)");
+  }
+  j.Read("mouth", &jaw.mouth);
+  j.Read("mouth_width", &jaw.mouth_width);
+  j.Read("lip_blend_deg", &jaw.lip_blend_deg);
+  j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
+  j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
+  if (const json* back = j.Get("back")) {
+    jaw.back[0] = static_cast<float>((*back)[0].get<double>());
+    jaw.back[1] = static_cast<float>((*back)[1].get<double>());
+    if (!(jaw.back[0] >= -1.f && jaw.back[1] <= 1.f && jaw.back[0] < jaw.back[1]))
+      ok = Fail(j.Path("back"), "is [" + FormatFloat(jaw.back[0]) + ", " +
+                                    FormatFloat(jaw.back[1]) + "]; expected [b0, b1] in [-1, 1] "
+                                    "with b0 < b1 (fractions of the hinge-to-mouth distance)");
+  }
+  if (const json* neck = j.Get("neck_deg")) {
+    jaw.neck_deg[0] = static_cast<float>((*neck)[0].get<double>());
+    jaw.neck_deg[1] = static_cast<float>((*neck)[1].get<double>());
+    if (!(jaw.neck_deg[0] >= 0.f && jaw.neck_deg[1] <= 180.f && jaw.neck_deg[0] < jaw.neck_deg[1]))
+      ok = Fail(j.Path("neck_deg"), "is [" + FormatFloat(jaw.neck_deg[0]) + ", " +
+                                        FormatFloat(jaw.neck_deg[1]) + "]; expected [n0, n1] in "
+                                        "[0, 180] with n0 < n1 (degrees below the lip line)");
+  }
+  if (const json* weights = j.Get("weights"))
+    for (const json& e : *weights) jaw.weights.push_back(static_cast<float>(e.get<double>()));
+  if (ok && j.Has("mouth") && condyles.size() == 2 && !explicit_weights) {
+    JawFrame frame;
+    if (!MakeJawFrame(jaw, &frame))
+      ok = Fail(j.Path("mouth"), "lies on the hinge axis through the condyles; expected a point "
+                                 "in front of them, between the lips");
+  }
+  if (ok) spec->jaw = std::move(jaw);
 }
 
 void RigRules::Fingerprint(const View& f, MeshFingerprint* out) {
@@ -621,6 +717,30 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
     j["muscle_wrinkles"] = l.muscle_wrinkles;
     j["curve_wrinkles"] = l.curve_wrinkles;
     root["layers"] = std::move(j);
+  }
+
+  if (spec.jaw) {
+    const JawSpec& jw = *spec.jaw;
+    ordered_json j;
+    j["condyles"] = ordered_json::array({Vec3Json(jw.condyles[0]), Vec3Json(jw.condyles[1])});
+    j["range_deg"] = ShortestDecimal(jw.range_deg);
+    if (!(jw.translation.x == 0.f && jw.translation.y == 0.f && jw.translation.z == 0.f))
+      j["translation"] = Vec3Json(jw.translation);
+    if (jw.weights.empty()) {
+      j["mouth"] = Vec3Json(jw.mouth);
+      j["mouth_width"] = ShortestDecimal(jw.mouth_width);
+      j["lip_blend_deg"] = ShortestDecimal(jw.lip_blend_deg);
+      j["cheek_blend_deg"] = ShortestDecimal(jw.cheek_blend_deg);
+      j["cheek_drop_deg"] = ShortestDecimal(jw.cheek_drop_deg);
+      j["back"] = ordered_json::array({ShortestDecimal(jw.back[0]), ShortestDecimal(jw.back[1])});
+      j["neck_deg"] =
+          ordered_json::array({ShortestDecimal(jw.neck_deg[0]), ShortestDecimal(jw.neck_deg[1])});
+    } else {
+      ordered_json w = ordered_json::array();
+      for (float v : jw.weights) w.push_back(ShortestDecimal(v));
+      j["weights"] = std::move(w);
+    }
+    root["jaw"] = std::move(j);
   }
 
   const RefinementSpec default_refinement;

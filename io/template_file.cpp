@@ -120,6 +120,25 @@ const Object kCurveWrinkle = {"a curve wrinkle", {
     Enum("modulation", {"directional", "area"}),
     Number("rest_amplitude").Min(0).Max(1)}};
 
+// docs/model.md §18.
+const Object kCondyle = {"a condyle", {
+    kLandmarks, kWeights,
+    Numbers("offset", 3, "[dx, dy, dz], three finite numbers (units of s, face frame)")
+        .About("from the weighted landmark mean; no projection onto the surface")}};
+const Object kJaw = {"the jaw", {
+    ObjectOf("condyle", kCondyle, "a condyle object {\"landmarks\": [...], \"offset\": [dx, dy, dz]}")
+        .Required().About("the subject's right condyle; the left one mirrors it"),
+    Number("range_deg", "a number in (0, 90] (degrees)").Above(0).Max(90).Required(),
+    Numbers("translation", 3, "[dx, dy, dz], three finite numbers (units of s, face frame)")
+        .About("the condyles' glide at jaw = 1 (forward and down); default [0, 0, 0]"),
+    Number("lip_blend_deg", "a number in (0, 45] (degrees)").Above(0).Max(45),
+    Number("cheek_blend_deg", "a number in (0, 90] (degrees)").Above(0).Max(90),
+    Number("cheek_drop_deg", "a number in [0, 45] (degrees)").Min(0).Max(45),
+    Numbers("back", 2, "[b0, b1], two numbers in [-1, 1] with b0 < b1 (fractions of the "
+                       "hinge-to-mouth distance)"),
+    Numbers("neck_deg", 2, "[n0, n1], two numbers in [0, 180] with n0 < n1 (degrees below the "
+                           "lip line)")}};
+
 const Object kTemplate = {"a muscle template", {
     Enum("format", {kFormatName}).Required(),
     Integer("version", "the integer 1").Version(1).Required(),
@@ -129,7 +148,8 @@ const Object kTemplate = {"a muscle template", {
         .NonEmpty().Required(),
     Array("curve_wrinkles", ObjectOf("", kCurveWrinkle, "a curve wrinkle object {\"name\", "
                                                         "\"control\", \"depth\", \"width\", ...}"),
-          "an array of curve wrinkles")}};
+          "an array of curve wrinkles"),
+    ObjectOf("jaw", kJaw, "a jaw object {\"condyle\": ..., \"range_deg\": ..., ...}")}};
 
 const Format kTemplateFormat = {
     .name = kFormatName,
@@ -149,6 +169,7 @@ class TemplateRules {
  private:
   bool Point(const View& p, TemplatePoint* out);
   void Thickness(const View& t, TemplateThickness* out);
+  void Jaw(const View& j, MuscleTemplate* out);
   void Muscle(const View& m, std::vector<TemplateMuscle>* out, std::vector<std::string>* origins);
   void Curve(const View& c, std::vector<TemplateCurveWrinkle>* out,
              std::vector<std::string>* origins);
@@ -175,6 +196,44 @@ void TemplateRules::Root(const View& top, MuscleTemplate* out) {
     Curve(top.Element("curve_wrinkles", i), &out->curve_wrinkles, &origins);
   for (const TemplateCurveWrinkle& c : out->curve_wrinkles) names.push_back(c.name);
   UniqueNames(names, origins, "curve wrinkle");
+  if (top.Has("jaw")) Jaw(top.Member("jaw"), out);
+}
+
+void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
+  if (!j.present() || !j.value()->is_object()) return;
+  TemplateJaw jaw;
+  bool ok = j.ok();
+  const View c = j.Member("condyle");
+  TemplatePoint point;
+  if (c.present() && c.value()->is_object()) {
+    ok &= Point(c, &point);
+    jaw.landmarks = point.landmarks;
+    jaw.weights = point.weights;
+    c.Read("offset", &jaw.offset);
+  }
+  j.Read("range_deg", &jaw.range_deg);
+  j.Read("translation", &jaw.translation);
+  j.Read("lip_blend_deg", &jaw.lip_blend_deg);
+  j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
+  j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
+  // An ordered pair [a, b] in [lo, hi] with a < b; `what` says what the numbers are.
+  auto pair = [&](const char* key, float lo, float hi, const char* what, float* dst) {
+    float2 v{dst[0], dst[1]};
+    if (!j.Read(key, &v)) return;
+    if (!(v.x >= lo && v.y <= hi && v.x < v.y)) {
+      auto g = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); };
+      r_.Error(j.Path(key), "is [" + g(v.x) + ", " + g(v.y) + "]; expected " + what);
+      ok = false;
+    }
+    dst[0] = v.x;
+    dst[1] = v.y;
+  };
+  pair("back", -1.f, 1.f,
+       "[b0, b1] in [-1, 1] with b0 < b1 (fractions of the hinge-to-mouth distance)", jaw.back);
+  pair("neck_deg", 0.f, 180.f,
+       "[n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line about the hinge)",
+       jaw.neck_deg);
+  if (ok) out->jaw = std::move(jaw);
 }
 
 void TemplateRules::UniqueNames(const std::vector<std::string>& names,
@@ -534,6 +593,26 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     curves.push_back(e);
   }
   if (!curves.empty()) j["curve_wrinkles"] = curves;
+  if (t.jaw) {
+    const TemplateJaw& jw = *t.jaw;
+    ordered_json c;
+    c["landmarks"] = jw.landmarks;
+    ordered_json w = ordered_json::array();
+    for (float v : jw.weights) w.push_back(Short(v));
+    c["weights"] = w;
+    c["offset"] = ordered_json::array({Short(jw.offset.x), Short(jw.offset.y), Short(jw.offset.z)});
+    ordered_json e;
+    e["condyle"] = c;
+    e["range_deg"] = Short(jw.range_deg);
+    e["translation"] = ordered_json::array({Short(jw.translation.x), Short(jw.translation.y),
+                                            Short(jw.translation.z)});
+    e["lip_blend_deg"] = Short(jw.lip_blend_deg);
+    e["cheek_blend_deg"] = Short(jw.cheek_blend_deg);
+    e["cheek_drop_deg"] = Short(jw.cheek_drop_deg);
+    e["back"] = ordered_json::array({Short(jw.back[0]), Short(jw.back[1])});
+    e["neck_deg"] = ordered_json::array({Short(jw.neck_deg[0]), Short(jw.neck_deg[1])});
+    j["jaw"] = e;
+  }
   std::string out;
   Pretty(j, 0, &out);
   return out + "\n";

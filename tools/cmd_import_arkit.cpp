@@ -12,6 +12,7 @@
 #include "io/clip_file.h"
 #include "io/rig_loader.h"
 #include "io/rig_file.h"
+#include "expressions/runtime/clip.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 
@@ -106,6 +107,7 @@ int CmdImportArkit(const Args& args) {
   }
   std::vector<std::string> muscles;
   for (const MuscleSpec& m : rig.muscles) muscles.push_back(m.name);
+  if (rig.jaw) muscles.push_back(kJawInputName);  // the jaw opening, a channel like a muscle
   if (!CheckArkitMuscles(map, muscles, map_path, &diag)) {
     std::fputs(diag.Format().c_str(), stderr);
     std::fprintf(stderr, "mimetic import-arkit: %s names muscles %s does not have; nothing "

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "expressions/runtime/clip.h"
 #include "fitting/compare.h"
 #include "fitting/fit.h"
 #include "fitting/solve.h"
@@ -183,7 +184,14 @@ constexpr const char* kOculi =
     "orbicularis oculi, a sphincter, and the eyelids: the rig has neither";
 constexpr const char* kLook = "the eyeballs turn and the lids follow: no eyes or lids in the rig";
 constexpr const char* kWide = "levator palpebrae lifts the upper lid: no lids in the rig";
-constexpr const char* kJaw = "the jaw turns: no jaw stage yet (the jaw issue adds it)";
+constexpr const char* kJawOpen =
+    "the jaw stage (\"jaw\", docs/model.md §18) opens the mouth: the default template's jaw is "
+    "calibrated on ICT-FaceKit's jawOpen (docs/fidelity.md \"Jaw\"; ratio 0.38)";
+constexpr const char* kJawOther =
+    "the jaw glides only with the opening: no separate protrusion or lateral input yet "
+    "(docs/model.md §18)";
+constexpr const char* kMouthClose =
+    "closes the lips over an open jaw: the lip seal is orbicularis oris, a sphincter";
 constexpr const char* kOris =
     "orbicularis oris, a sphincter: the rig has linear and sheet muscles only";
 
@@ -199,8 +207,10 @@ std::vector<ArkitEntry> ArkitTable() {
     t.push_back({"eyeSquint" + s, H::kNone, {}, {}, kOculi});
     t.push_back({"eyeWide" + s, H::kNone, {}, {}, kWide});
   }
-  for (const char* j : {"jawForward", "jawLeft", "jawRight", "jawOpen", "mouthClose"})
-    t.push_back({j, H::kNone, {}, {}, kJaw});
+  for (const char* j : {"jawForward", "jawLeft", "jawRight"})
+    t.push_back({j, H::kNone, {}, {}, kJawOther});
+  t.push_back({"jawOpen", H::kAnatomy, {}, {{kJawInputName, 1.f}}, kJawOpen});
+  t.push_back({"mouthClose", H::kNone, {}, {}, kMouthClose});
   for (const char* o : {"mouthFunnel", "mouthPucker", "mouthRollLower", "mouthRollUpper",
                         "mouthPressLeft", "mouthPressRight"})
     t.push_back({o, H::kNone, {}, {}, kOris});

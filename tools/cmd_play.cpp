@@ -116,6 +116,9 @@ bool LoadPlayInputs(const ParsedArgs& parsed, const char* nothing_written, Loade
                  clip_path.c_str(), rig_path.c_str(), build.ErrorCount(), nothing_written);
     return false;
   }
+  if (clip->animates_jaw() && loaded->rig.jaw().empty())
+    diag->Warning(clip_path, "animates the jaw, but " + rig_path + " has none (its \"jaw\" "
+                             "values do nothing; docs/rig-format.md \"jaw\")");
   return true;
 }
 
@@ -323,9 +326,11 @@ int CmdPlay(const Args& args) {
   posed.normals.resize(posed.positions.size());
   EvaluateContext context(rig);
   std::vector<float> activations(rig.muscle_count(), 0.f);
+  float jaw = 0.f;
   ClipSampleJob sample;
   sample.clip = &clip;
   sample.out_activations = activations;
+  sample.out_jaw = span<float>(&jaw, 1);
   EvaluateJob evaluate;
   evaluate.rig = &rig;
   evaluate.context = &context;
@@ -338,7 +343,9 @@ int CmdPlay(const Args& args) {
   Progress progress(static_cast<long long>(times.size()), !quiet);
   for (size_t f = 0; f < times.size(); ++f) {
     sample.time = float(times[f]);
-    if (!sample.Run() || !evaluate.Run()) {
+    const bool sampled = sample.Run();
+    evaluate.jaw = jaw;
+    if (!sampled || !evaluate.Run()) {
       progress.Abort();
       std::fprintf(stderr, "mimetic play: evaluation failed (internal error: job did not "
                            "validate)\n");

@@ -1,7 +1,9 @@
 // tools/cmd_rig.cpp: `mimetic info`, `mimetic validate`, `mimetic eval`.
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -41,13 +43,48 @@ const char* kEvalUsage =
     "wrinkles act (docs/rig-format.md).\n\n"
     "options:\n"
     "  --set MUSCLE=VALUE      activation of one muscle (repeatable); a NAME without a muscle\n"
-    "                          of its own sets NAME_L and NAME_R together\n"
+    "                          of its own sets NAME_L and NAME_R together; jaw=VALUE opens\n"
+    "                          the jaw (a fraction of its range, docs/model.md §18)\n"
     "  --out FILE              output mesh: .obj or .glb (not one of the rig's inputs); .glb\n"
     "                          is in metres (a root scale node over the rig's units), .obj\n"
     "                          in the rig's units with v up (docs/errors.md)\n"
     "  --no-thickness          skip the volume-preserving thickness layer (docs/model.md §4)\n"
     "  --no-muscle-wrinkles    skip muscle-derived wrinkles (docs/model.md §6)\n"
     "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n";
+
+// Removes `jaw=VALUE` from `sets` (unless the rig has a muscle called jaw) into *jaw: a
+// number in [0, 1], for a rig with a jaw. False with the problem recorded otherwise.
+bool TakeJawSetting(const Rig& rig, std::vector<std::string>* sets, float* jaw, Diagnostics* diag) {
+  if (rig.FindMuscle("jaw") >= 0) return true;
+  bool ok = true;
+  for (auto it = sets->begin(); it != sets->end();) {
+    if (it->rfind("jaw=", 0) != 0) {
+      ++it;
+      continue;
+    }
+    const std::string value = it->substr(4), where = "--set " + *it;
+    it = sets->erase(it);
+    char* end = nullptr;
+    errno = 0;
+    const double v = value.empty() ? NAN : std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
+      diag->Error(where, "value '" + value + "' is not a finite number (expected a number in "
+                         "[0, 1], the jaw opening as a fraction of its range)");
+      ok = false;
+    } else if (v < 0.0 || v > 1.0) {
+      diag->Error(where, "value " + value + " is outside [0, 1] (the jaw opening is a fraction "
+                         "of the rig's jaw range)");
+      ok = false;
+    } else if (rig.jaw().empty()) {
+      diag->Error(where, "the rig has no jaw (docs/rig-format.md, `jaw`); expected a rig "
+                         "file with a jaw block, e.g. one fitted from a template with one");
+      ok = false;
+    } else {
+      *jaw = float(v);
+    }
+  }
+  return ok;
+}
 
 void PrintDiagnostics(const Diagnostics& diag) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
@@ -210,8 +247,10 @@ int CmdEval(const Args& args) {
   std::vector<float> activations;
   Diagnostics diag;
   const auto it = parsed.values.find("set");
-  const std::vector<std::string> sets = it == parsed.values.end() ? std::vector<std::string>{} : it->second;
-  if (!BindActivations(rig.muscle_names(), sets, &activations, &diag)) {
+  std::vector<std::string> sets = it == parsed.values.end() ? std::vector<std::string>{} : it->second;
+  float jaw = 0.f;
+  const bool jaw_ok = TakeJawSetting(rig, &sets, &jaw, &diag);
+  if (!BindActivations(rig.muscle_names(), sets, &activations, &diag) || !jaw_ok) {
     PrintDiagnostics(diag);
     std::fprintf(stderr, "mimetic eval: %zu error(s) in --set; nothing was written\n",
                  diag.ErrorCount());
@@ -223,7 +262,7 @@ int CmdEval(const Args& args) {
   const SkinLayers layers{.thickness = !parsed.flags.count("no-thickness"),
                           .muscle_wrinkles = !parsed.flags.count("no-muscle-wrinkles"),
                           .curve_wrinkles = !parsed.flags.count("no-curve-wrinkles")};
-  if (!PosedMesh(rig, activations, layers, &posed)) {
+  if (!PosedMesh(rig, activations, layers, &posed, jaw)) {
     std::fprintf(stderr, "mimetic eval: evaluation failed (internal error: job did not validate)\n");
     return 1;
   }
@@ -258,6 +297,7 @@ int CmdEval(const Args& args) {
     }
   }
   if (!any) std::printf(" all muscles at rest");
+  if (jaw != 0.f) std::printf(", jaw=%g", jaw);
   std::printf("\nlayers: muscles");
   const struct {
     bool compiled, enabled;

@@ -22,6 +22,7 @@ int CmdSolve(const Args& args);        // activations closest to a target shape 
 int CmdFidelity(const Args& args);     // the fidelity report on ICT-FaceKit (tools/cmd_fidelity.cpp)
 int CmdCreases(const Args& args);      // crease numbers of the muscles (tools/cmd_creases.cpp)
 int CmdCalibrate(const Args& args);    // calibrate a template on real shapes (tools/cmd_calibrate.cpp)
+int CmdCalibrateJaw(const Args& args); // calibrate the template's jaw on ICT's jawOpen (tools/cmd_calibrate_jaw.cpp)
 int CmdPlay(const Args& args);         // sample a clip and pose the rig (tools/cmd_play.cpp)
 int CmdImportArkit(const Args& args);  // a face-capture take into a clip (tools/cmd_import_arkit.cpp)
 int CmdMakeLibrary(const Args& args);  // the expression library and ARKit map (tools/cmd_library.cpp)

@@ -27,6 +27,7 @@ const Command kCommands[] = {
     {"fidelity", mimetic::tools::CmdFidelity, "the fidelity report: the rig against ICT-FaceKit's real shapes"},
     {"creases", mimetic::tools::CmdCreases, "how sharply each muscle folds the skin at its zone's edges"},
     {"calibrate", mimetic::tools::CmdCalibrate, "calibrate a muscle template on real expression shapes"},
+    {"calibrate-jaw", mimetic::tools::CmdCalibrateJaw, "calibrate the template's jaw on ICT-FaceKit's jawOpen"},
     {"play", mimetic::tools::CmdPlay, "sample a clip and write the posed mesh or an OBJ sequence"},
     {"import-arkit", mimetic::tools::CmdImportArkit, "turn a face-capture take (ARKit CSV/JSON) into a clip"},
     {"make-library", mimetic::tools::CmdMakeLibrary, "the expression library and ARKit map, solved on ICT-FaceKit"},

@@ -37,9 +37,11 @@ struct Worker {
     const size_t nv = rig.vertex_count();
     EvaluateContext context(rig);
     std::vector<float> activations(rig.muscle_count(), 0.f);
+    float jaw = 0.f;
     ClipSampleJob sample;
     sample.clip = r->clip;
     sample.out_activations = activations;
+    sample.out_jaw = span<float>(&jaw, 1);
     EvaluateJob evaluate;
     evaluate.rig = &rig;
     evaluate.context = &context;
@@ -49,7 +51,9 @@ struct Worker {
       sample.time = float(r->times[k]);
       evaluate.out_positions = span<float>(&frames->positions[k * nv * 3], nv * 3);
       if (r->normals) evaluate.out_normals = span<float>(&frames->normals[k * nv * 3], nv * 3);
-      if (!sample.Run() || !evaluate.Run()) failed->store(true);
+      const bool sampled = sample.Run();
+      evaluate.jaw = jaw;
+      if (!sampled || !evaluate.Run()) failed->store(true);
       done->fetch_add(1);
     }
   }
@@ -177,9 +181,10 @@ int PlayBake(const PlayBakeRequest& r) {
     std::printf("played %s (%g s, %s) on %s at %g fps\n", r.clip_path.c_str(),
                 double(r.clip->duration()), end, r.rig_path.c_str(), r.fps);
     std::printf("baked %zu frames (0 .. %g s) into %s: %.2f MB, %zu vertices, %zu triangles, "
-                "%zu morph targets (%zu sparse), one LINEAR weights animation\n",
+                "%zu morph targets (%zu sparse; held and neutral frames share), one LINEAR "
+                "weights animation\n",
                 stats.frames, r.times.back(), r.out.c_str(), double(stats.bytes) / 1e6, nv,
-                size_t(rig.triangle_count()), stats.frames, stats.sparse_targets);
+                size_t(rig.triangle_count()), stats.targets, stats.sparse_targets);
     std::printf("vertices moved: %zu of %zu in some frame, at most %zu in one frame; took %.2f s "
                 "on %u thread(s)\n", stats.moved_vertices, nv, stats.max_moved_in_frame, seconds,
                 threads);

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "expressions/runtime/clip.h"
+
 namespace mimetic {
 
 int FindArkitShape(const std::vector<ArkitShapeActivations>& shapes, const std::string& name) {
@@ -78,7 +80,8 @@ bool ImportArkitTake(const ArkitTake& take, const std::vector<ArkitShapeActivati
   bool ok = true;
   for (const ArkitShapeActivations& s : shapes)
     for (const auto& [muscle, a] : s.activations)
-      if (std::find(muscle_names.begin(), muscle_names.end(), muscle) == muscle_names.end()) {
+      if (std::find(muscle_names.begin(), muscle_names.end(), muscle) == muscle_names.end() &&
+          muscle != kJawInputName) {  // "jaw" on a rig without one: unmapped below
         diag->Error("map: " + s.name, "muscle \"" + muscle + "\" is not one of the rig's");
         ok = false;
       }
@@ -89,8 +92,18 @@ bool ImportArkitTake(const ArkitTake& take, const std::vector<ArkitShapeActivati
   for (size_t c = 0; c < nc; ++c) {
     channel_shape[c] = FindArkitShape(shapes, take.names[c]);
     const bool none = channel_shape[c] >= 0 && shapes[size_t(channel_shape[c])].none;
-    if (channel_shape[c] < 0 || none) {
-      ArkitUnmapped u{take.names[c], none, 0};
+    // A shape that drives nothing this rig has (only the jaw, on a rig without one).
+    bool no_jaw = false;
+    if (channel_shape[c] >= 0 && !none) {
+      const ArkitShapeActivations& s = shapes[size_t(channel_shape[c])];
+      no_jaw = !s.activations.empty() &&
+               std::all_of(s.activations.begin(), s.activations.end(), [&](const auto& a) {
+                 return std::find(muscle_names.begin(), muscle_names.end(), a.first) ==
+                        muscle_names.end();
+               });
+    }
+    if (channel_shape[c] < 0 || none || no_jaw) {
+      ArkitUnmapped u{take.names[c], none, no_jaw, 0};
       for (size_t f = 0; f < nf; ++f) u.nonzero += take.weights[f * nc + c] != 0.f;
       result.unmapped.push_back(u);
     }
@@ -129,9 +142,9 @@ bool ImportArkitTake(const ArkitTake& take, const std::vector<ArkitShapeActivati
 
 std::string ArkitUnmappedWarning(const std::vector<ArkitUnmapped>& unmapped) {
   if (unmapped.empty()) return "";
-  std::string unknown, none;
+  std::string unknown, none, no_jaw;
   for (const ArkitUnmapped& u : unmapped) {
-    std::string& list = u.none ? none : unknown;
+    std::string& list = u.no_jaw ? no_jaw : (u.none ? none : unknown);
     if (!list.empty()) list += ", ";
     list += u.name + " (" + std::to_string(u.nonzero) + " non-zero frame" +
             (u.nonzero == 1 ? "" : "s") + ")";
@@ -142,6 +155,9 @@ std::string ArkitUnmappedWarning(const std::vector<ArkitUnmapped>& unmapped) {
   if (!none.empty())
     text += (unknown.empty() ? "" : "; ") + none +
             " (the map marks them \"none\": the rig's muscles cannot make them)";
+  if (!no_jaw.empty())
+    text += (unknown.empty() && none.empty() ? "" : "; ") + no_jaw +
+            " (the map drives the jaw with them, and the rig has no jaw)";
   return text;
 }
 

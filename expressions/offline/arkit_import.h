@@ -33,6 +33,7 @@ struct ArkitShapeActivations {
 struct ArkitUnmapped {
   std::string name;      // as the take writes it
   bool none = false;     // true: an ARKit shape the map marks "none"; false: not an ARKit name
+  bool no_jaw = false;   // true: the map drives only the jaw with it, and the rig has none
   size_t nonzero = 0;    // frames where its weight is not 0
 };
 

@@ -83,11 +83,19 @@ bool ClipBuilder::Build(const ClipSpec& clip, const std::vector<std::string>& mu
   std::vector<size_t> used;                  // expressions[used[row]] is compiled row `row`
   std::map<size_t, uint32_t> row_of;         // expressions index -> row
   std::vector<long> driven_by(muscle_count, -1);  // muscle -> the channel spec driving it
+  long jaw_driven_by = -1;
+  // "jaw" names the rig's jaw opening, unless the rig has a muscle of that name.
+  const bool jaw_is_muscle = muscle_index.count(kJawInputName) > 0;
   size_t key_count = 0;
 
   for (size_t i = 0; i < clip.channels.size(); ++i) {
     const ClipChannelSpec& c = clip.channels[i];
     key_count += c.keys.size();
+    if (c.kind == ClipChannelKind::kMuscle && c.target == kJawInputName && !jaw_is_muscle) {
+      jaw_driven_by = long(i);  // once: CheckClipSpec refuses a target named twice
+      resolved.push_back({i, ClipChannelKind::kJaw, ClipLayer::kOverride, 0});
+      continue;
+    }
     if (c.kind == ClipChannelKind::kMuscle) {
       std::vector<uint32_t> targets;
       if (const auto it = muscle_index.find(c.target); it != muscle_index.end()) {
@@ -143,7 +151,8 @@ bool ClipBuilder::Build(const ClipSpec& clip, const std::vector<std::string>& mu
     for (size_t j = 0; j < expressions[e].activations.size(); ++j) {
       const auto& [muscle, value] = expressions[e].activations[j];
       const std::string what = "expression \"" + c.target + "\": muscle \"" + muscle + "\"";
-      if (!muscle_index.count(muscle)) {
+      const bool jaw = muscle == kJawInputName && !jaw_is_muscle;
+      if (!jaw && !muscle_index.count(muscle)) {
         diag->Error(at, what + " is not in the rig" +
                             (muscle_names.empty() ? std::string(" (the rig has no muscles)")
                                                   : "; closest: " + ClosestNames(muscle_names, muscle)));
@@ -191,8 +200,17 @@ bool ClipBuilder::Build(const ClipSpec& clip, const std::vector<std::string>& mu
   }
   c.expression_activations_.assign(size_t(muscle_count) * used.size(), 0.f);
   c.expression_masks_.assign(size_t(muscle_count) * used.size(), 0);
+  c.expression_jaws_.assign(used.size(), 0.f);
+  c.expression_jaw_masks_.assign(used.size(), 0);
+  c.animates_jaw_ = jaw_driven_by >= 0;
   for (size_t row = 0; row < used.size(); ++row) {
     for (const auto& [muscle, value] : expressions[used[row]].activations) {
+      if (muscle == kJawInputName && !jaw_is_muscle) {
+        c.expression_jaws_[row] = value;
+        c.expression_jaw_masks_[row] = 1;
+        c.animates_jaw_ = true;
+        continue;
+      }
       const size_t at = row * muscle_count + muscle_index.at(muscle);
       c.expression_activations_[at] = value;
       c.expression_masks_[at] = 1;

@@ -10,8 +10,8 @@
 //
 // Layout (plain arrays):
 //   channels c in [0, channel_count()), in the file's order (the order they are applied):
-//     kind(c), layer(c), target(c)      a muscle index (kMuscle) or an expression row
-//                                       (kExpression)
+//     kind(c), layer(c), target(c)      a muscle index (kMuscle), an expression row
+//                                       (kExpression), or 0 (kJaw: the rig's jaw opening)
 //     keys [key_offsets()[c], key_offsets()[c + 1]) of the key arrays, at least one each
 //   keys k:
 //     key_times()[k]     seconds, >= 0, strictly increasing within a channel, <= duration()
@@ -24,6 +24,8 @@
 //     expression_activations()[e * muscle_count() + m]  in [0, 1]
 //     expression_masks()[e * muscle_count() + m]         1 where the expression names muscle m
 //                                                        (an override layer replaces those only)
+//     expression_jaws()[e], expression_jaw_masks()[e]    the expression's jaw value in [0, 1]
+//                                                        and 1 where it names the jaw
 #pragma once
 
 #include <cstddef>
@@ -35,6 +37,11 @@
 
 namespace mimetic {
 
+// The name that stands for the rig's jaw opening (EvaluateJob::jaw, docs/model.md §18)
+// wherever a muscle name goes: a clip's "muscle" channel, an expression's activations,
+// `mimetic eval --set` (unless the rig has a muscle of that name).
+inline constexpr char kJawInputName[] = "jaw";
+
 // What the clip does after its duration (and before 0).
 enum class ClipEnd : uint8_t {
   kClamp = 0,  // time clamped to [0, duration]: holds the first and last poses
@@ -44,12 +51,14 @@ enum class ClipEnd : uint8_t {
 enum class ClipChannelKind : uint8_t {
   kMuscle = 0,      // the channel's value is the activation of one muscle
   kExpression = 1,  // the channel's value is the weight of one expression
+  kJaw = 2,         // the channel's value is the jaw opening (EvaluateJob::jaw)
 };
 
 // How an expression channel of weight w combines the expression's activations e with what
 // the channels before it gave (a):  kAdd a = min(1, a + w e);  kMax a = max(a, w e);
 // kOverride a = a + w (e - a) on the muscles the expression names. Muscle channels set their
-// muscle's activation (a = v) and have no layer (stored as kOverride).
+// muscle's activation (a = v) and have no layer (stored as kOverride). The jaw is one more
+// value under the same rules: a jaw channel sets it, an expression that names it combines it.
 enum class ClipLayer : uint8_t { kAdd = 0, kMax = 1, kOverride = 2 };
 
 // How a channel goes from one key to the next.
@@ -77,6 +86,8 @@ class CompiledClip {
   uint32_t expression_count() const { return expression_count_; }
   // False for a default-constructed clip (nothing built into it).
   bool built() const { return built_; }
+  // True when a channel or an expression it uses sets the jaw (ClipSampleJob::out_jaw).
+  bool animates_jaw() const { return animates_jaw_; }
 
   span<const ClipChannelKind> kinds() const { return kinds_; }
   span<const ClipLayer> layers() const { return layers_; }
@@ -88,6 +99,8 @@ class CompiledClip {
   span<const KeyInterp> key_interps() const { return key_interps_; }
   span<const float> expression_activations() const { return expression_activations_; }
   span<const uint8_t> expression_masks() const { return expression_masks_; }
+  span<const float> expression_jaws() const { return expression_jaws_; }
+  span<const uint8_t> expression_jaw_masks() const { return expression_jaw_masks_; }
 
   // Bytes this clip holds: sizeof(CompiledClip) plus the capacity of every array.
   size_t ByteSize() const;
@@ -100,6 +113,7 @@ class CompiledClip {
   uint32_t muscle_count_ = 0;
   uint32_t expression_count_ = 0;
   bool built_ = false;
+  bool animates_jaw_ = false;
   std::vector<ClipChannelKind> kinds_;
   std::vector<ClipLayer> layers_;
   std::vector<uint32_t> targets_;
@@ -110,6 +124,8 @@ class CompiledClip {
   std::vector<KeyInterp> key_interps_;
   std::vector<float> expression_activations_;
   std::vector<uint8_t> expression_masks_;
+  std::vector<float> expression_jaws_;
+  std::vector<uint8_t> expression_jaw_masks_;
 };
 
 }  // namespace mimetic

@@ -18,11 +18,24 @@ inline float ClampBetween(float v, float a, float b) {
 }
 
 // Apply: one channel's value onto the activations (the layer rules of clip.h).
-inline void Apply(const CompiledClip& clip, uint32_t c, float value, float* a) {
+inline void Apply(const CompiledClip& clip, uint32_t c, float value, float* a, float* jaw) {
   const uint32_t target = clip.targets()[c];
   if (clip.kinds()[c] == ClipChannelKind::kMuscle) {
     a[target] = value;
     return;
+  }
+  if (clip.kinds()[c] == ClipChannelKind::kJaw) {
+    *jaw = value;
+    return;
+  }
+  // The expression's jaw value, under the layer's rule (a jaw it does not name adds 0).
+  const float ej = clip.expression_jaws()[target];
+  switch (clip.layers()[c]) {
+    case ClipLayer::kAdd: *jaw = std::min(1.f, *jaw + value * ej); break;
+    case ClipLayer::kMax: *jaw = std::max(*jaw, value * ej); break;
+    case ClipLayer::kOverride:
+      if (clip.expression_jaw_masks()[target]) *jaw = Clamp01(*jaw + value * (ej - *jaw));
+      break;
   }
   const uint32_t n = clip.muscle_count();
   const float* e = clip.expression_activations().data() + size_t(target) * n;
@@ -101,8 +114,10 @@ bool ClipSampleJob::Run() const {
   const float local = ClipLocalTime(c, time);
   float* a = out_activations.data();
   std::fill(a, a + c.muscle_count(), 0.f);
+  float jaw = 0.f;
   for (uint32_t channel = 0; channel < c.channel_count(); ++channel)
-    Apply(c, channel, SampleClipChannel(c, channel, local), a);
+    Apply(c, channel, SampleClipChannel(c, channel, local), a, &jaw);
+  if (!out_jaw.empty()) out_jaw[0] = jaw;
   return true;
 }
 

@@ -13,7 +13,9 @@
 //                     result clamped to the two key values (docs/expressions.md, "Cubic")
 //     Apply           a muscle channel sets a[m] = v; an expression channel of weight w and
 //                     activations e: add a = min(1, a + w e), max a = max(a, w e), override
-//                     a = a + w (e - a) on the muscles the expression names
+//                     a = a + w (e - a) on the muscles the expression names; the jaw (0 at
+//                     first) the same way: a jaw channel sets it, expressions that name it
+//                     combine it
 // Sampling is stateless: no cursor, no cache, so seeking to any time gives the same bits as
 // playing up to it, and one clip may be sampled by many threads at once. Run() allocates
 // nothing, throws nothing and reads only the clip and `time`.
@@ -31,12 +33,14 @@ struct ClipSampleJob {
   // fewer than clip->muscle_count() floats. `time` is never a reason (NaN -> 0).
   bool Validate() const;
   // Validates first; on false, out_activations is untouched. Writes out_activations[0,
-  // clip->muscle_count()) (each in [0, 1]); floats past that are left alone.
+  // clip->muscle_count()) (each in [0, 1]); floats past that are left alone; and out_jaw[0]
+  // (in [0, 1], 0 when the clip does not animate the jaw) when out_jaw is not empty.
   bool Run() const;
 
   const CompiledClip* clip = nullptr;  // built by BuildClip; shared, read-only
   float time = 0.f;                    // seconds since the clip's start; any value
   span<float> out_activations;         // >= clip->muscle_count() floats, rig muscle order
+  span<float> out_jaw;                 // empty, or >= 1 float: the jaw (EvaluateJob::jaw)
 };
 
 // The steps of Run(), for tests and tools (the clip must be built; channel < channel_count()).

@@ -76,6 +76,67 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
 }
 
 
+// docs/model.md §18: the jaw's hinge, range and per-point weights (explicit per file vertex,
+// averaged over a point's vertices, or the region function of the rest position and normal). Only points
+// with w > 0 are listed.
+bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
+                RigData* rig, Diagnostics* diag) {
+  if (!spec.jaw) return true;
+  const JawSpec& jaw = *spec.jaw;
+  JawFrame frame;
+  if (!MakeJawFrame(jaw, &frame)) {
+    diag->Error("jaw", Length(jaw.condyles[1] - jaw.condyles[0]) > 0.f
+                           ? "the mouth point lies on the hinge axis through the condyles; "
+                             "expected jaw.mouth in front of the condyles"
+                           : "the two condyles coincide; expected two distinct points (the "
+                             "subject's right, then left condyle)");
+    return false;
+  }
+  if (!IsFinite(jaw.translation) || Length(jaw.translation) > frame.reach) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "is %g long; expected a glide no longer than the hinge-to-mouth "
+                  "distance (%g mesh units)", double(Length(jaw.translation)), double(frame.reach));
+    diag->Error("jaw.translation", buf);
+    return false;
+  }
+  const uint32_t points = uint32_t(welded.points.size());
+  std::vector<float> w(points, 0.f);
+  if (!jaw.weights.empty()) {
+    if (jaw.weights.size() != mesh.vertex_count()) {
+      diag->Error("jaw.weights", "expected one value per mesh vertex (" +
+                                     std::to_string(mesh.vertex_count()) + "), got " +
+                                     std::to_string(jaw.weights.size()));
+      return false;
+    }
+    std::vector<uint32_t> count(points, 0);
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      w[welded.point_of_vertex[v]] += jaw.weights[v];
+      ++count[welded.point_of_vertex[v]];
+    }
+    for (uint32_t p = 0; p < points; ++p) w[p] = std::min(w[p] / float(count[p] ? count[p] : 1), 1.f);
+  } else {
+    VertexNormalOptions no;
+    no.fallback = {};  // a point without a normal takes no side on the lip line
+    const std::vector<float3> normals = ComputeVertexNormals(welded.points, welded.triangles, no);
+    for (uint32_t p = 0; p < points; ++p)
+      w[p] = JawRegionWeight(jaw, frame, welded.points[p], normals[p]);
+  }
+  RigJaw& out = rig->jaw;
+  out.pivot = frame.pivot;
+  out.axis = frame.axis;
+  out.range = float(double(jaw.range_deg) * 3.14159265358979323846 / 180.0);
+  out.translation = jaw.translation;
+  for (uint32_t p = 0; p < points; ++p)
+    if (w[p] > 0.f) {
+      out.points.push_back(p);
+      out.weights.push_back(w[p]);
+    }
+  if (out.points.empty())
+    diag->Warning("jaw", "no vertex of the mesh has a jaw weight above 0: check the mouth point "
+                         "and the condyles against the mesh's units and placement");
+  return true;
+}
+
 // docs/model.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
 bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
                        const std::vector<uint32_t>& file_triangle, RigData* rig,
@@ -358,6 +419,14 @@ bool ValidateMagnitudes(const RigSpec& spec, const MeshData& mesh, Diagnostics* 
     length(at + ".depth", spec.curve_wrinkles[c].spec.depth);
     length(at + ".width", spec.curve_wrinkles[c].spec.width);
   }
+  if (spec.jaw) {
+    point("jaw.condyles[0]", spec.jaw->condyles[0]);
+    point("jaw.condyles[1]", spec.jaw->condyles[1]);
+    if (spec.jaw->weights.empty()) {
+      point("jaw.mouth", spec.jaw->mouth);
+      length("jaw.mouth_width", spec.jaw->mouth_width);
+    }
+  }
   return diag->ErrorCount() == errors_before;
 }
 
@@ -476,6 +545,7 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
                     "against the mesh's units and placement");
   }
   ok = CompileSkinLayers(spec, mesh, file_triangle, &rig, diag) && ok;
+  ok = CompileJaw(spec, mesh, welded, &rig, diag) && ok;
   if (!ok) return false;
   *out = std::move(rig);
   return true;
@@ -484,13 +554,14 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
 // THE definition of which points a frame can move (every per-frame range, and so every table
 // Rig::Build derives, follows from it): points a muscle moves, points sharing a triangle with
 // one (their area ratio, hence their thickness displacement, changes), and wrinkle rows. A
-// stage that moves points (a jaw) adds its points here. 2 = can move, 0 = not (ActiveOrder
+// stage that moves points (the jaw) adds its points here. 2 = can move, 0 = not (ActiveOrder
 // adds 1 = normal can change).
 std::vector<uint8_t> MovingPoints(const RigData& rig) {
   const uint32_t points = rig.point_count(), tris = rig.triangle_count();
   std::vector<uint8_t> moved(points, 0), level(points, 0);
   for (uint32_t p = 0; p < points; ++p)
     moved[p] = rig.muscles.offsets[p + 1] > rig.muscles.offsets[p];
+  for (uint32_t p : rig.jaw.points) moved[p] = 1;  // the jaw turns them (docs/model.md §18)
   for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
     for (uint32_t p : w.points) level[p] = 2;
   for (uint32_t p : rig.curve_wrinkles.points) level[p] = 2;
@@ -612,9 +683,20 @@ bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildO
     diag->Append(refine_diag, file_mesh.source);
     if (!refined_ok) return false;
     mesh_ptr = &refined.mesh;
-    if (spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex) {
+    if (spec_in.jaw && !spec_in.jaw->weights.empty() &&
+        spec_in.jaw->weights.size() != file_mesh.vertex_count()) {
+      diag->Error("jaw.weights",
+                  "expected one value per mesh vertex (" + std::to_string(file_mesh.vertex_count()) +
+                      "), got " + std::to_string(spec_in.jaw->weights.size()));
+      return false;
+    }
+    const bool carry_thickness = spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex;
+    const bool carry_jaw = spec_in.jaw && !spec_in.jaw->weights.empty();
+    if (carry_thickness || carry_jaw) {
       carried = spec_in;
-      carried.thickness.per_vertex = CarryAttribute(refined, spec_in.thickness.per_vertex);
+      if (carry_thickness)
+        carried.thickness.per_vertex = CarryAttribute(refined, spec_in.thickness.per_vertex);
+      if (carry_jaw) carried.jaw->weights = CarryAttribute(refined, spec_in.jaw->weights);
       spec_ptr = &carried;
     }
   }
@@ -668,7 +750,7 @@ MeshData RestMesh(const Rig& rig) {
 }
 
 bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& layers,
-               MeshData* out) {
+               MeshData* out, float jaw) {
   MeshData posed = RestMesh(rig);
   posed.normals.resize(posed.positions.size());
   EvaluateContext context(rig);
@@ -676,6 +758,7 @@ bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& 
   job.rig = &rig;
   job.context = &context;
   job.activations = activations;
+  job.jaw = jaw;
   job.out_positions = span<float>(&posed.positions[0].x, posed.positions.size() * 3);
   job.out_normals = span<float>(&posed.normals[0].x, posed.normals.size() * 3);
   job.layers = layers;

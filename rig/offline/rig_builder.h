@@ -54,8 +54,9 @@ MeshData RestMesh(const Rig& rig);
 // `activations` (one per muscle; fewer is an error) and the skin layers `layers`. An offline
 // convenience (it sizes a context per call): per-frame code runs EvaluateJob itself. Returns
 // false (and leaves `out` alone) when the job does not validate.
+// `jaw` is the jaw opening (EvaluateJob::jaw; ignored by a rig without a jaw).
 bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& layers,
-               MeshData* out);
+               MeshData* out, float jaw = 0.f);
 
 // Offline check of what an evaluation gave (PosedMesh's `posed`, `activations` and `layers`
 // as passed to it): true when every position and normal is finite. Otherwise records one error

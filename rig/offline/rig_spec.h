@@ -38,6 +38,55 @@ struct NamedCurveWrinkle {
   CurveWrinkleSpec spec;
 };
 
+// The jaw (docs/model.md §18, docs/rig-format.md `jaw`): a hinge through the condyles, an
+// opening range and a per-point weight w in [0, 1], either explicit (one per file vertex) or
+// the region function JawRegionWeight of the rest position.
+struct JawSpec {
+  float3 condyles[2]{};      // the subject's right, then left condyle; mesh units
+  float range_deg = 0.f;     // opening at jaw = 1, degrees, (0, 90]
+  // The condyles' glide at jaw = 1 (docs/model.md §18), mesh units: a carried point moves by
+  // w jaw translation after its turn (forward and down on the articular eminence).
+  float3 translation{};
+  // The weight region (used when `weights` is empty): see JawRegionWeight.
+  float3 mouth{};            // between the lips on the midline, mesh units
+  float mouth_width = 0.f;   // mouth corner to corner, mesh units, > 0
+  float lip_blend_deg = 2.f;     // blend half-width about the lip line between the corners
+  float cheek_blend_deg = 12.f;  // blend half-width a mouth width beyond the corners
+  float cheek_drop_deg = 0.f;    // the blend's centre lowered by this beyond the corners
+  float back[2] = {0.2f, 0.6f};  // forward distance from the hinge (fractions of the
+                                 // hinge-to-mouth distance) where w fades in: 0 -> 1
+  float neck_deg[2] = {90.f, 180.f};  // angles below the lip line where w fades out toward the
+                                      // neck: 1 above -n0, 0 below -n1 (the default fades
+                                      // nothing in front of the hinge)
+  std::vector<float> weights;    // explicit: one per file vertex, in [0, 1]
+};
+
+// The frame of the jaw's hinge: pivot = the condyles' midpoint, axis = right -> left condyle
+// (unit), forward = pivot -> mouth without its axis part (unit), up = forward x axis.
+struct JawFrame {
+  float3 pivot, axis, forward, up;
+  float reach = 0.f;  // hinge-to-mouth distance along forward, mesh units
+};
+// False when the condyles coincide or the mouth lies on the hinge axis.
+bool MakeJawFrame(const JawSpec& jaw, JawFrame* out);
+
+// The weight region (docs/model.md §18), at rest position p, with phi the angle of p about the
+// hinge above the plane of the axis and the mouth point (degrees; phi = 0 on the lip line) and
+// x the distance from the midline along the axis:
+//   e    = smoothstep(0, 1, (|x| - W/2) / W)            0 between the mouth corners
+//   beta = lip_blend + (cheek_blend - lip_blend) e,  phi0 = -cheek_drop e
+//   w    = (1 - smoothstep(phi0 - beta, phi0 + beta, phi)) * smoothstep(b0 D, b1 D, z)
+//          * smoothstep(-n1, -n0, phi)
+// (W the mouth width, z the forward distance from the hinge, D = its value at the mouth, n the
+// neck angles: the throat below the chin stays).
+// `n`, the unit rest normal at p (or zero where unknown), decides the side on the lip line of a
+// mesh whose lips are separate surfaces: between the corners phi is moved by
+// -beta (1 - e) clamp(2 n.up, -1, 1), so a point facing up (the lower lip's top) joins the jaw
+// and one facing down (the upper lip's underside) stays, however thin the slit; on a closed lip
+// line the normal faces forward (n.up ~ 0) and nothing moves.
+float JawRegionWeight(const JawSpec& jaw, const JawFrame& frame, float3 p, float3 n = {});
+float Smoothstep(float lo, float hi, float x);
+
 struct RigSpec {
   std::string file;        // the rig file this came from ("" when parsed from text)
   std::string mesh_path;   // resolved against the rig file's directory
@@ -57,6 +106,7 @@ struct RigSpec {
   std::vector<NamedCurveWrinkle> curve_wrinkles;  // docs/model.md §7-8
   SkinLayers layers;  // which skin layers to compile (all by default); docs/model.md §1 steps 3-4
   RefinementSpec refinement;
+  std::optional<JawSpec> jaw;  // docs/model.md §18; absent = no jaw
 };
 
 // The muscle geometry a wrinkle region needs (docs/model.md §6), from a muscle spec: linear R is

@@ -20,6 +20,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   muscle_count_ = rig.muscle_count();
   const RigTables& t = rig.tables();
   activations_.assign(muscle_count_, 0.f);
+  jaw_ = 0.f;
   // One float3 of padding covers kPointPadFloats.
   static_assert(kPointPadFloats <= 3, "pad points_ by more than one float3");
   points_.assign(point_count_ + 1, float3{});
@@ -45,6 +46,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   limit_tris_.assign(active_tris, 0);
   limit_point_marks_.assign(active, 0);
   limit_tri_marks_.assign(active_tris, 0);
+  limit_tri_bad_.assign(active_tris, 0);
   limited_points_ = limiter_passes_ = 0;
   if (!rig.tables_checked()) return;  // IsFor refuses it; nothing below is safe to read
   // Rest values everywhere: a frame rewrites only the leading ranges that can change
@@ -70,7 +72,7 @@ size_t EvaluateContext::ByteSize() const {
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
-         Bytes(limit_point_marks_) + Bytes(limit_tri_marks_);
+         Bytes(limit_point_marks_) + Bytes(limit_tri_marks_) + Bytes(limit_tri_bad_);
 }
 
 size_t RequiredFloats(size_t count, size_t stride_bytes) {
@@ -217,6 +219,7 @@ struct FrameState {
   uint32_t* limit_tris;            // active triangles (context)
   uint8_t* limit_point_marks;      // active points (context; 0 between StageLimit's phases)
   uint8_t* limit_tri_marks;        // active triangles (context; 0 between its phases)
+  uint8_t* limit_tri_bad;          // active triangles (context): FoldVerdict of this pass
   const uint32_t* point_tri_offsets;  // Rig::point_triangle_offsets
   const uint32_t* point_tris;         // Rig::point_triangles
 };
@@ -238,6 +241,34 @@ void FaceNormalsOfActive(const FrameState& f, bool ratios) {
 void StageMuscles(const FrameState& f) {
   ParallelFor(f.job, f.rig.active_point_count(), [&](uint32_t b, uint32_t e) {
     MusclePoints(f.rig.muscles(), f.activations, f.base, b, e, f.points);
+  });
+}
+
+// docs/model.md §18, the jaw: each carried point p turns about the hinge (pivot, unit axis k)
+// by theta_p = w_p jaw range, Rodrigues' formula v' = v cos + (k x v) sin + k (k.v)(1 - cos) on
+// v = X - pivot, then the glide w_p jaw T. X is the muscles' X0 + U, so this is J(X0) + R_p U:
+// the jaw pose with the muscle displacement turned with the jaw. Each point reads and writes
+// itself only.
+void StageJaw(const FrameState& f, float jaw) {
+  const RigJaw& j = f.rig.jaw();
+  const float3 c = j.pivot, k = j.axis, tr = j.translation;
+  const float angle = jaw * j.range;
+  const uint32_t* points = j.points.data();
+  const float* weights = j.weights.data();
+  float3* x = f.points;
+  ParallelFor(f.job, uint32_t(j.points.size()), [&](uint32_t b, uint32_t e) {
+    for (uint32_t i = b; i < e; ++i) {
+      const uint32_t p = points[i];
+      const float t = weights[i] * angle;
+      const float cs = std::cos(t), sn = std::sin(t);
+      const float3 v = x[p] - c;
+      const float3 kv = Cross(k, v);
+      const float d = Dot(k, v) * (1.f - cs);
+      const float g = weights[i] * jaw;  // the glide's share
+      x[p] = float3{c.x + (v.x * cs + kv.x * sn + k.x * d) + g * tr.x,
+                    c.y + (v.y * cs + kv.y * sn + k.y * d) + g * tr.y,
+                    c.z + (v.z * cs + kv.z * sn + k.z * d) + g * tr.z};
+    }
   });
 }
 
@@ -458,16 +489,31 @@ inline bool CosBelow(const float4& a, const float4& q, float limit) {
   return CosToRest(a, q) < limit;
 }
 
-// A limiter pass's test of point p: one of its triangles is below its limit.
-inline bool FoldFlag(const FrameState& f, const float4* rest, uint32_t p) {
+// The limiter's verdict of triangle t this pass: below its limit (CosBelow), once per triangle.
+inline void FoldVerdict(const FrameState& f, const float4* rest, uint32_t t) {
+  f.limit_tri_bad[t] = CosBelow(f.faces[t], rest[t], f.fold_limits[t]);
+}
+
+// A limiter pass's test of point p: one of its triangles is below its limit (the verdicts of
+// this pass's face normals, FoldVerdict).
+inline bool FoldFlag(const FrameState& f, uint32_t p) {
   const uint32_t* off = f.point_tri_offsets;
   const uint32_t* tri = f.point_tris;
-  const float4* faces = f.faces;
-  const float* limits = f.fold_limits;
-  bool bad = false;
-  for (uint32_t k = off[p]; k < off[p + 1] && !bad; ++k)
-    bad = CosBelow(faces[tri[k]], rest[tri[k]], limits[tri[k]]);
-  return bad;
+  const uint8_t* bad = f.limit_tri_bad;
+  uint8_t any = 0;
+  for (uint32_t k = off[p]; k < off[p + 1]; ++k) any |= bad[tri[k]];
+  return any != 0;
+}
+
+// Face normals of every active triangle and their verdicts.
+void FoldVerdictsOfActive(const FrameState& f, const float4* rest) {
+  const float3* points = f.points;
+  float4* faces = f.faces;
+  const uint32_t* triangles = f.rig.triangles().data();
+  ParallelFor(f.job, f.rig.active_triangle_count(), [&](uint32_t b, uint32_t e) {
+    FaceNormals4(points, triangles, b, e, nullptr, faces);
+    for (uint32_t t = b; t < e; ++t) FoldVerdict(f, rest, t);
+  });
 }
 
 // One more reduction of point p, whose level is below kFoldLimitCutLevel: the next power of two
@@ -497,7 +543,7 @@ bool FoldLimitFullScan(const FrameState& f, uint32_t* limited, uint32_t* passes)
   uint32_t first_total = 0, pass = 0;
   bool current = false;
   while (pass < kFoldLimitPasses) {
-    FaceNormalsOfActive(f, false);
+    FoldVerdictsOfActive(f, rest);
     ++pass;
     std::atomic<uint32_t> flagged{0}, first{0};
     const uint32_t* off = f.point_tri_offsets;
@@ -508,7 +554,7 @@ bool FoldLimitFullScan(const FrameState& f, uint32_t* limited, uint32_t* passes)
     ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
       uint32_t n = 0;
       for (uint32_t p = b; p < e; ++p) {
-        const bool bad = FoldFlag(f, rest, p);
+        const bool bad = FoldFlag(f, p);
         flags[p] = bad;
         n += bad;
       }
@@ -559,9 +605,9 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
   bool current = false;
   while (pass < kFoldLimitPasses) {
     if (pass == 0) {  // every active triangle and point
-      FaceNormalsOfActive(f, false);
+      FoldVerdictsOfActive(f, rest);
       ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
-        for (uint32_t p = b; p < e; ++p) flags[p] = FoldFlag(f, rest, p);
+        for (uint32_t p = b; p < e; ++p) flags[p] = FoldFlag(f, p);
       });
       for (uint32_t p = 0; p < count; ++p)
         if (flags[p]) flagged[n_flagged++] = p;
@@ -579,6 +625,7 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
       }
       ParallelFor(f.job, n_dirty, [&](uint32_t b, uint32_t e) {
         FaceNormals4Listed(f.points, triangles, dirty + b, e - b, f.faces);
+        for (uint32_t i = b; i < e; ++i) FoldVerdict(f, rest, dirty[i]);
       });
       // The points with one of those in their one-ring: the only flags that can differ.
       uint32_t n_recheck = 0;
@@ -593,7 +640,7 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
         }
       }
       ParallelFor(f.job, n_recheck, [&](uint32_t b, uint32_t e) {
-        for (uint32_t i = b; i < e; ++i) flags[recheck[i]] = FoldFlag(f, rest, recheck[i]);
+        for (uint32_t i = b; i < e; ++i) flags[recheck[i]] = FoldFlag(f, recheck[i]);
       });
       // Flagged now: the flagged points not retested, and the retested ones that are.
       uint32_t n = 0;
@@ -729,6 +776,7 @@ bool EvaluateJob::Run() const {
   const Rig& r = *rig;
   const RigTables& t = r.tables();
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
+  ctx.jaw_ = jaw >= 0.f ? (jaw <= 1.f ? jaw : 1.f) : 0.f;  // NaN -> 0
   FrameState f{
       .job = *this,
       .rig = r,
@@ -762,12 +810,14 @@ bool EvaluateJob::Run() const {
       .limit_tris = ctx.limit_tris_.data(),
       .limit_point_marks = ctx.limit_point_marks_.data(),
       .limit_tri_marks = ctx.limit_tri_marks_.data(),
+      .limit_tri_bad = ctx.limit_tri_bad_.data(),
       .point_tri_offsets = r.point_triangle_offsets().data(),
       .point_tris = r.point_triangles().data(),
   };
   f.limit_folds = limit_folds && f.skin();
   ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
+  if (ctx.jaw_ > 0.f && !r.jaw().empty()) StageJaw(f, ctx.jaw_);
   bool faces_current = false;
   if (f.skin()) {
     StageStrain(f);

@@ -1,11 +1,14 @@
 // rig/runtime/evaluate_job.h: the one per-frame entry point.
 //
-// rest mesh + activations -> positions and normals (docs/model.md §1). Run() is a fixed sequence of
+// rest mesh + activations (+ jaw) -> positions and normals (docs/model.md §1). Run() is a fixed sequence of
 // stages (static functions in evaluate_job.cpp), each reading and writing one per-frame
 // FrameState (the job, the rig, its RigTables, the context's scratch and the layer flags
 // resolved once per frame):
 //   StageMuscles   X1 = base + sum_m a_m U_m over the active points (MusclePoints:
 //                  MuscleDeformJob in SSE); base = the rest pose        docs/model.md §1-3
+//   StageJaw       (rigs with a jaw, jaw > 0) each carried point turns about the hinge by its
+//                  weighted angle w_p jaw range, muscle displacement included: X1 = J(X0) +
+//                  R_p U = pivot + R_p (X0 + U - pivot)               docs/model.md §18
 //   StageStrain    face normals of X1 with each triangle's area ratio in the same pass; the
 //                  lengths of the edges the strain measures read (each edge once) docs/model.md §4-5
 //   StageDisplace  per point: N1 and r gathered from its triangles; compression eps of its
@@ -30,9 +33,6 @@
 // moving point), which the builder decides in ONE place (rig_builder MovingPoints) and every
 // table of RigTables derives from.
 // Where the next features go (each a local change):
-//   - a jaw stage BEFORE the muscles: StageJaw writes the jaw-skinned pose into the context and
-//     points FrameState::base at it, StageMuscles adds onto base; the builder adds the jaw's
-//     points to MovingPoints, and the ranges (hence every later stage) follow.
 //   - per-vertex outputs (e.g. two fine-scale amplitudes): an optional strided span on the job,
 //     its per-point values kept by StageDisplace in a context buffer named in FrameState, and
 //     one more write in StageOutputs' per-vertex loop.
@@ -70,6 +70,7 @@ class EvaluateContext {
 
   // Read access to the last frame's intermediate results (for overlays and tests).
   span<const float> activations() const { return activations_; }
+  float jaw() const { return jaw_; }
   span<const float3> points() const { return span<const float3>(points_).first(point_count_); }
   // Per-point area ratio r of the last frame (docs/model.md §4); 1 where no skin layer ran.
   span<const float> area_ratios() const { return point_ratios_; }
@@ -86,6 +87,7 @@ class EvaluateContext {
   uint64_t rig_uid_ = 0;
   uint32_t point_count_ = 0, triangle_count_ = 0, muscle_count_ = 0;
   std::vector<float> activations_;     // #muscles, sanitised, in [0, 1]
+  float jaw_ = 0.f;                    // the last frame's jaw value, sanitised, in [0, 1]
   std::vector<float3> points_;         // #P deformed (rest where nothing moves), then
                                        // kPointPadFloats (face_kernels.h); mesh units
   std::vector<float4> faces_;          // #T face normals (xyz, unnormalised) and area ratios
@@ -111,6 +113,7 @@ class EvaluateContext {
   std::vector<uint32_t> limit_tris_;     // AT: triangles touching a moved point
   std::vector<uint8_t> limit_point_marks_;  // A
   std::vector<uint8_t> limit_tri_marks_;    // AT
+  std::vector<uint8_t> limit_tri_bad_;      // AT: each triangle's verdict in the current pass
   uint32_t limited_points_ = 0, limiter_passes_ = 0;
 };
 
@@ -132,6 +135,10 @@ struct EvaluateJob {
   const Rig* rig = nullptr;
   EvaluateContext* context = nullptr;
   span<const float> activations;      // one per muscle, rig order; clamped to [0,1], NaN -> 0
+  // The jaw opening (docs/model.md §18), a fraction of the rig's range: clamped to [0, 1],
+  // NaN -> 0, like an activation (never a reason to refuse the job). Ignored by a rig without
+  // a jaw; 0 gives the same bits as a rig without one.
+  float jaw = 0.f;
   // Output positions of vertex v at floats [v * stride/4, v * stride/4 + 3); mesh units.
   span<float> out_positions;          // >= (#V - 1) * stride/4 + 3 floats
   size_t out_positions_stride = 12;   // bytes, >= 12, multiple of 4

@@ -48,6 +48,7 @@ size_t Rig::ByteSize() const {
   n += Bytes(c.names) + Bytes(c.wrinkles) + Bytes(c.points) + Bytes(c.offsets) +
        Bytes(c.entries) + Bytes(c.probes);
   n += Bytes(d.muscle_names) + Bytes(d.muscles.offsets) + Bytes(d.muscles.entries);
+  n += Bytes(d.jaw.points) + Bytes(d.jaw.weights);
   const RigTables& t = tables_;
   n += Bytes(t.rest_faces) + Bytes(t.rest_point_normals) + Bytes(t.edge_pairs) +
        Bytes(t.row_offsets) + Bytes(t.entry_edges) + Bytes(t.entry_rest) +

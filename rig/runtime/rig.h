@@ -56,6 +56,20 @@ struct RigCurveWrinkles {
   uint32_t row_count() const { return uint32_t(points.size()); }
 };
 
+// The jaw (docs/model.md §18): a hinge through the two condyles and a per-point weight. At jaw
+// value j in [0, 1] a carried point p turns about the hinge by the angle w_p j range (Rodrigues'
+// rotation) and then moves by w_p j translation (the condyles' glide); the muscles'
+// displacement at p turns with it. Points with w_p = 0 are not listed.
+struct RigJaw {
+  float3 pivot{};         // a point on the hinge axis (the condyles' midpoint), mesh units
+  float3 axis{};          // unit: subject's right condyle -> left one; opening = positive angle
+  float range = 0.f;      // radians at jaw = 1, > 0
+  float3 translation{};   // the condyles' glide at jaw = 1, mesh units: + w_p jaw translation
+  std::vector<uint32_t> points;  // carried points, ascending, all < active points
+  std::vector<float> weights;    // per entry of `points`, in (0, 1]
+  bool empty() const { return points.empty(); }
+};
+
 // The leading ranges a frame touches (points and triangles are ordered so, see rig_builder
 // MovingPoints / ActiveOrder, the one place that decides what can move): [0, points) can move;
 // [0, normal_points) can change normal; the rest stay at their rest position and normal.
@@ -94,6 +108,9 @@ struct RigData {
   // Muscles.
   std::vector<std::string> muscle_names;  // rig order = activation order
   MuscleTable muscles;
+
+  // The jaw (empty = none: EvaluateJob::jaw is ignored).
+  RigJaw jaw;
 
   uint32_t point_count() const { return uint32_t(rest_points.size()); }
   uint32_t triangle_count() const { return uint32_t(triangles.size() / 3); }
@@ -183,6 +200,8 @@ class Rig {
   // Muscles.
   const std::vector<std::string>& muscle_names() const { return data_.muscle_names; }
   const MuscleTable& muscles() const { return data_.muscles; }
+  // The jaw (empty when the rig has none).
+  const RigJaw& jaw() const { return data_.jaw; }
 
   uint32_t point_count() const { return data_.point_count(); }
   uint32_t triangle_count() const { return data_.triangle_count(); }

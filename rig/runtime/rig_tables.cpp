@@ -3,6 +3,7 @@
 #include "rig/runtime/rig_tables.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "rig/runtime/face_kernels.h"
 #include "wrinkles/runtime/profiles.h"
@@ -56,6 +57,20 @@ bool CheckRigData(const RigData& r) {
       if (p >= n_active) return false;
   for (uint32_t p : r.curve_wrinkles.points)
     if (p >= n_active) return false;
+  {  // the jaw: carried points ascending and active, weights in (0, 1], a unit axis, finite glide
+    const RigJaw& j = r.jaw;
+    if (j.weights.size() != j.points.size()) return false;
+    for (size_t i = 0; i < j.points.size(); ++i) {
+      if (j.points[i] >= n_active || (i > 0 && j.points[i] <= j.points[i - 1])) return false;
+      if (!(j.weights[i] > 0.f && j.weights[i] <= 1.f)) return false;
+    }
+    if (!j.points.empty()) {
+      const float len2 = Dot(j.axis, j.axis);
+      if (!(std::fabs(len2 - 1.f) < 1e-4f) || !IsFinite(j.pivot) || !IsFinite(j.translation) || !(j.range > 0.f) ||
+          !std::isfinite(j.range))
+        return false;
+    }
+  }
   {
     const std::vector<float> activations(r.muscle_count(), 0.f);
     std::vector<float3> moved(size_t(points) + 1);  // EvaluateContext's padded point buffer

@@ -436,5 +436,64 @@ TEST(ClipBuilder, ErrorsNameTheChannelAndTheClosestNames) {
             std::string::npos) << diag.Format();
 }
 
+
+// The jaw ("jaw" where a muscle name goes, clip.h kJawInputName): a jaw channel sets it, an
+// expression that names it combines it by the channel's layer, like a muscle; out_jaw gets it.
+float SampleJaw(const CompiledClip& clip, float t, std::vector<float>* activations = nullptr) {
+  std::vector<float> out(clip.muscle_count(), -1.f);
+  float jaw = -1.f;
+  ClipSampleJob job{&clip, t, out, span<float>(&jaw, 1)};
+  EXPECT_TRUE(job.Run());
+  if (activations) *activations = out;
+  return jaw;
+}
+
+TEST(ClipSampler, TheJawIsOneMoreValueUnderTheSameRules) {
+  // A jaw channel, linear 0 -> 0.8 over 2 s, beside a muscle channel.
+  const CompiledClip direct =
+      Build({Muscle("jaw", {Key(0, 0.f), Key(2, 0.8f)}), Muscle("a", {Key(0, 0.5f)})});
+  EXPECT_TRUE(direct.animates_jaw());
+  std::vector<float> a;
+  EXPECT_NEAR(SampleJaw(direct, 1.f, &a), 0.4, 1e-7);
+  EXPECT_EQ(a[0], 0.5f);
+  EXPECT_EQ(a[1], 0.f);
+  // Without out_jaw the job still runs and writes the activations only.
+  EXPECT_EQ(Sample(direct, 1.f)[0], 0.5f);
+  // Expressions: Open {jaw 0.6, a 0.2}, Wide {jaw 0.9}; jaw channel first at 0.3.
+  const std::vector<ClipExpression> ex = {{"Open", {{"jaw", 0.6f}, {"a", 0.2f}}},
+                                          {"Wide", {{"jaw", 0.9f}}},
+                                          {"Still", {{"b", 1.f}}}};
+  auto with = [&](ClipLayer layer, const char* name, float w) {
+    return Build({Muscle("jaw", {Key(0, 0.3f)}), Expr(name, layer, {Key(0, w)})},
+                 ClipEnd::kClamp, -1.f, ex);
+  };
+  EXPECT_NEAR(SampleJaw(with(ClipLayer::kAdd, "Open", 0.5f), 0.f), 0.3 + 0.5 * 0.6, 1e-7);
+  EXPECT_EQ(SampleJaw(with(ClipLayer::kAdd, "Wide", 1.f), 0.f), 1.f);  // 0.3 + 0.9, clamped
+  EXPECT_NEAR(SampleJaw(with(ClipLayer::kMax, "Open", 0.5f), 0.f), 0.3, 1e-7);   // max(.3, .3)
+  EXPECT_NEAR(SampleJaw(with(ClipLayer::kMax, "Wide", 0.5f), 0.f), 0.45, 1e-7);  // max(.3, .45)
+  EXPECT_NEAR(SampleJaw(with(ClipLayer::kOverride, "Wide", 0.5f), 0.f), 0.3 + 0.5 * (0.9 - 0.3),
+              1e-7);
+  // An override expression that does not name the jaw leaves it; add and max add 0.
+  EXPECT_NEAR(SampleJaw(with(ClipLayer::kOverride, "Still", 1.f), 0.f), 0.3, 1e-7);
+  EXPECT_NEAR(SampleJaw(with(ClipLayer::kAdd, "Still", 1.f), 0.f), 0.3, 1e-7);
+  // A clip that never names the jaw gives 0 and says so.
+  const CompiledClip none = Build({Muscle("a", {Key(0, 0.5f)})});
+  EXPECT_FALSE(none.animates_jaw());
+  EXPECT_EQ(SampleJaw(none, 0.f), 0.f);
+  // Two jaw channels are refused with both channels named (CheckClipSpec).
+  ClipSpec twice{"t", -1.f, ClipEnd::kClamp,
+                 {Muscle("jaw", {Key(0, 0.1f)}), Muscle("jaw", {Key(0, 0.2f)})}};
+  CompiledClip clip;
+  Diagnostics diag;
+  EXPECT_FALSE(BuildClip(twice, kMuscles, {}, &clip, &diag));
+  EXPECT_TRUE(diag.Contains("channels[1].muscle")) << diag.Format();
+  EXPECT_TRUE(diag.Contains("\"jaw\" is already the target of channels[0]")) << diag.Format();
+  // A rig with a muscle named "jaw" keeps it a muscle.
+  const CompiledClip muscle = Build({Muscle("jaw", {Key(0, 0.7f)})}, ClipEnd::kClamp, -1.f, {},
+                                    {"a", "jaw"});
+  EXPECT_FALSE(muscle.animates_jaw());
+  EXPECT_EQ(Sample(muscle, 0.f)[1], 0.7f);
+}
+
 }  // namespace
 }  // namespace mimetic

@@ -242,8 +242,9 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
   for (const PlacedPoint& p : f.report.points) {
     // The platysma's attachment line lies below the jaw, where the sample head ends (no neck):
     // the fit takes the nearest surface point there (with a warning). Every other point is hit.
-    if (p.muscle.rfind("platysma", 0) != 0 || p.role.rfind("attachment", 0) != 0)
+    if (p.muscle.rfind("platysma", 0) != 0 || p.role.rfind("attachment", 0) != 0) {
       EXPECT_TRUE(p.ray_hit) << p.muscle << " " << p.role;
+    }
     const float d = BruteDistance(Head().mesh, p.position);
     // Distance to the nearest surface point == depth * s within 5% (plus 0.1% of s for
     // points at depth ~0 and float rounding).

@@ -187,7 +187,9 @@ TEST(ArkitMap, TheDefaultMapFitsTheSampleHead) {
       << diag.Format();
   for (const ArkitShape& s : shapes) {
     EXPECT_FALSE(s.note.empty()) << s.name;
-    if (s.how != ArkitShape::How::kNone) EXPECT_FALSE(s.activations.empty()) << s.name;
+    if (s.how != ArkitShape::How::kNone) {
+      EXPECT_FALSE(s.activations.empty()) << s.name;
+    }
     // A Left shape moves the subject's left muscles more than the right ones.
     const bool left = s.name.ends_with("Left"), right = s.name.ends_with("Right");
     if (s.how == ArkitShape::How::kNone || !(left || right) || s.name.starts_with("mouthLeft") ||

@@ -1,6 +1,7 @@
 // tests/io/gltf_bake_test.cpp: io/gltf_bake.h on a hand-made quad whose frames are written out
-// here: the glb read back with tinygltf (tests/gltf_decode.h) has one morph target per frame
-// whose sparse-expanded deltas plus the base are the frames, sparse accessors exactly where
+// here: the glb read back with tinygltf (tests/gltf_decode.h) has one morph target per distinct
+// frame that is not the base, and the weights animation's rows times the sparse-expanded
+// deltas plus the base are the frames, sparse accessors exactly where
 // they are smaller, min/max, the LINEAR weights animation at k / fps, the unit node; bad input
 // is refused with a message; the file write is atomic.
 #include <gtest/gtest.h>
@@ -60,39 +61,38 @@ TEST(GltfBake, QuadReadsBackFrameByFrame) {
   ASSERT_EQ(m.meshes.size(), 1u);
   ASSERT_EQ(m.meshes[0].primitives.size(), 1u);
   const tinygltf::Primitive& prim = m.meshes[0].primitives[0];
-  ASSERT_EQ(prim.targets.size(), 3u);
+  // Frame 0 is the base: no target; frames 1 and 2 have one each.
+  ASSERT_EQ(prim.targets.size(), 2u);
+  EXPECT_EQ(stats.targets, 2u);
   const std::vector<float> base = test::ReadFloats(m, prim.attributes.at("POSITION"));
   ASSERT_EQ(base.size(), 12u);
   const tinygltf::Accessor& pa = m.accessors[size_t(prim.attributes.at("POSITION"))];
   EXPECT_EQ(pa.minValues, (std::vector<double>{0, 0, 0}));
   EXPECT_EQ(pa.maxValues, (std::vector<double>{1, 1, 0}));
-  for (size_t k = 0; k < 3; ++k) {
-    const int acc = prim.targets[k].at("POSITION");
+  for (size_t k = 1; k < 3; ++k) {
+    const int acc = prim.targets[k - 1].at("POSITION");
     const std::vector<float> d = test::ReadFloats(m, acc);
     ASSERT_EQ(d.size(), 12u);
     for (size_t i = 0; i < 12; ++i)
       EXPECT_EQ(base[i] + d[i], f.positions[k * 12 + i]) << "frame " << k << " float " << i;
-    ASSERT_TRUE(prim.targets[k].count("NORMAL"));
-    for (float n : test::ReadFloats(m, prim.targets[k].at("NORMAL"))) EXPECT_EQ(n, 0.f);
+    ASSERT_TRUE(prim.targets[k - 1].count("NORMAL"));
+    for (float n : test::ReadFloats(m, prim.targets[k - 1].at("NORMAL"))) EXPECT_EQ(n, 0.f);
   }
-  // Frame 0: no bufferView, no sparse (all zeros); frame 1: sparse, index 2 only; frame 2 dense.
-  const tinygltf::Accessor& a0 = m.accessors[size_t(prim.targets[0].at("POSITION"))];
-  EXPECT_EQ(a0.bufferView, -1);
-  EXPECT_FALSE(a0.sparse.isSparse);
-  EXPECT_EQ(a0.minValues, (std::vector<double>{0, 0, 0}));
-  const tinygltf::Accessor& a1 = m.accessors[size_t(prim.targets[1].at("POSITION"))];
+  // Frame 1: sparse, index 2 only; frame 2 dense.
+  const tinygltf::Accessor& a1 = m.accessors[size_t(prim.targets[0].at("POSITION"))];
   EXPECT_TRUE(a1.sparse.isSparse);
   EXPECT_EQ(a1.sparse.count, 1);
   EXPECT_EQ(a1.sparse.indices.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
   EXPECT_EQ(a1.minValues, (std::vector<double>{0, 0, 0}));
   EXPECT_EQ(a1.maxValues, (std::vector<double>{0, 0, 0.5}));
-  const tinygltf::Accessor& a2 = m.accessors[size_t(prim.targets[2].at("POSITION"))];
+  const tinygltf::Accessor& a2 = m.accessors[size_t(prim.targets[1].at("POSITION"))];
   EXPECT_FALSE(a2.sparse.isSparse);
   EXPECT_GE(a2.bufferView, 0);
   EXPECT_EQ(a2.minValues, (std::vector<double>{0.25, 0, 0}));
   EXPECT_EQ(a2.maxValues, (std::vector<double>{0.25, 0, 0}));
 
-  // The animation: weights of node 0, LINEAR, input k / 10, output row k = e_k.
+  // The animation: weights of node 0, LINEAR, input k / 10; row 0 all 0 (the base), row 1 =
+  // e_0, row 2 = e_1.
   ASSERT_EQ(m.animations.size(), 1u);
   ASSERT_EQ(m.animations[0].channels.size(), 1u);
   EXPECT_EQ(m.animations[0].channels[0].target_path, "weights");
@@ -105,9 +105,10 @@ TEST(GltfBake, QuadReadsBackFrameByFrame) {
   EXPECT_EQ(m.accessors[size_t(s.input)].minValues, (std::vector<double>{0.0}));
   EXPECT_EQ(m.accessors[size_t(s.input)].maxValues, (std::vector<double>{double(0.2f)}));
   const std::vector<float> out = test::ReadFloats(m, s.output);
-  ASSERT_EQ(out.size(), 9u);
+  ASSERT_EQ(out.size(), 6u);
+  const float rows[3][2] = {{0, 0}, {1, 0}, {0, 1}};
   for (size_t r = 0; r < 3; ++r)
-    for (size_t c = 0; c < 3; ++c) EXPECT_EQ(out[r * 3 + c], r == c ? 1.f : 0.f);
+    for (size_t c = 0; c < 2; ++c) EXPECT_EQ(out[r * 2 + c], rows[r][c]) << r << " " << c;
 
   // The base mesh also reads back through ImportMesh (morph targets ignored, units kept).
   const std::string dir = test::TempDir();
@@ -117,6 +118,79 @@ TEST(GltfBake, QuadReadsBackFrameByFrame) {
   ASSERT_TRUE(ImportMesh(dir + "/q.glb", "", &back, &import)) << import.Format();
   EXPECT_EQ(back.positions, f.base.positions);
   EXPECT_EQ(back.indices, f.base.indices);
+}
+
+// A held pose shares one target; frames at the base have none; weights x targets + base
+// reproduce every frame. Frames: base, A, A, B, A, base (A moves vertex 1, B vertex 3; B's
+// normal also turns).
+TEST(GltfBake, HeldAndNeutralFramesShareTargets) {
+  BakedFrames f = Quad();
+  f.times = {0.0, 0.1, 0.2, 0.3, 0.4, 0.5};
+  f.positions.clear();
+  f.normals.clear();
+  const int pose[6] = {0, 1, 1, 2, 1, 0};
+  for (int k = 0; k < 6; ++k)
+    for (int v = 0; v < 4; ++v) {
+      float3 p = f.base.positions[size_t(v)];
+      float3 n{0, 0, 1};
+      if (pose[k] == 1 && v == 1) p.y += 0.125f;
+      if (pose[k] == 2 && v == 3) {
+        p.z -= 0.5f;
+        n = {0.6f, 0, 0.8f};
+      }
+      f.positions.insert(f.positions.end(), {p.x, p.y, p.z});
+      f.normals.insert(f.normals.end(), {n.x, n.y, n.z});
+    }
+  std::string bytes;
+  BakeStats stats;
+  Diagnostics diag;
+  ASSERT_TRUE(BakeGlbBytes(f, &bytes, &stats, &diag)) << diag.Format();
+  EXPECT_EQ(stats.frames, 6u);
+  EXPECT_EQ(stats.targets, 2u);
+  tinygltf::Model m;
+  std::string err;
+  ASSERT_TRUE(test::LoadGlb(bytes, &m, &err)) << err;
+  const tinygltf::Primitive& prim = m.meshes[0].primitives[0];
+  ASSERT_EQ(prim.targets.size(), 2u);
+  EXPECT_EQ(m.meshes[0].weights.size(), 2u);
+  const std::vector<float> base = test::ReadFloats(m, prim.attributes.at("POSITION"));
+  const std::vector<float> base_n = test::ReadFloats(m, prim.attributes.at("NORMAL"));
+  std::vector<std::vector<float>> dp, dn;
+  for (const auto& t : prim.targets) {
+    dp.push_back(test::ReadFloats(m, t.at("POSITION")));
+    dn.push_back(test::ReadFloats(m, t.at("NORMAL")));
+  }
+  const std::vector<float> out = test::ReadFloats(m, m.animations[0].samplers[0].output);
+  ASSERT_EQ(out.size(), 6u * 2u);
+  for (size_t k = 0; k < 6; ++k) {
+    const float* w = &out[k * 2];
+    EXPECT_EQ(w[0] + w[1], pose[k] == 0 ? 0.f : 1.f) << k;
+    for (size_t i = 0; i < 12; ++i) {
+      EXPECT_EQ(base[i] + w[0] * dp[0][i] + w[1] * dp[1][i], f.positions[k * 12 + i]) << k << " " << i;
+      EXPECT_EQ(base_n[i] + w[0] * dn[0][i] + w[1] * dn[1][i], f.normals[k * 12 + i]) << k << " " << i;
+    }
+  }
+  EXPECT_EQ(std::vector<float>(out.begin() + 2, out.begin() + 4),
+            std::vector<float>(out.begin() + 4, out.begin() + 6));  // frames 1 and 2: one target
+
+  // Every frame the base: one all-zero target, weights all 0.
+  BakedFrames still = Quad();
+  still.positions.clear();
+  still.normals.clear();
+  for (int k = 0; k < 2; ++k)
+    for (const float3& p : still.base.positions) {
+      still.positions.insert(still.positions.end(), {p.x, p.y, p.z});
+      still.normals.insert(still.normals.end(), {0.f, 0.f, 1.f});
+    }
+  still.times = {0.0, 0.1};
+  ASSERT_TRUE(BakeGlbBytes(still, &bytes, &stats, &diag)) << diag.Format();
+  EXPECT_EQ(stats.targets, 1u);
+  tinygltf::Model m2;
+  ASSERT_TRUE(test::LoadGlb(bytes, &m2, &err)) << err;
+  ASSERT_EQ(m2.meshes[0].primitives[0].targets.size(), 1u);
+  for (float x : test::ReadFloats(m2, m2.animations[0].samplers[0].output)) EXPECT_EQ(x, 0.f);
+  for (float x : test::ReadFloats(m2, m2.meshes[0].primitives[0].targets[0].at("POSITION")))
+    EXPECT_EQ(x, 0.f);
 }
 
 TEST(GltfBake, U32SparseIndicesPastU16AndNoNormals) {

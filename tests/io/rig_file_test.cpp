@@ -77,13 +77,19 @@ std::string Curve(const std::string& from, const std::string& to) {
 }
 // The base rig with one more top-level member, e.g. `"layers": {...}`.
 std::string Extra(const std::string& member) { return Doc("[" + kLinear + "]", ", " + member); }
+// A jaw block (docs/model.md §18) with only the required keys of the region form.
+const std::string kJaw =
+    R"({"condyles": [[-60, 0, -50], [60, 0, -50]], "range_deg": 20, "mouth": [0, 0, 10], "mouth_width": 40})";
+std::string Jaw(const std::string& from, const std::string& to) {
+  return Extra(R"("jaw": )" + Replace(kJaw, from, to));
+}
 
 TEST(RigJsonTest, BaseTextsAreValid) {
   for (const std::string& text :
        {Doc(), Doc("[" + kSheet + "]"), Doc("[]"), Thickness(R"({"type": "constant", "value": 3})"),
         LinearW(R"({"depth": 1, "phi_c_deg": 10})"), SheetW(R"({"depth": 1, "h_c": 5})"),
         Curves("[" + kCurve + "]"), Extra(R"("layers": {"thickness": false})"),
-        Extra(R"("refinement": {"edge_fraction": 1})")}) {
+        Extra(R"("refinement": {"edge_fraction": 1})"), Extra(R"("jaw": )" + kJaw)}) {
     RigSpec spec;
     Diagnostics diag;
     EXPECT_TRUE(ParseRigSpec(text, "", &spec, &diag)) << diag.Format() << text;
@@ -345,6 +351,59 @@ std::vector<BadCase> BadCases() {
       {"unknown key in refinement", Extra(R"("refinement": {"levels": 2})"),
        {"refinement.levels: unknown key \"levels\"; allowed keys for refinement: enabled, "
         "edge_fraction"}},
+      // The jaw (docs/model.md §18).
+      {"jaw not an object", Extra(R"("jaw": 3)"), {"jaw: expected object {\"condyles\""}},
+      {"jaw without condyles", Extra(R"("jaw": {"range_deg": 20, "mouth": [0, 0, 10], "mouth_width": 40})"),
+       {"jaw.condyles: missing required key; expected array of 2 points (the subject's right, "
+        "then left condyle"}},
+      {"jaw with one condyle", Jaw(R"("condyles": [[-60, 0, -50], [60, 0, -50]])", R"("condyles": [[-60, 0, -50]])"),
+       {"jaw.condyles: expected array of 2 points", "got array of 1 elements"}},
+      {"jaw condyle of 2 numbers", Jaw(R"([-60, 0, -50])", "[-60, 0]"),
+       {"jaw.condyles[0]: expected array of 3 numbers"}},
+      {"jaw condyles coincide", Jaw(R"([60, 0, -50])", "[-60, 0, -50]"),
+       {"jaw.condyles: the two condyles coincide; expected two distinct points"}},
+      {"jaw without range", Jaw(R"("range_deg": 20, )", ""),
+       {"jaw.range_deg: missing required key; expected a number in (0, 90] (degrees)"}},
+      {"jaw range 0", Jaw(R"("range_deg": 20)", R"("range_deg": 0)"),
+       {"jaw.range_deg: expected a number in (0, 90] (degrees), got 0"}},
+      {"jaw range 120", Jaw(R"("range_deg": 20)", R"("range_deg": 120)"),
+       {"jaw.range_deg: expected a number in (0, 90] (degrees), got 120"}},
+      {"jaw range string", Jaw(R"("range_deg": 20)", R"("range_deg": "wide")"),
+       {"jaw.range_deg: expected a number in (0, 90] (degrees), got string"}},
+      {"jaw without mouth", Jaw(R"("mouth": [0, 0, 10], )", ""),
+       {"jaw.mouth: missing required key (jaw.weights is absent); expected a point [x, y, z]"}},
+      {"jaw without mouth_width", Jaw(R"(, "mouth_width": 40)", ""),
+       {"jaw.mouth_width: missing required key (jaw.weights is absent); expected a number > 0"}},
+      {"jaw mouth_width 0", Jaw(R"("mouth_width": 40)", R"("mouth_width": 0)"),
+       {"jaw.mouth_width: expected a number > 0 (mouth corner to corner, mesh units), got 0"}},
+      {"jaw mouth on the axis", Jaw(R"("mouth": [0, 0, 10])", R"("mouth": [5, 0, -50])"),
+       {"jaw.mouth: lies on the hinge axis through the condyles; expected a point in front of them"}},
+      {"jaw lip_blend_deg 0", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "lip_blend_deg": 0)"),
+       {"jaw.lip_blend_deg: expected a number in (0, 45] (degrees), got 0"}},
+      {"jaw cheek_blend_deg 100", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "cheek_blend_deg": 100)"),
+       {"jaw.cheek_blend_deg: expected a number in (0, 90] (degrees), got 100"}},
+      {"jaw cheek_drop_deg -1", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "cheek_drop_deg": -1)"),
+       {"jaw.cheek_drop_deg: expected a number in [0, 45] (degrees), got -1"}},
+      {"jaw back reversed", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "back": [0.6, 0.2])"),
+       {"jaw.back: is [0.6, 0.2]; expected [b0, b1] in [-1, 1] with b0 < b1"}},
+      {"jaw back of 3", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "back": [0, 0.2, 0.4])"),
+       {"jaw.back: expected array of 2 numbers [b0, b1]", "got array of 3 elements"}},
+      {"jaw weight 1.5", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "weights": [0, 1.5])"),
+       {"jaw.weights[1]: expected a number in [0, 1], got 1.5"}},
+      {"jaw weight string", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "weights": ["x"])"),
+       {"jaw.weights[0]: expected a number in [0, 1], got string"}},
+      {"unknown key in jaw", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "hinge": [0, 0, 0])"),
+       {"jaw.hinge: unknown key \"hinge\"; allowed keys for jaw: condyles, range_deg, translation, mouth"}},
+      {"jaw translation of 2", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "translation": [0, 1])"),
+       {"jaw.translation: expected array of 3 numbers [x, y, z] (mesh units)", "got array of 2 elements"}},
+      {"jaw translation string", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "translation": "down")"),
+       {"jaw.translation: expected array of 3 numbers [x, y, z] (mesh units), got string"}},
+      {"jaw neck reversed", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [60, 20])"),
+       {"jaw.neck_deg: is [60, 20]; expected [n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line)"}},
+      {"jaw neck beyond 180", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20, 200])"),
+       {"jaw.neck_deg: is [20, 200]; expected [n0, n1] in [0, 180]"}},
+      {"jaw neck of 1", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20])"),
+       {"jaw.neck_deg: expected array of 2 numbers [n0, n1]", "got array of 1 elements"}},
   };
 }
 
@@ -1255,6 +1314,52 @@ std::string RunCommand(const std::string& cmd) {
   while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
   ::pclose(pipe);
   return out;
+}
+
+TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseRigSpec(Jaw(R"("mouth_width": 40)",
+                               R"("mouth_width": 40, "lip_blend_deg": 3, "back": [0.1, 0.5], )"
+                               R"("translation": [0, -4, 2.5], "neck_deg": [25, 55])"),
+                           "", &spec, &diag))
+      << diag.Format();
+  ASSERT_TRUE(spec.jaw.has_value());
+  ExpectVec(spec.jaw->condyles[0], -60, 0, -50);
+  ExpectVec(spec.jaw->condyles[1], 60, 0, -50);
+  ExpectVec(spec.jaw->mouth, 0, 0, 10);
+  EXPECT_EQ(spec.jaw->range_deg, 20.f);
+  EXPECT_EQ(spec.jaw->mouth_width, 40.f);
+  EXPECT_EQ(spec.jaw->lip_blend_deg, 3.f);
+  EXPECT_EQ(spec.jaw->cheek_blend_deg, JawSpec().cheek_blend_deg);  // default
+  EXPECT_EQ(spec.jaw->back[0], 0.1f);
+  EXPECT_EQ(spec.jaw->back[1], 0.5f);
+  ExpectVec(spec.jaw->translation, 0, -4, 2.5);
+  EXPECT_EQ(spec.jaw->neck_deg[0], 25.f);
+  EXPECT_EQ(spec.jaw->neck_deg[1], 55.f);
+  EXPECT_TRUE(spec.jaw->weights.empty());
+  const std::string dir = test::TempDir();
+  for (bool explicit_weights : {false, true}) {
+    if (explicit_weights) spec.jaw->weights = {0.f, 0.25f, 1.f};
+    const std::string path = dir + "/jaw.rig.json";
+    spec.file = path;
+    spec.mesh_path = dir + "/surface.obj";
+    ASSERT_TRUE(SaveRigSpec(path, spec, &diag)) << diag.Format();
+    RigSpec loaded;
+    ASSERT_TRUE(LoadRigSpec(path, &loaded, &diag)) << diag.Format();
+    ASSERT_TRUE(loaded.jaw.has_value());
+    ExpectVec(loaded.jaw->condyles[1], 60, 0, -50);
+    EXPECT_EQ(loaded.jaw->range_deg, 20.f);
+    EXPECT_EQ(loaded.jaw->weights, spec.jaw->weights);
+    ExpectVec(loaded.jaw->translation, 0, -4, 2.5);
+    if (!explicit_weights) {
+      EXPECT_EQ(loaded.jaw->neck_deg[0], 25.f);
+      EXPECT_EQ(loaded.jaw->neck_deg[1], 55.f);
+      ExpectVec(loaded.jaw->mouth, 0, 0, 10);
+      EXPECT_EQ(loaded.jaw->lip_blend_deg, 3.f);
+      EXPECT_EQ(loaded.jaw->back[1], 0.5f);
+    }
+  }
 }
 
 TEST(RigJsonTest, SchemaAgreesWithTheLoader) {

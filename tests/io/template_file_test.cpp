@@ -115,6 +115,32 @@ struct BadCase {
   std::vector<std::string> expect;  // substrings of the diagnostics (where or what)
 };
 
+// kValid with a jaw block (docs/template-format.md) carrying `extra` keys.
+std::string WithJaw(const std::string& extra) {
+  return Replace(kValid, "\"curve_wrinkles\": [",
+                 R"("jaw": {"condyle": {"landmarks": [0], "offset": [0.1, -0.3, -0.4]}, )"
+                 R"("range_deg": 5, )" + extra + "},\n  \"curve_wrinkles\": [");
+}
+
+TEST(MuscleTemplate, JawWithGlideAndNeckParses) {
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(WithJaw(R"("translation": [0, -0.25, -0.2], "neck_deg": [26, 56])"),
+                                  &t, &diag))
+      << diag.Format();
+  ASSERT_TRUE(t.jaw.has_value());
+  EXPECT_EQ(t.jaw->range_deg, 5.f);
+  EXPECT_EQ(t.jaw->translation.y, -0.25f);
+  EXPECT_EQ(t.jaw->translation.z, -0.2f);
+  EXPECT_EQ(t.jaw->neck_deg[0], 26.f);
+  EXPECT_EQ(t.jaw->neck_deg[1], 56.f);
+  MuscleTemplate none;
+  ASSERT_TRUE(ParseMuscleTemplate(WithJaw(R"("lip_blend_deg": 1)"), &none, &diag)) << diag.Format();
+  EXPECT_EQ(none.jaw->translation.y, 0.f);  // defaults: no glide, no neck fade in front
+  EXPECT_EQ(none.jaw->neck_deg[0], 90.f);
+  EXPECT_EQ(none.jaw->neck_deg[1], 180.f);
+}
+
 TEST(MuscleTemplate, BadInputTable) {
   const std::vector<BadCase> cases = {
       {"not json", "{\"format\": ", {"not valid JSON"}},
@@ -227,6 +253,19 @@ TEST(MuscleTemplate, BadInputTable) {
                "{\"landmarks\": [2]}, {\"landmarks\": [3]}, {\"landmarks\": [4]}], \"depth\": 0.01, "
                "\"width\": 0.01},"),
        {"duplicate curve wrinkle name \"fold_R\""}},
+      // The jaw (docs/template-format.md, `jaw`).
+      {"jaw translation of 2", WithJaw(R"("translation": [0, -0.2])"),
+       {"jaw.translation", "[dx, dy, dz], three finite numbers (units of s, face frame)"}},
+      {"jaw neck reversed", WithJaw(R"("neck_deg": [60, 20])"),
+       {"jaw.neck_deg", "is [60, 20]; expected [n0, n1] in [0, 180] with n0 < n1"}},
+      {"jaw neck beyond 180", WithJaw(R"("neck_deg": [20, 190])"),
+       {"jaw.neck_deg", "is [20, 190]; expected [n0, n1] in [0, 180]"}},
+      {"jaw back reversed", WithJaw(R"("back": [0.6, 0.2])"),
+       {"jaw.back", "is [0.6, 0.2]; expected [b0, b1] in [-1, 1] with b0 < b1 (fractions of "
+                    "the hinge-to-mouth distance)"}},
+      {"jaw back below -1", WithJaw(R"("back": [-1.5, 0.2])"), {"jaw.back", "is [-1.5, 0.2]"}},
+      {"jaw without range", Replace(WithJaw(R"("lip_blend_deg": 1)"), R"("range_deg": 5, )", ""),
+       {"jaw.range_deg", "missing"}},
   };
   ASSERT_GE(cases.size(), 12u);
   for (const BadCase& c : cases) {
@@ -397,6 +436,15 @@ TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
     EXPECT_EQ(copies, a.muscles.size() / 2);
     EXPECT_EQ(b.curve_wrinkles.size(), a.curve_wrinkles.size());
     EXPECT_EQ(b.thickness.regions.size(), a.thickness.regions.size());
+    ASSERT_EQ(b.jaw.has_value(), a.jaw.has_value());
+    if (a.jaw) {
+      EXPECT_TRUE(near(b.jaw->range_deg, a.jaw->range_deg));
+      EXPECT_TRUE(near(b.jaw->translation.y, a.jaw->translation.y));
+      EXPECT_TRUE(near(b.jaw->translation.z, a.jaw->translation.z));
+      EXPECT_TRUE(near(b.jaw->offset.z, a.jaw->offset.z));
+      EXPECT_TRUE(near(b.jaw->neck_deg[0], a.jaw->neck_deg[0]));
+      EXPECT_TRUE(near(b.jaw->back[1], a.jaw->back[1]));
+    }
     // Each mirrored pair appears once in the text.
     EXPECT_EQ(text.find("\"zygomaticus_major_R\""), std::string::npos);
   }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <new>
 #include <thread>
 #include <type_traits>
@@ -384,12 +385,12 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   // activations, points (+1 pad), faces, ratios, sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
   // flags, the slope bound per neighbour slot; its worklists over the active points (three
-  // lists, marks) and triangles (list, marks)
+  // lists, marks) and triangles (list, marks, verdicts)
   const size_t N = t.point_neighbors.size();
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P +
                                 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
-                                4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT);
+                                4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT + AT);
 }
 
 // A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context
@@ -452,6 +453,279 @@ TEST(EvaluateJob, PointTrianglesExactOnlyForTheTrueAdjacency) {
     ASSERT_TRUE(Rig::Build(e, &r)) << "edit " << edit;
     EXPECT_FALSE(r.tables().point_triangles_exact) << "edit " << edit;
   }
+}
+
+// --- the jaw (docs/model.md §18) --------------------------------------------------------------
+
+// The surface with a jaw: hinge along +x (right condyle at -x) behind and above the sheet;
+// explicit weights 1 below y = -10, 0 above y = 10, a smoothstep between.
+constexpr double kJawRangeDeg = 20.0;
+float SurfaceJawWeight(float3 p) {
+  const float t = std::fmin(std::fmax((10.f - p.y) / 20.f, 0.f), 1.f);
+  return t * t * (3.f - 2.f * t);
+}
+Surface MakeJawSurface(uint32_t side = 40, uint32_t muscles = 6) {
+  Surface s;
+  s.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
+  s.spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 30.f, -40.f};
+  jaw.condyles[1] = {60.f, 30.f, -40.f};
+  jaw.range_deg = float(kJawRangeDeg);
+  for (const float3& p : s.mesh.positions) jaw.weights.push_back(SurfaceJawWeight(p));
+  s.spec.jaw = jaw;
+  s.rig = BuildOrDie(s.spec, s.mesh);
+  return s;
+}
+
+// Rodrigues' rotation of x about the line through c along unit k by `angle` radians, in double.
+float3 RotateAbout(float3 x, float3 c, float3 k, double angle) {
+  const double v[3] = {double(x.x) - c.x, double(x.y) - c.y, double(x.z) - c.z};
+  const double kk[3] = {k.x, k.y, k.z};
+  const double cs = std::cos(angle), sn = std::sin(angle);
+  const double kv[3] = {kk[1] * v[2] - kk[2] * v[1], kk[2] * v[0] - kk[0] * v[2],
+                        kk[0] * v[1] - kk[1] * v[0]};
+  const double kd = kk[0] * v[0] + kk[1] * v[1] + kk[2] * v[2];
+  double r[3];
+  for (int i = 0; i < 3; ++i) r[i] = v[i] * cs + kv[i] * sn + kk[i] * kd * (1 - cs);
+  return {float(r[0] + c.x), float(r[1] + c.y), float(r[2] + c.z)};
+}
+
+TEST(EvaluateJobJaw, FullyWeightedPointsTurnByTheExactRotationZeroWeightedOnesStay) {
+  const Surface s = MakeJawSurface();
+  ASSERT_FALSE(s.rig.jaw().empty());
+  EvaluateContext ctx(s.rig);
+  const std::vector<float> zero(s.rig.muscle_count(), 0.f);
+  std::vector<float> pos, nrm;
+  EvaluateJob job = MakeJob(s.rig, &ctx, zero, &pos, &nrm);
+  job.layers = {false, false, false};
+  job.jaw = 0.75f;
+  ASSERT_TRUE(job.Run());
+  const float3 c{0.f, 30.f, -40.f}, k{1.f, 0.f, 0.f};
+  const double angle = 0.75 * kJawRangeDeg * std::acos(-1.0) / 180.0;
+  size_t full = 0, none = 0;
+  for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+    const float3 x0 = s.mesh.positions[v];
+    const float3 got{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
+    const float w = SurfaceJawWeight(x0);
+    if (w == 1.f) {
+      const float3 want = RotateAbout(x0, c, k, angle);
+      ASSERT_NEAR(got.x, want.x, 1e-3f) << v;
+      ASSERT_NEAR(got.y, want.y, 1e-3f) << v;
+      ASSERT_NEAR(got.z, want.z, 1e-3f) << v;
+      ++full;
+    } else if (w == 0.f) {
+      ASSERT_EQ(std::memcmp(&got, &x0, sizeof got), 0) << "zero weight moved: vertex " << v;
+      ++none;
+    } else {  // partly carried: its own weighted angle
+      const float3 want = RotateAbout(x0, c, k, double(w) * angle);
+      ASSERT_NEAR(Length(got - want), 0.f, 1e-3f) << v;
+    }
+  }
+  EXPECT_GT(full, s.mesh.vertex_count() / 4);
+  EXPECT_GT(none, s.mesh.vertex_count() / 4);
+  // Opening (a positive angle about right -> left) moves the chin side down and back.
+  const float3 chin{0.f, -50.f, 10.f};
+  const float3 turned = RotateAbout(chin, c, k, angle);
+  EXPECT_LT(turned.y, chin.y);
+  EXPECT_LT(turned.z, chin.z);
+}
+
+// The glide (docs/model.md §18): X' = c + R(w jaw range)(X - c) + w jaw T, T the rig's
+// translation; computed here in double from the equation.
+TEST(EvaluateJobJaw, TheGlideMovesEachPointByItsWeightTimesTheJawTimesTheTranslation) {
+  Surface s;
+  s.mesh = MakeSurfaceMesh(30, 30, 100.f, 100.f, 10.f);
+  s.spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 30.f, -40.f};
+  jaw.condyles[1] = {60.f, 30.f, -40.f};
+  jaw.range_deg = float(kJawRangeDeg);
+  jaw.translation = {0.5f, -6.f, 3.f};
+  for (const float3& p : s.mesh.positions) jaw.weights.push_back(SurfaceJawWeight(p));
+  s.spec.jaw = jaw;
+  s.rig = BuildOrDie(s.spec, s.mesh);
+  EvaluateContext ctx(s.rig);
+  const std::vector<float> zero(s.rig.muscle_count(), 0.f);
+  std::vector<float> pos, nrm;
+  EvaluateJob job = MakeJob(s.rig, &ctx, zero, &pos, &nrm);
+  job.layers = {false, false, false};
+  job.jaw = 0.6f;
+  ASSERT_TRUE(job.Run());
+  const float3 c{0.f, 30.f, -40.f}, k{1.f, 0.f, 0.f};
+  const double range = kJawRangeDeg * std::acos(-1.0) / 180.0;
+  size_t full = 0, part = 0;
+  for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+    const float3 x0 = s.mesh.positions[v];
+    const double w = SurfaceJawWeight(x0);
+    const float3 r = RotateAbout(x0, c, k, w * 0.6 * range);
+    const float3 want{float(r.x + w * 0.6 * 0.5), float(r.y + w * 0.6 * -6.0),
+                      float(r.z + w * 0.6 * 3.0)};
+    const float3 got{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
+    ASSERT_NEAR(Length(got - want), 0.f, 1e-3f) << v;
+    full += w == 1.0;
+    part += w > 0.0 && w < 1.0;
+  }
+  EXPECT_GT(full, 0u);
+  EXPECT_GT(part, 0u);
+}
+
+// The builder's jaw checks name the key and the expectation: a glide longer than the
+// hinge-to-mouth distance (here |mouth - pivot| without its axis part: sqrt(30^2 + 50^2)), and
+// explicit weights that are not one per vertex.
+TEST(EvaluateJobJaw, TooLongAGlideAndAWrongWeightCountAreBuildErrors) {
+  const MeshData mesh = MakeSurfaceMesh(8, 8, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(2, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 30.f, -40.f};
+  jaw.condyles[1] = {60.f, 30.f, -40.f};
+  jaw.range_deg = 20.f;
+  jaw.mouth = {0.f, 0.f, 10.f};
+  jaw.mouth_width = 40.f;
+  const float reach = std::sqrt(30.f * 30.f + 50.f * 50.f);
+  jaw.translation = {0.f, -reach * 1.01f, 0.f};
+  spec.jaw = jaw;
+  Rig rig;
+  Diagnostics diag;
+  EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &diag));
+  EXPECT_TRUE(diag.Contains("jaw.translation")) << diag.Format();
+  EXPECT_TRUE(diag.Contains("expected a glide no longer than the hinge-to-mouth distance (58.3"))
+      << diag.Format();
+  spec.jaw->translation = {0.f, -reach * 0.99f, 0.f};
+  Diagnostics ok;
+  EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &ok)) << ok.Format();
+  spec.jaw->weights = {0.f, 1.f};
+  Diagnostics count;
+  EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &count));
+  EXPECT_TRUE(count.Contains("jaw.weights")) << count.Format();
+  EXPECT_TRUE(count.Contains("expected one value per mesh vertex (" +
+                             std::to_string(mesh.vertex_count()) + "), got 2"))
+      << count.Format();
+}
+
+// The region weight's lip side and neck fade (docs/model.md §18), from its formula: on the lip
+// line between the corners a point facing up joins the jaw, one facing down stays, one facing
+// forward gets one half; below the lip line the weight fades out between -n0 and -n1.
+TEST(EvaluateJobJaw, RegionWeightTakesTheLipSideFromTheNormalAndFadesTowardTheNeck) {
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 0.f, 0.f};
+  jaw.condyles[1] = {60.f, 0.f, 0.f};
+  jaw.range_deg = 20.f;
+  jaw.mouth = {0.f, 0.f, 100.f};  // forward = +z, up = forward x axis = +y
+  jaw.mouth_width = 40.f;
+  jaw.lip_blend_deg = 2.f;
+  jaw.back[0] = -1.f, jaw.back[1] = -0.5f;  // no fade from the back in front of the hinge
+  jaw.neck_deg[0] = 30.f, jaw.neck_deg[1] = 60.f;
+  JawFrame f;
+  ASSERT_TRUE(MakeJawFrame(jaw, &f));
+  EXPECT_NEAR(f.up.y, 1.f, 1e-6f);
+  const float3 lip{0.f, 0.f, 100.f};
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip), 0.5f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, 0.f, 1.f}), 0.5f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, 1.f, 0.f}), 1.f, 1e-6f);   // the lower lip's top
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, -1.f, 0.f}), 0.f, 1e-6f);  // the upper's underside
+  // A quarter of the way up the normal's clamp: phi moved by beta / 2 = 1 degree.
+  const double t = 0.75, sm = t * t * (3 - 2 * t);  // 1 - smoothstep(-1, 3, 0): t = 1 - 1/4
+  EXPECT_NEAR(JawRegionWeight(jaw, f, lip, {0.f, 0.25f, 0.968246f}), float(sm), 1e-5f);
+  auto at = [](double deg) {
+    const double a = deg * std::acos(-1.0) / 180.0;
+    return float3{0.f, float(100 * std::sin(a)), float(100 * std::cos(a))};
+  };
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-20)), 1.f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-45)), 0.5f, 1e-5f);  // halfway through the fade
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-70)), 0.f, 1e-6f);
+  const double u = (-40.0 + 60.0) / 30.0;  // phi = -40: smoothstep(-60, -30, -40)
+  EXPECT_NEAR(JawRegionWeight(jaw, f, at(-40)), float(u * u * (3 - 2 * u)), 1e-5f);
+}
+
+TEST(EvaluateJobJaw, MuscleDisplacementAtACarriedPointTurnsWithTheJaw) {
+  const Surface s = MakeJawSurface();
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext ctx(s.rig);
+  std::vector<float> still, open, nrm;
+  EvaluateJob job = MakeJob(s.rig, &ctx, act, &still, &nrm);
+  job.layers = {false, false, false};
+  ASSERT_TRUE(job.Run());
+  job = MakeJob(s.rig, &ctx, act, &open, &nrm);
+  job.layers = {false, false, false};
+  job.jaw = 1.f;
+  ASSERT_TRUE(job.Run());
+  const float3 c{0.f, 30.f, -40.f}, k{1.f, 0.f, 0.f};
+  const double range = kJawRangeDeg * std::acos(-1.0) / 180.0;
+  size_t checked = 0;
+  for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+    const float3 x0 = s.mesh.positions[v];
+    const float3 u{still[3 * v] - x0.x, still[3 * v + 1] - x0.y, still[3 * v + 2] - x0.z};
+    const double angle = double(SurfaceJawWeight(x0)) * range;
+    // The rotated no-jaw displacement, added to the jaw pose J(X0).
+    const float3 ru = RotateAbout(u, {0.f, 0.f, 0.f}, k, angle);
+    const float3 want = RotateAbout(x0, c, k, angle) + ru;
+    const float3 got{open[3 * v], open[3 * v + 1], open[3 * v + 2]};
+    ASSERT_NEAR(Length(got - want), 0.f, 1e-3f) << v;
+    if (SurfaceJawWeight(x0) == 1.f && Length(ru - u) > 0.05f) {
+      // and not the unturned one: it differs by |R u - u|
+      EXPECT_NEAR(Length(got - (RotateAbout(x0, c, k, angle) + u)), Length(ru - u), 1e-3f) << v;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 10u);
+}
+
+TEST(EvaluateJobJaw, JawInputIsSanitisedLikeAnActivation) {
+  const Surface s = MakeJawSurface(24, 4);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext ctx(s.rig);
+  auto run = [&](float jaw) {
+    std::vector<float> pos, nrm;
+    EvaluateJob job = MakeJob(s.rig, &ctx, act, &pos, &nrm);
+    job.jaw = jaw;
+    EXPECT_TRUE(job.Validate());
+    EXPECT_TRUE(job.Run());
+    return pos;
+  };
+  const std::vector<float> at0 = run(0.f), at1 = run(1.f);
+  EXPECT_EQ(run(std::nanf("")), at0);
+  EXPECT_EQ(ctx.jaw(), 0.f);
+  EXPECT_EQ(run(-3.f), at0);
+  EXPECT_EQ(run(7.f), at1);
+  EXPECT_EQ(ctx.jaw(), 1.f);
+  EXPECT_EQ(run(std::numeric_limits<float>::infinity()), at1);
+  EXPECT_NE(at0, at1);
+}
+
+TEST(EvaluateJobJaw, NoJawRigIgnoresTheInputBitForBit) {
+  const Surface s = MakeSurface(30, 6);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext ctx(s.rig);
+  std::vector<float> a, b, na, nb;
+  ASSERT_TRUE(MakeJob(s.rig, &ctx, act, &a, &na).Run());
+  EvaluateJob job = MakeJob(s.rig, &ctx, act, &b, &nb);
+  job.jaw = 0.8f;
+  ASSERT_TRUE(job.Run());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(na.data(), nb.data(), na.size() * 4), 0);
+}
+
+TEST(EvaluateJobJaw, BitIdenticalWhenSplitAcrossTwoThreadsAndAllocationFree) {
+  const Surface s = MakeJawSurface(60, 8);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(s.rig);
+  std::vector<float> pos1, nrm1, pos2, nrm2;
+  EvaluateJob serial = MakeJob(s.rig, &c1, act, &pos1, &nrm1);
+  serial.jaw = 0.6f;
+  ASSERT_TRUE(serial.Run());
+  EvaluateJob threaded = MakeJob(s.rig, &c2, act, &pos2, &nrm2);
+  threaded.jaw = 0.6f;
+  threaded.parallel_for = TwoThreads;
+  ASSERT_TRUE(threaded.Run());
+  EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 50; ++i) {
+    serial.jaw = float(i % 11) / 10.f;
+    ASSERT_TRUE(serial.Run());
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // writes equals `mimetic eval` with the activations worked out by hand below.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -56,7 +57,9 @@ TEST(ImportArkit, CsvToClipPlaysAsTheHandComputedActivations) {
   EXPECT_EQ(spec.duration, 1.f);
   ASSERT_EQ(spec.channels.size(), 4u);
   for (const auto& c : spec.channels)
-    if (c.target == "risorius_L") EXPECT_EQ(c.keys.size(), 2u);  // 0, 0.25, 0.5: on a line
+    if (c.target == "risorius_L") {
+      EXPECT_EQ(c.keys.size(), 2u);  // 0, 0.25, 0.5: on a line
+    }
 
   struct At {
     const char* time;
@@ -80,6 +83,45 @@ TEST(ImportArkit, CsvToClipPlaysAsTheHandComputedActivations) {
     ASSERT_EQ(e.exit_code, 0) << e.output;
     ExpectSameMesh(played, evald);
   }
+}
+
+// The default map sends jawOpen to the jaw: on a rig with a jaw (the sample head fitted with
+// the default template) the clip gets a "jaw" channel whose keys are the take's JawOpen
+// weights (jaw 1.0 per unit weight); on the committed sample head rig (no jaw) JawOpen is
+// listed as unused, with the reason.
+TEST(ImportArkit, JawOpenDrivesTheJaw) {
+  const std::string dir = test::TempDir();
+  const std::string src = test::SourceDir();
+  const std::string map = src + "/assets/arkit/default.arkit.json";
+  const auto fit = RunTool({"fit", src + "/assets/head/default.template.json", "--mesh",
+                            src + "/assets/head/sample_head.glb", "--landmarks",
+                            src + "/assets/head/sample_head.landmarks.json", "--out",
+                            dir + "/jaw.rig.json"});
+  ASSERT_EQ(fit.exit_code, 0) << fit.output;
+  const auto r = RunTool({"import-arkit", Data("take.csv"), "--rig", dir + "/jaw.rig.json",
+                          "--map", map, "--fps", "30", "--out", dir + "/jaw.clip.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("JawOpen ("), std::string::npos) << r.output;
+  ClipSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadClip(dir + "/jaw.clip.json", &spec, &diag)) << diag.Format();
+  const auto jaw = std::find_if(spec.channels.begin(), spec.channels.end(),
+                                [](const ClipChannelSpec& c) { return c.target == "jaw"; });
+  ASSERT_NE(jaw, spec.channels.end());
+  // take.csv's JawOpen: 0, 0.5, 0.25 at 0, 0.5, 1 s (jaw = 1.0 x the weight).
+  ASSERT_EQ(jaw->keys.size(), 3u);
+  const float t[3] = {0.f, 0.5f, 1.f}, v[3] = {0.f, 0.5f, 0.25f};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(jaw->keys[size_t(k)].t, t[k]) << k;
+    EXPECT_EQ(jaw->keys[size_t(k)].v, v[k]) << k;
+  }
+
+  const auto n = RunTool({"import-arkit", Data("take.csv"), "--rig", HeadRig(), "--map", map,
+                          "--fps", "30", "--out", dir + "/nojaw.clip.json"});
+  ASSERT_EQ(n.exit_code, 0) << n.output;
+  EXPECT_NE(n.output.find("JawOpen (2 non-zero frames) (the map drives the jaw with them, and "
+                          "the rig has no jaw)"),
+            std::string::npos) << n.output;
 }
 
 TEST(ImportArkit, JsonTake) {

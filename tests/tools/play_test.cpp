@@ -109,6 +109,45 @@ TEST(Play, OnePoseEqualsEvalWithTheClipsActivations) {
   ExpectSameMesh(f.dir + "/late.obj", f.dir + "/late_eval.obj");
 }
 
+// The jaw in a clip: the sample head fitted with the default template (which has a jaw) plays
+// a "jaw" channel and an expression naming the jaw as `mimetic eval --set jaw=...` poses them;
+// on the committed sample head rig (no jaw) the clip plays with a warning.
+TEST(Play, JawChannelsAndExpressionsPoseTheJaw) {
+  const std::string dir = test::TempDir();
+  const std::string src = test::SourceDir();
+  const auto fit = RunTool({"fit", src + "/assets/head/default.template.json", "--mesh",
+                            src + "/assets/head/sample_head.glb", "--landmarks",
+                            src + "/assets/head/sample_head.landmarks.json", "--out",
+                            dir + "/jaw.rig.json"});
+  ASSERT_EQ(fit.exit_code, 0) << fit.output;
+  // jaw: linear 0 -> 0.8 over 2 s; the expression Open {jaw 0.5, frontalis_major_L 0.4} added
+  // at weight 0.5: at t = 1, jaw = 0.4 + 0.25 = 0.65, frontalis_major_L = 0.2.
+  const std::string clip = Write(dir + "/jaw.clip.json", R"({"format": "mimetic-clip",
+    "version": 1, "name": "jaw", "channels": [
+      {"muscle": "jaw", "keys": [{"t": 0, "v": 0}, {"t": 2, "v": 0.8}]},
+      {"expression": "Open", "keys": [{"t": 0, "v": 0.5}]}]})");
+  const std::string open = Write(dir + "/open.expression.json",
+                                 R"({"format": "mimetic-expression", "version": 1, "name": "Open",
+                                     "activations": {"jaw": 0.5, "frontalis_major_L": 0.4}})");
+  const auto r = RunTool({"play", dir + "/jaw.rig.json", clip, "--expression", open, "--time", "1",
+                          "--out", dir + "/play.obj"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto e = RunTool({"eval", dir + "/jaw.rig.json", "--set", "jaw=0.65", "--set",
+                          "frontalis_major_L=0.2", "--out", dir + "/eval.obj"});
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  ExpectSameMesh(dir + "/play.obj", dir + "/eval.obj");
+  // The jaw moved the chin: the pose differs from the same activations without it.
+  ASSERT_EQ(RunTool({"eval", dir + "/jaw.rig.json", "--set", "frontalis_major_L=0.2", "--out",
+                     dir + "/closed.obj"}).exit_code, 0);
+  EXPECT_NE(ReadText(dir + "/play.obj"), ReadText(dir + "/closed.obj"));
+  // No jaw in the rig: a warning, and the jaw values do nothing.
+  const auto w = RunTool({"play", src + "/assets/head/sample_head.rig.json", clip, "--expression",
+                          open, "--time", "1", "--out", dir + "/nojaw.obj"});
+  ASSERT_EQ(w.exit_code, 0) << w.output;
+  EXPECT_TRUE(Contains(w.output, "animates the jaw, but")) << w.output;
+  EXPECT_TRUE(Contains(w.output, "has none")) << w.output;
+}
+
 TEST(Play, SequenceWritesEveryFrame) {
   const Files f = MakeFiles();
   // Clamp, 2 s at 2 fps: frames at 0, 0.5, 1, 1.5, 2 s.

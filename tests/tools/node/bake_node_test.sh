@@ -27,7 +27,7 @@ lib="$src/assets/expressions/default.library.json"
 if [[ $what == validate ]]; then
   node "$src/tests/tools/node/validate.mjs" "$tmp/c.glb" "$modules"
 else
-  # 0.5 s at 10 fps: frames 0..5; frame 3 at 0.3 s.
+  # 0.5 s at 10 fps: frames 0..5, frame 0 the neutral (no target): 5 targets; frame 3 at 0.3 s.
   "$tool" play "$rig" "$tmp/c.clip.json" --library "$lib" --time 0.3 --out "$tmp/f3.obj" --quiet
-  node "$src/tests/tools/node/three_load.mjs" "$tmp/c.glb" "$modules" 6 0.5 3 "$tmp/f3.obj"
+  node "$src/tests/tools/node/three_load.mjs" "$tmp/c.glb" "$modules" 5 0.5 0.3 "$tmp/f3.obj"
 fi
