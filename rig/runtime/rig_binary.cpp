@@ -48,6 +48,9 @@ enum SectionId : uint32_t {
   kCwOffsets = 29,
   kCwEntries = 30,
   kCwProbes = 31,
+  kJawParams = 32,
+  kJawPoints = 33,
+  kJawWeights = 34,
   kInfoUnits = 64,
   kInfoSourceVertexCount = 65,
 };
@@ -98,6 +101,9 @@ constexpr SectionDesc kSections[] = {
     {kCwOffsets, "curve_wrinkle_offsets", 4, 0, true},
     {kCwEntries, "curve_wrinkle_entries", 16, 0, true},
     {kCwProbes, "curve_wrinkle_probes", 48, 0, true},
+    {kJawParams, "jaw_params", 4, 10, true},
+    {kJawPoints, "jaw_points", 4, 0, true},
+    {kJawWeights, "jaw_weights", 4, 0, true},
     {kInfoUnits, "info_units", 0, 1, false},
     {kInfoSourceVertexCount, "info_source_vertex_count", 4, 1, false},
 };
@@ -404,6 +410,11 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
         p.U32(s.v2), p.U32(s.v3), p.F32(s.beta), p.F32(s.rest_length2), p.F32(s.rest_length3);
     }
   }
+  const RigJaw& jaw = d.jaw;
+  w.F32s(kJawParams, {jaw.pivot.x, jaw.pivot.y, jaw.pivot.z, jaw.axis.x, jaw.axis.y, jaw.axis.z,
+                      jaw.range, jaw.translation.x, jaw.translation.y, jaw.translation.z});
+  w.U32s(kJawPoints, jaw.points);
+  w.F32s(kJawWeights, jaw.weights);
   if (info) {
     w.Strings(kInfoUnits, {info->units});
     w.U32s(kInfoSourceVertexCount, {info->source_vertex_count});
@@ -671,6 +682,16 @@ bool ReadRigBinaryData(span<const uint8_t> bytes, RigData* out, RigBinaryInfo* i
         q.sides[k] = {LoadU32(e), LoadU32(e + 4), LoadF32(e + 8), LoadF32(e + 12), LoadF32(e + 16)};
       }
     }
+  }
+  {
+    std::vector<float> j;
+    r.F32s(kJawParams, &j);
+    d.jaw.pivot = {j[0], j[1], j[2]};
+    d.jaw.axis = {j[3], j[4], j[5]};
+    d.jaw.range = j[6];
+    d.jaw.translation = {j[7], j[8], j[9]};
+    r.U32s(kJawPoints, &d.jaw.points);
+    r.F32s(kJawWeights, &d.jaw.weights);
   }
   RigBinaryInfo file_info;
   {
