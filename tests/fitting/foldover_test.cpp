@@ -344,7 +344,9 @@ void CheckWorklistAgainstFullScan(const Rig& rig, const char* label) {
       if (k == 2) job.parallel_for = TwoThreads;
       const long allocations = g_allocations.load();
       ASSERT_TRUE(job.Run());
-      if (k == 1) EXPECT_EQ(g_allocations.load() - allocations, 0) << label << ", " << pose;
+      if (k == 1) {
+        EXPECT_EQ(g_allocations.load() - allocations, 0) << label << ", " << pose;
+      }
       limited[k] = ctx.limited_point_count();
       passes[k] = ctx.limiter_passes();
     }
