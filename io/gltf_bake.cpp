@@ -37,12 +37,16 @@ void FrameDeltas(const float* frame, const float3* base, size_t nv, float epsilo
   }
 }
 
-// FNV-1a over the bits of a frame's positions and (when given) normals.
+// A hash of the bits of a frame's positions and (when given) normals: FNV-1a's step over
+// 32-bit words (one float each), only to find candidate equal frames (they are compared).
 uint64_t FrameHash(const float* positions, const float* normals, size_t count) {
   uint64_t h = 1469598103934665603ull;
   auto add = [&](const float* v) {
-    const auto* b = reinterpret_cast<const unsigned char*>(v);
-    for (size_t i = 0; i < count * sizeof(float); ++i) h = (h ^ b[i]) * 1099511628211ull;
+    for (size_t i = 0; i < count; ++i) {
+      uint32_t w;
+      std::memcpy(&w, v + i, sizeof w);
+      h = (h ^ w) * 1099511628211ull;
+    }
   };
   add(positions);
   if (normals) add(normals);
@@ -197,6 +201,11 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   const size_t nv = f.base.vertex_count(), nf = f.times.size();
   const bool normals = !f.base.normals.empty();
   Builder b;
+  // The buffer's bound: base attributes and indices, then at most one dense position and normal
+  // delta array per frame (sparse ones are smaller), the animation and alignment. Reserved once
+  // (the untouched rest is never paged in) so growing it never copies what was written.
+  b.buffer.data.reserve(nv * (12 + 12 + 8) + f.base.indices.size() * 4 +
+                        nf * (nv * 24 + 64) + nf * (nf + 1) * 4 + 4096);
   b.model.asset.version = "2.0";
   b.model.asset.generator = "mimetic (bake)";
 
