@@ -99,7 +99,7 @@ namespace {
 template <class Fn>
 void ParallelFor(const EvaluateJob& job, uint32_t count, const Fn& fn) {
   if (count == 0) return;
-  if (!job.parallel_for) {
+  if (!job.parallel_for || count < job.parallel_min_count) {
     fn(0u, count);
     return;
   }

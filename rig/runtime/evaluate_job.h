@@ -117,6 +117,9 @@ class EvaluateContext {
   uint32_t limited_points_ = 0, limiter_passes_ = 0;
 };
 
+// EvaluateJob::parallel_min_count's default (points or triangles; one is 10-100 ns of work).
+inline constexpr uint32_t kParallelMinCount = 4096;
+
 // A caller-supplied parallel loop: must call task(task_data, begin, end) over disjoint ranges
 // that cover [0, count) and return when all have finished. nullptr = run serially.
 using ParallelForFn = void (*)(void* user, uint32_t count,
@@ -155,6 +158,10 @@ struct EvaluateJob {
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
   void* parallel_for_user = nullptr;
+  // Loops over fewer items than this run on the calling thread, not through parallel_for:
+  // the fold limiter's later passes touch a few hundred points each, less work than handing
+  // a range to another thread costs. The same bits either way (any split gives them).
+  uint32_t parallel_min_count = kParallelMinCount;
 };
 
 // The fold limiter's threshold: a triangle counts as (nearly) turned over when the cosine

@@ -288,6 +288,7 @@ TEST(FoldOver, LimiterGivesTheSameBitsHoweverTheWorkIsSplit) {
     job.out_positions = pos[k];
     job.out_normals = nrm[k];
     if (k == 1) job.parallel_for = TwoThreads;
+    if (k == 1) job.parallel_min_count = 1;  // split every loop, however short
     ASSERT_TRUE(job.Run());
     limited[k] = ctx.limited_point_count();
   }
@@ -342,6 +343,7 @@ void CheckWorklistAgainstFullScan(const Rig& rig, const char* label) {
       job.out_normals = nrm[k];
       job.limit_folds_full_scan = k == 0;
       if (k == 2) job.parallel_for = TwoThreads;
+      if (k == 2) job.parallel_min_count = 1;  // split every loop, however short
       const long allocations = g_allocations.load();
       ASSERT_TRUE(job.Run());
       if (k == 1) {

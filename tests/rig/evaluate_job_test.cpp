@@ -162,7 +162,36 @@ TEST(EvaluateJob, BitIdenticalWhenSplitAcrossTwoThreads) {
   ASSERT_TRUE(MakeJob(s.rig, &c1, act, &pos1, &nrm1).Run());
   EvaluateJob threaded = MakeJob(s.rig, &c2, act, &pos2, &nrm2);
   threaded.parallel_for = TwoThreads;
+  threaded.parallel_min_count = 1;  // split every loop, however short
   ASSERT_TRUE(threaded.Run());
+  EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);
+}
+
+// A scheduler that records the loop sizes it is handed, then splits like TwoThreads.
+struct CountingScheduler {
+  std::vector<uint32_t> counts;
+  static void Run(void* user, uint32_t count, void (*task)(void*, uint32_t, uint32_t),
+                  void* data) {
+    static_cast<CountingScheduler*>(user)->counts.push_back(count);
+    TwoThreads(nullptr, count, task, data);
+  }
+};
+
+TEST(EvaluateJob, ShortLoopsStayOnTheCallingThreadWithTheSameBits) {
+  const Surface s = MakeSurface(100, 10);  // 10,000 points: some loops above the minimum
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(s.rig);
+  std::vector<float> pos1, nrm1, pos2, nrm2;
+  ASSERT_TRUE(MakeJob(s.rig, &c1, act, &pos1, &nrm1).Run());
+  EvaluateJob threaded = MakeJob(s.rig, &c2, act, &pos2, &nrm2);
+  CountingScheduler scheduler;
+  threaded.parallel_for = &CountingScheduler::Run;
+  threaded.parallel_for_user = &scheduler;
+  ASSERT_EQ(threaded.parallel_min_count, kParallelMinCount);
+  ASSERT_TRUE(threaded.Run());
+  ASSERT_FALSE(scheduler.counts.empty());  // the vertex scatter alone has 10,000 items
+  for (uint32_t n : scheduler.counts) EXPECT_GE(n, kParallelMinCount);
   EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
   EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);
 }
@@ -717,6 +746,7 @@ TEST(EvaluateJobJaw, BitIdenticalWhenSplitAcrossTwoThreadsAndAllocationFree) {
   EvaluateJob threaded = MakeJob(s.rig, &c2, act, &pos2, &nrm2);
   threaded.jaw = 0.6f;
   threaded.parallel_for = TwoThreads;
+  threaded.parallel_min_count = 1;  // split every loop, however short
   ASSERT_TRUE(threaded.Run());
   EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
   EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);

@@ -256,6 +256,7 @@ TEST(SkinPipeline, BitIdenticalWhenSplitAcrossTwoThreads) {
   job.out_positions = pos;
   job.out_normals = nrm;
   job.parallel_for = TwoThreads;
+  job.parallel_min_count = 1;  // split every loop, however short
   ASSERT_TRUE(job.Run());
   EXPECT_EQ(std::memcmp(serial.data(), pos.data(), pos.size() * 4), 0);
   EXPECT_EQ(std::memcmp(n1.data(), nrm.data(), nrm.size() * 4), 0);

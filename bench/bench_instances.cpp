@@ -1,0 +1,242 @@
+// bench/bench_instances.cpp: many characters sharing one rig (docs/performance.md,
+// "Instances").
+//
+// The bundled sample head (assets/head/sample_head.rig.json, loaded once, every layer on) is
+// one immutable Rig; each instance is its own EvaluateContext, activation vector, jaw and
+// output buffers, the way an engine holds one per character.
+//
+//   BM_Instances/<n>              n instances per frame, one thread: each instance gets its
+//                                 own activations (a different phase of the same waves) and
+//                                 is evaluated in turn. Counters: ns_per_vertex_per_instance,
+//                                 rig_bytes (shared), bytes_per_instance (context + the
+//                                 instance's activations and output positions and normals)
+//   BM_InstancesTwoThreads/<n>    the same frames twice per iteration, once on one thread and
+//                                 once over two (a persistent two-worker pool; with n = 1 the
+//                                 instance's EvaluateJob splits its own work through
+//                                 `parallel_for`, with n > 1 the instances are split between
+//                                 the two threads, each running its jobs serially), each timed
+//                                 on its own: `scaling` = one-thread time / two-thread time,
+//                                 paired so machine drift hits both sides alike; the two
+//                                 results are compared bit for bit (`mismatches` must be 0)
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "io/rig_loader.h"
+#include "rig/runtime/evaluate_job.h"
+
+namespace {
+
+using namespace mimetic;
+
+const Rig& HeadRig() {
+  static std::unique_ptr<LoadedRig> loaded;
+  if (loaded) return loaded->rig;
+  loaded = std::make_unique<LoadedRig>();
+  Diagnostics diag;
+  const std::string path = std::string(MIMETIC_SOURCE_DIR) + "/assets/head/sample_head.rig.json";
+  if (!LoadRig(path, loaded.get(), &diag)) {
+    std::fprintf(stderr, "mimetic-bench: cannot load %s\n%s", path.c_str(), diag.Format().c_str());
+    std::exit(1);
+  }
+  return loaded->rig;
+}
+
+// One character: what an engine keeps per instance of a shared rig.
+struct Instance {
+  explicit Instance(const Rig& rig)
+      : context(rig), activations(rig.muscle_count()), positions(3 * rig.vertex_count()),
+        normals(3 * rig.vertex_count()) {
+    job.rig = &rig;
+    job.context = &context;
+    job.activations = activations;
+    job.out_positions = positions;
+    job.out_normals = normals;
+  }
+  // Instance i's pose at `frame`: the same waves as bench_evaluate.cpp, shifted per instance so
+  // no two instances share a pose.
+  void Pose(uint32_t frame, uint32_t i) {
+    for (size_t m = 0; m < activations.size(); ++m)
+      activations[m] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * m + 31 * i));
+    job.jaw = !job.rig->jaw().empty() ? 0.5f + 0.5f * std::sin(0.07f * float(frame + 17 * i)) : 0.f;
+  }
+  size_t ByteSize() const {
+    return context.ByteSize() + sizeof(Instance) +
+           (activations.capacity() + positions.capacity() + normals.capacity()) * sizeof(float);
+  }
+  EvaluateContext context;
+  std::vector<float> activations, positions, normals;
+  EvaluateJob job;
+};
+
+std::vector<std::unique_ptr<Instance>> MakeInstances(const Rig& rig, uint32_t n) {
+  std::vector<std::unique_ptr<Instance>> v;
+  for (uint32_t i = 0; i < n; ++i) v.push_back(std::make_unique<Instance>(rig));
+  return v;
+}
+
+// A persistent pool of one extra worker: Run(count, task, data) gives the worker the first
+// half of [0, count) and runs the second half on the calling thread. An EvaluateJob's
+// `parallel_for` calls it several times a frame, so the worker waits on a condition variable
+// between calls instead of being started each time.
+class TwoThreadPool {
+ public:
+  TwoThreadPool() : worker_([this] { Loop(); }) {}
+  ~TwoThreadPool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      quit_ = true;
+    }
+    wake_.notify_one();
+    worker_.join();
+  }
+  static void ParallelFor(void* user, uint32_t count, void (*task)(void*, uint32_t, uint32_t),
+                          void* data) {
+    static_cast<TwoThreadPool*>(user)->Run(count, task, data);
+  }
+  void Run(uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
+    const uint32_t mid = count / 2;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      task_ = task;
+      data_ = data;
+      end_ = mid;
+      pending_ = true;
+    }
+    wake_.notify_one();
+    task(data, mid, count);
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return !pending_; });
+  }
+
+ private:
+  void Loop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return pending_ || quit_; });
+      if (quit_) return;
+      auto* task = task_;
+      void* data = data_;
+      const uint32_t end = end_;
+      lock.unlock();
+      if (end > 0) task(data, 0, end);
+      lock.lock();
+      pending_ = false;
+      done_.notify_one();
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  void (*task_)(void*, uint32_t, uint32_t) = nullptr;
+  void* data_ = nullptr;
+  uint32_t end_ = 0;
+  bool pending_ = false, quit_ = false;
+  std::thread worker_;
+};
+
+struct FrameWork {
+  std::vector<std::unique_ptr<Instance>>* instances;
+  bool ok = true;
+};
+
+// Runs instances [begin, end) of a FrameWork serially (a pool task).
+void RunInstances(void* data, uint32_t begin, uint32_t end) {
+  auto* w = static_cast<FrameWork*>(data);
+  for (uint32_t i = begin; i < end; ++i)
+    if (!(*w->instances)[i]->job.Run()) w->ok = false;
+}
+
+void SetInstanceCounters(benchmark::State& state, const Rig& rig, const Instance& one) {
+  state.counters["vertices"] = rig.vertex_count();
+  state.counters["rig_bytes"] = double(rig.ByteSize());
+  state.counters["bytes_per_instance"] = double(one.ByteSize());
+}
+
+void BM_Instances(benchmark::State& state) {
+  const Rig& rig = HeadRig();
+  const uint32_t n = uint32_t(state.range(0));
+  std::vector<std::unique_ptr<Instance>> instances = MakeInstances(rig, n);
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    for (uint32_t i = 0; i < n; ++i) {
+      Instance& inst = *instances[i];
+      inst.Pose(frame, i);
+      if (!inst.job.Run()) state.SkipWithError("EvaluateJob failed");
+      benchmark::DoNotOptimize(inst.positions.data());
+    }
+    ++frame;
+  }
+  SetInstanceCounters(state, rig, *instances[0]);
+  state.counters["ns_per_vertex_per_instance"] = benchmark::Counter(
+      double(state.iterations()) * double(n) * double(rig.vertex_count()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_InstancesTwoThreads(benchmark::State& state) {
+  const Rig& rig = HeadRig();
+  const uint32_t n = uint32_t(state.range(0));
+  std::vector<std::unique_ptr<Instance>> serial = MakeInstances(rig, n);
+  std::vector<std::unique_ptr<Instance>> threaded = MakeInstances(rig, n);
+  TwoThreadPool pool;
+  if (n == 1) {
+    threaded[0]->job.parallel_for = &TwoThreadPool::ParallelFor;
+    threaded[0]->job.parallel_for_user = &pool;
+  }
+  using Clock = std::chrono::steady_clock;
+  Clock::duration one{}, two{};
+  uint32_t frame = 0;
+  double mismatches = 0;
+  for (auto _ : state) {
+    for (uint32_t i = 0; i < n; ++i) {
+      serial[i]->Pose(frame, i);
+      threaded[i]->Pose(frame, i);
+    }
+    FrameWork ws{&serial}, wt{&threaded};
+    const Clock::time_point t0 = Clock::now();
+    RunInstances(&ws, 0, n);
+    const Clock::time_point t1 = Clock::now();
+    if (n == 1)
+      RunInstances(&wt, 0, 1);
+    else
+      pool.Run(n, RunInstances, &wt);
+    const Clock::time_point t2 = Clock::now();
+    if (!ws.ok || !wt.ok) state.SkipWithError("EvaluateJob failed");
+    one += t1 - t0;
+    two += t2 - t1;
+    for (uint32_t i = 0; i < n; ++i)
+      if (std::memcmp(serial[i]->positions.data(), threaded[i]->positions.data(),
+                      serial[i]->positions.size() * sizeof(float)) != 0 ||
+          std::memcmp(serial[i]->normals.data(), threaded[i]->normals.data(),
+                      serial[i]->normals.size() * sizeof(float)) != 0)
+        ++mismatches;
+    ++frame;
+  }
+  SetInstanceCounters(state, rig, *serial[0]);
+  const double per = double(frame) * double(n) * double(rig.vertex_count());
+  state.counters["one_thread_ns_per_vertex_per_instance"] =
+      std::chrono::duration<double, std::nano>(one).count() / per;
+  state.counters["two_threads_ns_per_vertex_per_instance"] =
+      std::chrono::duration<double, std::nano>(two).count() / per;
+  state.counters["scaling"] = double(one.count()) / double(two.count());
+  state.counters["mismatches"] = mismatches;
+}
+
+}  // namespace
+
+BENCHMARK(BM_Instances)->Arg(1)->Arg(8)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_InstancesTwoThreads)
+    ->Arg(1)
+    ->Arg(8)
+    ->Arg(64)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
