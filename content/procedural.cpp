@@ -92,3 +92,37 @@ RigSpec MakeSurfaceRigSpec(uint32_t count, float width, float height, float bulg
 }
 
 }  // namespace mimetic
+
+namespace mimetic {
+
+void AddEverySkinLayer(RigSpec* spec, float lambda_w, float curve_width) {
+  spec->thickness.value = 3.f;
+  spec->muscle_wrinkles.assign(spec->muscles.size(), MuscleWrinkleSpec{});
+  for (size_t m = 0; m < spec->muscles.size(); ++m) {
+    const MuscleSpec& muscle = spec->muscles[m];
+    MuscleWrinkleSpec& w = *spec->muscle_wrinkles[m];
+    w.lambda_w = lambda_w;
+    w.count = 3;
+    w.depth = 0.5f;
+    w.shape = 0.5f;
+    w.phi_c = muscle.type == MuscleType::kLinear ? 0.2f : 0.f;
+    w.h_c = muscle.type == MuscleType::kSheet ? 0.1f * muscle.sheet.width : 0.f;
+  }
+  for (int k = 0; k < 3; ++k) {
+    NamedCurveWrinkle c;
+    c.name = "curve_" + std::to_string(k);
+    c.spec.control[0] = {0.2f, 0.2f + 0.3f * float(k)};
+    c.spec.control[1] = {0.4f, 0.25f + 0.3f * float(k)};
+    c.spec.control[2] = {0.6f, 0.15f + 0.3f * float(k)};
+    c.spec.control[3] = {0.8f, 0.2f + 0.3f * float(k)};
+    c.spec.depth = 0.5f;
+    c.spec.width = curve_width;
+    c.spec.modulation = k == 1 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
+    c.spec.profile = CurveWrinkleProfile(k);
+    c.spec.rest_amplitude = 0.2f;
+    spec->curve_wrinkles.push_back(c);
+  }
+  spec->refinement.enabled = false;
+}
+
+}  // namespace mimetic

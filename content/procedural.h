@@ -21,4 +21,10 @@ MeshData MakeSurfaceMesh(uint32_t columns, uint32_t rows, float width, float hei
 RigSpec MakeSurfaceRigSpec(uint32_t count, float width, float height, float bulge, float coverage,
                            float strength);
 
+// Turns on every skin layer of a MakeSurfaceRigSpec rig, so that every table and file section
+// has entries: thickness 3 (mesh units), a wrinkle region on every muscle (`lambda_w`, three
+// furrows), three curve wrinkles across the sheet of width `curve_width` (one of each
+// profile, area and directional modulation), refinement off (to stay small).
+void AddEverySkinLayer(RigSpec* spec, float lambda_w = 0.3f, float curve_width = 4.f);
+
 }  // namespace mimetic

@@ -143,35 +143,51 @@ bool CheckRigData(const RigData& r) {
 
 namespace {
 
+// Numbers the edges `keys` name ((a << 32) | b, a <= b < point_count) in first-seen order:
+// returns each key's id and appends each new edge's two points to `pairs`. The ids of the
+// edges whose smaller point is a live in bucket a (at most as many slots as a has lookups), so
+// a lookup scans the few edges of one point.
+std::vector<uint32_t> AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count,
+                                    std::vector<uint32_t>* pairs) {
+  std::vector<uint32_t> start(size_t(point_count) + 1, 0u);
+  for (uint64_t key : keys) ++start[size_t(key >> 32) + 1];
+  for (uint32_t p = 0; p < point_count; ++p) start[p + 1] += start[p];
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);  // next free slot per bucket
+  std::vector<uint32_t> bucket_b(keys.size()), bucket_id(keys.size());
+  std::vector<uint32_t> ids(keys.size());
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const uint32_t a = uint32_t(keys[i] >> 32), b = uint32_t(keys[i]);
+    uint32_t k = start[a];
+    while (k < fill[a] && bucket_b[k] != b) ++k;
+    if (k == fill[a]) {
+      bucket_b[k] = b;
+      bucket_id[k] = uint32_t(pairs->size() / 2);
+      pairs->push_back(a);
+      pairs->push_back(b);
+      ++fill[a];
+    }
+    ids[i] = bucket_id[k];
+  }
+  return ids;
+}
+
 // The fused strain and displacement tables (see RigTables): edges read by the compression rows
 // and the shrinkage probes, each once; per-row coefficients; per-point row lists.
 void BuildStrainTables(const RigData& r, RigTables* out) {
   RigTables& t = *out;
   t.edge_pairs.clear();
-  // Edge ids in first-seen order, through an open-addressing table (linear probing) sized for
-  // every lookup below: at most half full, so a probe sequence always ends.
-  size_t lookups = 4 * r.curve_wrinkles.probes.size();
-  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) lookups += w.edge_neighbors.size();
-  size_t capacity = 16;
-  while (capacity < 2 * lookups) capacity *= 2;
-  constexpr uint64_t kEmpty = ~uint64_t{0};  // no edge (a <= b < #P < 2^32 - 1)
-  std::vector<uint64_t> slot_keys(capacity, kEmpty);
-  std::vector<uint32_t> slot_ids(capacity);
-  const size_t mask = capacity - 1;
+  // Edge ids in first-seen order. The loops below first record each lookup's key (its two
+  // points, smaller first) in call order and a placeholder id; AssignEdgeIds then numbers the
+  // keys and the placeholders are overwritten. (A hash table over every lookup missed the cache
+  // on nearly every probe: a million lookups into a table of two million slots on the sample
+  // head; buckets by the smaller point are visited in nearly ascending order instead.)
+  std::vector<uint64_t> keys;
   auto edge = [&](uint32_t a, uint32_t b) {
     if (a > b) std::swap(a, b);
-    const uint64_t key = (uint64_t(a) << 32) | b;
-    size_t i = size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
-    while (slot_keys[i] != kEmpty) {
-      if (slot_keys[i] == key) return slot_ids[i];
-      i = (i + 1) & mask;
-    }
-    slot_keys[i] = key;
-    slot_ids[i] = uint32_t(t.edge_pairs.size() / 2);
-    t.edge_pairs.push_back(a);
-    t.edge_pairs.push_back(b);
-    return slot_ids[i];
-  };  // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
+    keys.push_back((uint64_t(a) << 32) | b);
+    return 0u;
+  };
+  // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
   // themselves, so its sum adds them in the order MuscleWrinkleJob would), and so are their
   // entries.
   const uint32_t active = r.active.points;
@@ -179,10 +195,29 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
     const RigMuscleWrinkles* table;
     uint32_t index;
   };
-  std::vector<std::vector<RowRef>> rows_of(active);
-  std::vector<std::vector<uint32_t>> curves_of(active);
-  for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
-    for (uint32_t i = 0; i < w.row_count(); ++i) rows_of[w.points[i]].push_back({&w, i});
+  // Each point's rows, as CSR in rig order (a count, a prefix sum, a fill).
+  std::vector<uint32_t> row_start(size_t(active) + 1, 0u);
+  size_t row_total = 0, entry_total = 0;
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles) {
+    for (uint32_t i = 0; i < w.row_count(); ++i) ++row_start[size_t(w.points[i]) + 1];
+    row_total += w.row_count();
+    entry_total += w.edge_neighbors.size();
+  }
+  for (uint32_t p = 0; p < active; ++p) row_start[p + 1] += row_start[p];
+  std::vector<RowRef> row_refs(row_total);
+  {
+    std::vector<uint32_t> fill(row_start.begin(), row_start.end() - 1);
+    for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
+      for (uint32_t i = 0; i < w.row_count(); ++i) row_refs[fill[w.points[i]]++] = {&w, i};
+  }
+  const RigCurveWrinkles& c = r.curve_wrinkles;
+  keys.reserve(entry_total + 4 * c.probes.size());
+  t.row_offsets.reserve(row_total + 1);
+  t.entry_edges.reserve(entry_total);
+  t.entry_rest.reserve(entry_total);
+  t.entry_coeffs.reserve(entry_total);
+  t.row_profiles.reserve(row_total);
+  t.point_row_offsets.reserve(size_t(active) + 1);
   t.row_offsets.assign(1, 0u);
   t.entry_edges.clear();
   t.entry_rest.clear();
@@ -190,7 +225,8 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
   t.row_profiles.clear();
   t.point_row_offsets.assign(1, 0u);
   for (uint32_t p = 0; p < active; ++p) {
-    for (const RowRef& ref : rows_of[p]) {
+    for (uint32_t j = row_start[p]; j < row_start[p + 1]; ++j) {
+      const RowRef& ref = row_refs[j];
       const RigMuscleWrinkles& w = *ref.table;
       const uint32_t i = ref.index;
       t.row_profiles.push_back(w.profile.empty()
@@ -214,7 +250,6 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
     }
     t.point_row_offsets.push_back(uint32_t(t.row_profiles.size()));
   }
-  const RigCurveWrinkles& c = r.curve_wrinkles;
   t.probe_edges.assign(4 * c.probes.size(), 0u);
   for (size_t k = 0; k < c.probes.size(); ++k) {
     const ShrinkageProbe& probe = c.probes[k];
@@ -223,16 +258,25 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
       t.probe_edges[4 * k + 2 * s + 1] = edge(probe.point, probe.sides[s].v3);
     }
   }
-  for (uint32_t i = 0; i < c.row_count(); ++i) curves_of[c.points[i]].push_back(i);
-  t.point_curve_offsets.assign(1, 0u);
-  t.point_curve_rows.clear();
-  for (const std::vector<uint32_t>& l : curves_of) {
-    t.point_curve_rows.insert(t.point_curve_rows.end(), l.begin(), l.end());
-    t.point_curve_offsets.push_back(uint32_t(t.point_curve_rows.size()));
+  const std::vector<uint32_t> ids = AssignEdgeIds(keys, r.point_count(), &t.edge_pairs);
+  size_t next = 0;
+  for (uint32_t& e : t.entry_edges) e = ids[next++];
+  for (size_t k = 0; k < c.probes.size(); ++k)
+    for (uint32_t s = 0; s < 2 * c.probes[k].side_count; ++s) t.probe_edges[4 * k + s] = ids[next++];
+  // Each point's curve-wrinkle rows, as CSR in row order.
+  t.point_curve_offsets.assign(size_t(active) + 1, 0u);
+  for (uint32_t i = 0; i < c.row_count(); ++i) ++t.point_curve_offsets[size_t(c.points[i]) + 1];
+  for (uint32_t p = 0; p < active; ++p) t.point_curve_offsets[p + 1] += t.point_curve_offsets[p];
+  t.point_curve_rows.assign(c.row_count(), 0u);
+  {
+    std::vector<uint32_t> fill(t.point_curve_offsets.begin(), t.point_curve_offsets.end() - 1);
+    for (uint32_t i = 0; i < c.row_count(); ++i) t.point_curve_rows[fill[c.points[i]]++] = i;
   }
   t.wrinkle_points.clear();
   for (uint32_t p = 0; p < active; ++p)
-    if (!rows_of[p].empty() || !curves_of[p].empty()) t.wrinkle_points.push_back(p);
+    if (row_start[p + 1] > row_start[p] ||
+        t.point_curve_offsets[p + 1] > t.point_curve_offsets[p])
+      t.wrinkle_points.push_back(p);
 }
 
 // RigTables::point_triangles_exact: each active point lists, ascending and once each, exactly

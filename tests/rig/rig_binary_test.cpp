@@ -22,33 +22,7 @@ namespace {
 Rig SurfaceRig() {
   const MeshData mesh = MakeSurfaceMesh(31, 31, 100.f, 100.f, 10.f);
   RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.3f, 3.f);
-  spec.thickness.value = 3.f;
-  spec.muscle_wrinkles.resize(spec.muscles.size());
-  for (size_t m = 0; m < spec.muscles.size(); ++m) {
-    MuscleWrinkleSpec w;
-    w.lambda_w = 0.3f;
-    w.count = 3;
-    w.depth = 0.5f;
-    w.shape = 0.5f;
-    w.phi_c = spec.muscles[m].type == MuscleType::kLinear ? 0.2f : 0.f;
-    w.h_c = spec.muscles[m].type == MuscleType::kSheet ? 0.1f * spec.muscles[m].sheet.width : 0.f;
-    spec.muscle_wrinkles[m] = w;
-  }
-  for (int k = 0; k < 3; ++k) {
-    NamedCurveWrinkle c;
-    c.name = "curve_" + std::to_string(k);
-    c.spec.control[0] = {0.2f, 0.2f + 0.3f * k};
-    c.spec.control[1] = {0.4f, 0.25f + 0.3f * k};
-    c.spec.control[2] = {0.6f, 0.15f + 0.3f * k};
-    c.spec.control[3] = {0.8f, 0.2f + 0.3f * k};
-    c.spec.depth = 0.5f;
-    c.spec.width = 4.f;
-    c.spec.modulation = k == 1 ? CurveWrinkleModulation::kArea : CurveWrinkleModulation::kDirectional;
-    c.spec.profile = CurveWrinkleProfile(k);
-    c.spec.rest_amplitude = 0.2f;
-    spec.curve_wrinkles.push_back(c);
-  }
-  spec.refinement.enabled = false;  // a small file (the sample head's test refines)
+  AddEverySkinLayer(&spec, 0.3f, 4.f);
   Rig rig;
   Diagnostics diag;
   EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
