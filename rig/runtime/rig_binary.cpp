@@ -232,14 +232,25 @@ class Reader {
     return false;
   }
   // Elements [first, first + n) of a fixed-size section, already bounds-checked by the table.
-  void U32s(const InSection& s, uint64_t first, uint64_t n, std::vector<uint32_t>* out) {
+  // On a little-endian host the file's arrays are the vectors' bytes: one copy each.
+  template <class T>
+  static bool CopyIfNative(const uint8_t* p, uint64_t n, std::vector<T>* out) {
+    static_assert(sizeof(T) % 4 == 0, "arrays of 32-bit words");
+    if constexpr (std::endian::native != std::endian::little) return false;
     out->resize(size_t(n));
+    if (n) std::memcpy(out->data(), p, size_t(n) * sizeof(T));
+    return true;
+  }
+  void U32s(const InSection& s, uint64_t first, uint64_t n, std::vector<uint32_t>* out) {
     const uint8_t* p = s.data + 4 * first;
+    if (CopyIfNative(p, n, out)) return;
+    out->resize(size_t(n));
     for (uint64_t i = 0; i < n; ++i) (*out)[size_t(i)] = LoadU32(p + 4 * i);
   }
   void F32s(const InSection& s, uint64_t first, uint64_t n, std::vector<float>* out) {
-    out->resize(size_t(n));
     const uint8_t* p = s.data + 4 * first;
+    if (CopyIfNative(p, n, out)) return;
+    out->resize(size_t(n));
     for (uint64_t i = 0; i < n; ++i) (*out)[size_t(i)] = LoadF32(p + 4 * i);
   }
   void U32s(uint32_t id, std::vector<uint32_t>* out) {
@@ -252,6 +263,8 @@ class Reader {
   }
   void Float3s(uint32_t id, std::vector<float3>* out) {
     const InSection& s = Of(id);
+    static_assert(sizeof(float3) == 12, "float3 is three packed floats");
+    if (CopyIfNative(s.data, s.count, out)) return;
     out->resize(size_t(s.count));
     for (uint64_t i = 0; i < s.count; ++i) {
       const uint8_t* p = s.data + 12 * i;
@@ -260,6 +273,8 @@ class Reader {
   }
   void Float2s(uint32_t id, std::vector<float2>* out) {
     const InSection& s = Of(id);
+    static_assert(sizeof(float2) == 8, "float2 is two packed floats");
+    if (CopyIfNative(s.data, s.count, out)) return;
     out->resize(size_t(s.count));
     for (uint64_t i = 0; i < s.count; ++i) {
       const uint8_t* p = s.data + 8 * i;

@@ -212,43 +212,39 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
   }
   const RigCurveWrinkles& c = r.curve_wrinkles;
   keys.reserve(entry_total + 4 * c.probes.size());
-  t.row_offsets.reserve(row_total + 1);
-  t.entry_edges.reserve(entry_total);
-  t.entry_rest.reserve(entry_total);
-  t.entry_coeffs.reserve(entry_total);
-  t.row_profiles.reserve(row_total);
-  t.point_row_offsets.reserve(size_t(active) + 1);
-  t.row_offsets.assign(1, 0u);
-  t.entry_edges.clear();
-  t.entry_rest.clear();
-  t.entry_coeffs.clear();
-  t.row_profiles.clear();
-  t.point_row_offsets.assign(1, 0u);
+  t.row_offsets.resize(row_total + 1);
+  t.entry_edges.resize(entry_total);  // ids after AssignEdgeIds below
+  t.entry_rest.resize(entry_total);
+  t.entry_coeffs.resize(entry_total);
+  t.row_profiles.resize(row_total);
+  t.point_row_offsets.resize(size_t(active) + 1);
+  t.row_offsets[0] = 0;
+  t.point_row_offsets[0] = 0;
+  size_t row = 0, entry = 0;
   for (uint32_t p = 0; p < active; ++p) {
-    for (uint32_t j = row_start[p]; j < row_start[p + 1]; ++j) {
+    for (uint32_t j = row_start[p]; j < row_start[p + 1]; ++j, ++row) {
       const RowRef& ref = row_refs[j];
       const RigMuscleWrinkles& w = *ref.table;
       const uint32_t i = ref.index;
-      t.row_profiles.push_back(w.profile.empty()
-                                  ? MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth,
-                                                         w.shape, w.attenuation[i])
-                                  : w.profile[i]);
+      t.row_profiles[row] = w.profile.empty()
+                                ? MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth,
+                                                       w.shape, w.attenuation[i])
+                                : w.profile[i];
       float weight_sum = 0.f;
       for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k)
         weight_sum += w.edge_weights[k];
-      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k) {
+      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k, ++entry) {
         const float rest = w.edge_rest_lengths[k];
-        t.entry_edges.push_back(edge(p, w.edge_neighbors[k]));
-        t.entry_rest.push_back(rest);
+        edge(p, w.edge_neighbors[k]);
+        t.entry_rest[entry] = rest;
         // 001 eq. 9-10: eps = sum_j w_j (L_j - l_j) / L_j / sum_j w_j, as sum_j c_j (L_j - l_j)
         // (no division per frame; L_j - l_j is exactly 0 at rest, so is eps).
-        t.entry_coeffs.push_back(rest > 0.f && weight_sum > 0.f
-                                    ? w.edge_weights[k] / (rest * weight_sum)
-                                    : 0.f);
+        t.entry_coeffs[entry] =
+            rest > 0.f && weight_sum > 0.f ? w.edge_weights[k] / (rest * weight_sum) : 0.f;
       }
-      t.row_offsets.push_back(uint32_t(t.entry_edges.size()));
+      t.row_offsets[row + 1] = uint32_t(entry);
     }
-    t.point_row_offsets.push_back(uint32_t(t.row_profiles.size()));
+    t.point_row_offsets[p + 1] = uint32_t(row);
   }
   t.probe_edges.assign(4 * c.probes.size(), 0u);
   for (size_t k = 0; k < c.probes.size(); ++k) {
@@ -322,19 +318,25 @@ void BuildRigTables(const RigData& r, RigTables* out) {
                                                       t.rest_faces.data(), p));
   BuildStrainTables(r, out);
   // The one-ring of each active point, each neighbour once, ascending.
+  // (A stamp per point keeps each neighbour once; the few left are insertion-sorted.)
   t.point_neighbor_offsets.assign(size_t(r.active.points) + 1, 0);
   t.point_neighbors.clear();
-  std::vector<uint32_t> ring;
+  t.point_neighbors.reserve(size_t(r.active.points) * 7);
+  std::vector<uint32_t> stamp(points, ~0u);
   for (uint32_t p = 0; p < r.active.points; ++p) {
-    ring.clear();
+    const size_t first = t.point_neighbors.size();
+    stamp[p] = p;
     for (uint32_t k = r.point_triangle_offsets[p]; k < r.point_triangle_offsets[p + 1]; ++k)
       for (int j = 0; j < 3; ++j) {
         const uint32_t q = r.triangles[3 * size_t(r.point_triangles[k]) + j];
-        if (q != p) ring.push_back(q);
+        if (stamp[q] == p) continue;
+        stamp[q] = p;
+        // Insert q into the sorted tail [first, end).
+        t.point_neighbors.push_back(q);
+        for (size_t i = t.point_neighbors.size() - 1;
+             i > first && t.point_neighbors[i - 1] > t.point_neighbors[i]; --i)
+          std::swap(t.point_neighbors[i - 1], t.point_neighbors[i]);
       }
-    std::sort(ring.begin(), ring.end());
-    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    t.point_neighbors.insert(t.point_neighbors.end(), ring.begin(), ring.end());
     t.point_neighbor_offsets[p + 1] = uint32_t(t.point_neighbors.size());
   }
   t.point_triangles_exact = PointTrianglesExact(r);
