@@ -166,6 +166,11 @@ bool Check(const BakedFrames& f, Diagnostics* diag) {
       ok = false;
       break;
     }
+  if (!f.target_names.empty() && f.target_names.size() != nf) {
+    diag->Error("", "bake: " + std::to_string(f.target_names.size()) + " target names for " +
+                        std::to_string(nf) + " frames");
+    ok = false;
+  }
   for (uint32_t i : f.base.indices)
     if (i >= nv) {
       diag->Error("", "bake: index " + std::to_string(i) + " out of range");
@@ -243,6 +248,7 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   std::vector<int> target_of(nf, -1);
   std::unordered_multimap<uint64_t, size_t> seen;  // frame hash -> an earlier frame
   const bool with_normal_deltas = normals && !f.normals.empty();
+  const bool named = !f.target_names.empty();  // a target per frame, in order
   auto same = [&](size_t a, size_t k) {
     const size_t n = nv * 3 * sizeof(float);
     return std::memcmp(&f.positions[a * nv * 3], &f.positions[k * nv * 3], n) == 0 &&
@@ -254,7 +260,7 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
     const float* n = with_normal_deltas ? &f.normals[k * nv * 3] : nullptr;
     const uint64_t h = FrameHash(p, n, nv * 3);
     bool reused = false;
-    for (auto [it, end] = seen.equal_range(h); it != end && !reused; ++it)
+    for (auto [it, end] = seen.equal_range(h); it != end && !reused && !named; ++it)
       if (same(it->second, k)) {
         target_of[k] = target_of[it->second];
         reused = true;
@@ -266,7 +272,7 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
     auto nonzero = [](const std::vector<float>& d) {
       return std::any_of(d.begin(), d.end(), [](float x) { return x != 0.f; });
     };
-    if (!nonzero(delta) && (!n || !nonzero(normal_delta))) continue;  // the base
+    if (!named && !nonzero(delta) && (!n || !nonzero(normal_delta))) continue;  // the base
     std::map<std::string, int> target;
     bool sparse = false;
     size_t count = 0;
@@ -298,6 +304,13 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   mesh.name = "baked";
   mesh.primitives.push_back(std::move(prim));
   mesh.weights.assign(nt, 0.0);
+  if (named) {
+    tinygltf::Value::Array names;
+    for (const std::string& name : f.target_names) names.emplace_back(name);
+    tinygltf::Value::Object extras;
+    extras["targetNames"] = tinygltf::Value(std::move(names));
+    mesh.extras = tinygltf::Value(std::move(extras));
+  }
   b.model.meshes.push_back(std::move(mesh));
 
   tinygltf::Node node;
@@ -362,6 +375,19 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   s.bytes = out->size();
   if (stats) *stats = s;
   return true;
+}
+
+void SetDefaultEpsilons(BakedFrames* f) {
+  if (f->base.positions.empty()) return;
+  float3 lo = f->base.positions[0], hi = lo;
+  for (const float3& p : f->base.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  f->position_epsilon =
+      1e-6f * std::sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
+                        (hi.z - lo.z) * (hi.z - lo.z));
+  f->normal_epsilon = 1e-4f;
 }
 
 bool WriteBakedGlb(const std::string& path, const BakedFrames& frames, BakeStats* stats,

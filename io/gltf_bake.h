@@ -28,6 +28,11 @@ struct BakedFrames {
   // every non-zero delta (exact).
   float position_epsilon = 0.f;
   float normal_epsilon = 0.f;
+  // Named targets (blendshape export): empty, or one name per frame. When given, every frame
+  // is its own morph target in frame order (no sharing of identical frames, and a frame equal
+  // to the base still gets an all-zero target), and the names go to the mesh's
+  // `extras.targetNames`, where three.js, Babylon and Blender read morph-target names.
+  std::vector<std::string> target_names;
 };
 
 struct BakeStats {
@@ -57,6 +62,12 @@ struct BakeStats {
 // values, out-of-range indices.
 bool BakeGlbBytes(const BakedFrames& frames, std::string* out, BakeStats* stats,
                   Diagnostics* diag);
+
+// The epsilons mimetic writes with, from frames.base: moves below a millionth of the base's
+// bounding-box diagonal (0.25 um on the sample head) and normal changes below 1e-4 are not
+// stored; far from the acting muscles the skin layers change vertices by float noise, which
+// would otherwise make nearly every target dense.
+void SetDefaultEpsilons(BakedFrames* frames);
 
 // BakeGlbBytes written to `path` atomically (temporary file + rename; WriteFileAtomic).
 bool WriteBakedGlb(const std::string& path, const BakedFrames& frames, BakeStats* stats,

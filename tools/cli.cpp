@@ -105,4 +105,17 @@ bool SameFile(const std::string& a, const std::string& b) {
   return !ec1 && !ec2 && pa == pb;
 }
 
+std::string DefaultArkitMap(const std::string& rig_path) {
+  std::error_code ec;
+  std::filesystem::path dir = std::filesystem::absolute(rig_path, ec).parent_path();
+  for (int i = 0; i < 4 && !dir.empty(); ++i, dir = dir.parent_path()) {
+    for (const char* rel : {"arkit/default.arkit.json", "assets/arkit/default.arkit.json"}) {
+      const std::filesystem::path p = dir / rel;
+      if (std::filesystem::is_regular_file(p, ec)) return p.string();
+    }
+    if (dir == dir.parent_path()) break;
+  }
+  return "assets/arkit/default.arkit.json";
+}
+
 }  // namespace mimetic::tools

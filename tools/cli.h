@@ -50,4 +50,9 @@ bool SameFile(const std::string& a, const std::string& b);
 // Prints "mimetic <cmd>: <error>\n<usage>" to stderr and returns 2.
 int UsageError(const std::string& command, const std::string& error, const char* usage);
 
+// The default ARKit map: assets/arkit/default.arkit.json found from the rig's folder upwards
+// (the rig sits in assets/head of a source tree), else that path relative to the working
+// directory.
+std::string DefaultArkitMap(const std::string& rig_path);
+
 }  // namespace mimetic::tools

@@ -44,21 +44,6 @@ std::string Stem(const std::string& path) {
   return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
 }
 
-// The default map: assets/arkit/default.arkit.json found from the rig upwards (the rig sits in
-// assets/head of a source tree), else relative to the working directory.
-std::string DefaultMap(const std::string& rig_path) {
-  std::error_code ec;
-  std::filesystem::path dir = std::filesystem::absolute(rig_path, ec).parent_path();
-  for (int i = 0; i < 4 && !dir.empty(); ++i, dir = dir.parent_path()) {
-    for (const char* rel : {"arkit/default.arkit.json", "assets/arkit/default.arkit.json"}) {
-      const std::filesystem::path p = dir / rel;
-      if (std::filesystem::is_regular_file(p, ec)) return p.string();
-    }
-    if (dir == dir.parent_path()) break;
-  }
-  return "assets/arkit/default.arkit.json";
-}
-
 }  // namespace
 
 int CmdImportArkit(const Args& args) {
@@ -84,7 +69,7 @@ int CmdImportArkit(const Args& args) {
     return UsageError("import-arkit", "--fps " + parsed.Get("fps") +
                                           ": expected frames per second in (0, 1000]",
                       kImportUsage);
-  const std::string map_path = parsed.Has("map") ? parsed.Get("map") : DefaultMap(rig_path);
+  const std::string map_path = parsed.Has("map") ? parsed.Get("map") : DefaultArkitMap(rig_path);
   for (const std::string& input : {take_path, rig_path, map_path})
     if (SameFile(out, input))
       return UsageError("import-arkit", "--out " + out + " is " + input +

@@ -25,6 +25,7 @@ int CmdCalibrate(const Args& args);    // calibrate a template on real shapes (t
 int CmdCalibrateJaw(const Args& args); // calibrate the template's jaw on ICT's jawOpen (tools/cmd_calibrate_jaw.cpp)
 int CmdPlay(const Args& args);         // sample a clip and pose the rig (tools/cmd_play.cpp)
 int CmdImportArkit(const Args& args);  // a face-capture take into a clip (tools/cmd_import_arkit.cpp)
-int CmdMakeLibrary(const Args& args);  // the expression library and ARKit map (tools/cmd_library.cpp)
+int CmdMakeLibrary(const Args& args);
+int CmdExportBlendshapes(const Args& args);  // 52 ARKit morph targets (tools/cmd_export_blendshapes.cpp)  // the expression library and ARKit map (tools/cmd_library.cpp)
 
 }  // namespace mimetic::tools

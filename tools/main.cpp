@@ -30,6 +30,7 @@ const Command kCommands[] = {
     {"calibrate-jaw", mimetic::tools::CmdCalibrateJaw, "calibrate the template's jaw on ICT-FaceKit's jawOpen"},
     {"play", mimetic::tools::CmdPlay, "sample a clip and write the posed mesh or an OBJ sequence"},
     {"import-arkit", mimetic::tools::CmdImportArkit, "turn a face-capture take (ARKit CSV/JSON) into a clip"},
+    {"export-blendshapes", mimetic::tools::CmdExportBlendshapes, "the rig at the 52 ARKit shapes as a glTF with named morph targets"},
     {"make-library", mimetic::tools::CmdMakeLibrary, "the expression library and ARKit map, solved on ICT-FaceKit"},
 };
 

@@ -81,18 +81,7 @@ int PlayBake(const PlayBakeRequest& r) {
       return kExitInput;
     }
     if (!r.normals) frames.base.normals.clear();
-    // Moves below a millionth of the head's size (0.25 um on the sample head) and normal
-    // changes below 1e-4 are not stored: far from the acting muscles the skin layers change
-    // vertices by float noise, which would make nearly every target dense.
-    float3 lo = frames.base.positions[0], hi = lo;
-    for (const float3& p : frames.base.positions) {
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
-    frames.position_epsilon =
-        1e-6f * std::sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
-                          (hi.z - lo.z) * (hi.z - lo.z));
-    frames.normal_epsilon = 1e-4f;
+    SetDefaultEpsilons(&frames);
   }
 
   unsigned threads = r.threads ? r.threads : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));

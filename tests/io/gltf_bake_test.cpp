@@ -193,6 +193,44 @@ TEST(GltfBake, HeldAndNeutralFramesShareTargets) {
     EXPECT_EQ(x, 0.f);
 }
 
+// Named targets (blendshape export): frames 0 (the base) and 3 (the same as 1) still get their
+// own targets, in frame order, and the names land in the mesh's extras.targetNames.
+TEST(GltfBake, NamedTargetsOnePerFrameInOrder) {
+  BakedFrames f = Quad();
+  f.times = {0.0, 1.0, 2.0, 3.0};
+  for (int v = 0; v < 12; ++v) f.positions.push_back(f.positions[size_t(12 + v)]);  // 3 = 1
+  for (int v = 0; v < 12; ++v) f.normals.push_back(f.normals[size_t(12 + v)]);
+  f.target_names = {"neutralish", "up", "across", "up_again"};
+  std::string bytes;
+  BakeStats stats;
+  Diagnostics diag;
+  ASSERT_TRUE(BakeGlbBytes(f, &bytes, &stats, &diag)) << diag.Format();
+  EXPECT_EQ(stats.targets, 4u);
+  tinygltf::Model m;
+  std::string err;
+  ASSERT_TRUE(test::LoadGlb(bytes, &m, &err)) << err;
+  const tinygltf::Mesh& mesh = m.meshes[0];
+  ASSERT_EQ(mesh.primitives[0].targets.size(), 4u);
+  ASSERT_TRUE(mesh.extras.Has("targetNames"));
+  const tinygltf::Value& names = mesh.extras.Get("targetNames");
+  ASSERT_EQ(names.ArrayLen(), 4u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(names.Get(int(k)).Get<std::string>(), f.target_names[k]);
+  // Target k is frame k minus the base: 0 everywhere for frame 0, +0.5 z at vertex 2 for 1 and 3.
+  const std::vector<float> base = test::ReadFloats(m, mesh.primitives[0].attributes.at("POSITION"));
+  for (size_t k = 0; k < 4; ++k) {
+    const std::vector<float> d = test::ReadFloats(m, mesh.primitives[0].targets[k].at("POSITION"));
+    ASSERT_EQ(d.size(), 12u);
+    for (size_t i = 0; i < 12; ++i) EXPECT_EQ(base[i] + d[i], f.positions[k * 12 + i]) << k << " " << i;
+  }
+  EXPECT_EQ(test::ReadFloats(m, mesh.primitives[0].targets[1].at("POSITION")),
+            test::ReadFloats(m, mesh.primitives[0].targets[3].at("POSITION")));
+  // One name short: refused, naming the counts.
+  f.target_names.pop_back();
+  Diagnostics bad;
+  EXPECT_FALSE(BakeGlbBytes(f, &bytes, &stats, &bad));
+  EXPECT_NE(bad.Format().find("3 target names for 4 frames"), std::string::npos) << bad.Format();
+}
+
 TEST(GltfBake, U32SparseIndicesPastU16AndNoNormals) {
   // 70000 vertices (a strip of triangles), one frame moving vertex 69999 only.
   BakedFrames f;
