@@ -291,20 +291,20 @@ bool SectionReader::Strings(uint32_t id, std::vector<std::string>* out) const {
   return true;
 }
 
-bool ReadFileBytes(const std::string& path, const Format& format, size_t max_bytes,
-                   std::string* out, std::string* error) {
+bool ReadFileBytes(const std::string& path, const char* what, size_t max_bytes, std::string* out,
+                   std::string* error) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     *error = "cannot open: no such file or not readable";
     return false;
   }
   if (!S_ISREG(st.st_mode)) {
-    *error = std::string("is not a regular file (expected a ") + format.what + ")";
+    *error = std::string("is not a regular file (expected a ") + what + ")";
     return false;
   }
   if (uint64_t(st.st_size) > max_bytes) {
     *error = "is larger than the " + std::to_string(max_bytes >> 20) + " MiB limit for a " +
-             format.what + " (" + std::to_string(st.st_size) + " bytes)";
+             what + " (" + std::to_string(st.st_size) + " bytes)";
     return false;
   }
   std::FILE* f = std::fopen(path.c_str(), "rb");

@@ -174,8 +174,8 @@ class SectionReader {
 };
 
 // Reads a whole regular file of at most `max_bytes` bytes into *out; on failure sets *error
-// (the format's `what` names what was expected).
-bool ReadFileBytes(const std::string& path, const Format& format, size_t max_bytes,
-                   std::string* out, std::string* error);
+// (`what` names what was expected: "compiled rig").
+bool ReadFileBytes(const std::string& path, const char* what, size_t max_bytes, std::string* out,
+                   std::string* error);
 
 }  // namespace mimetic::binary

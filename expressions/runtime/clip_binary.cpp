@@ -323,7 +323,7 @@ bool ReadClipBinary(span<const uint8_t> bytes, CompiledClip* out, std::string* e
 
 bool LoadClipBinaryFile(const std::string& path, CompiledClip* out, std::string* error) {
   std::string bytes, why;
-  if (!binary::ReadFileBytes(path, kFormat, kMaxClipBinaryFileBytes, &bytes, &why) ||
+  if (!binary::ReadFileBytes(path, kFormat.what, kMaxClipBinaryFileBytes, &bytes, &why) ||
       !ReadClipBinary(span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()),
                                           bytes.size()),
                       out, &why)) {

@@ -432,7 +432,7 @@ bool ReadRigBinary(span<const uint8_t> bytes, Rig* out, RigBinaryInfo* info, std
 bool ReadRigBinaryFile(const std::string& path, std::string* out, std::string* error,
                        size_t max_bytes) {
   std::string local_error;
-  return binary::ReadFileBytes(path, kFormat, max_bytes, out, error ? error : &local_error);
+  return binary::ReadFileBytes(path, kFormat.what, max_bytes, out, error ? error : &local_error);
 }
 
 bool LoadRigBinaryFile(const std::string& path, Rig* out, RigBinaryInfo* info,
