@@ -132,6 +132,22 @@ TEST_F(BuildClip, PlayOnTheMclipWritesTheSameBytes) {
   EXPECT_TRUE(Contains(w.output, "--expression and --library are not used")) << w.output;
 }
 
+TEST_F(BuildClip, GoldenFromTheMclipIsTheSameFile) {
+  const std::string json = Src("tests/golden/smile.clip.json");
+  const std::string mclip = Dir() + "/golden/smile.mclip";
+  std::filesystem::create_directories(Dir() + "/golden/a");
+  std::filesystem::create_directories(Dir() + "/golden/b");
+  ASSERT_EQ(RunTool({"build", json, "--rig", Head(), "--out", mclip}).exit_code, 0);
+  const auto a = RunTool({"play", Head(), json, "--write-golden", Dir() + "/golden/a"});
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const auto b = RunTool({"play", Head(), mclip, "--write-golden", Dir() + "/golden/b"});
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  // Named after the clip file without .clip.json / .mclip: the same name, the same bytes.
+  const std::string want = ReadText(Dir() + "/golden/a/smile.golden");
+  EXPECT_GT(want.size(), 100u);
+  EXPECT_TRUE(want == ReadText(Dir() + "/golden/b/smile.golden"));
+}
+
 TEST_F(BuildClip, WrongRigAndBrokenFilesAreInputErrors) {
   const std::string surface = Src("assets/surface/surface.rig.json");
   const std::string json = Dir() + "/z.clip.json";
