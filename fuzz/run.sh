@@ -25,6 +25,7 @@ seeds() {  # the seed files of one target
     mesh_obj) echo "$src/fuzz/seeds/*.obj $bad/*.obj" ;;
     image) echo "$src/fuzz/seeds/*.png $bad/*.png" ;;
     mrig) echo "$work/mrig-seed/*.mrig" ;;  # written below by fuzz_mrig_seed
+    mclip) echo "$work/mclip-seed/*.mclip" ;;  # written below by fuzz_mclip_seed
   esac
 }
 artifacts=$build/fuzz-artifacts
@@ -33,8 +34,10 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/mrig-seed"
 "$build/fuzz/fuzz_mrig_seed" "$work/mrig-seed/surface.mrig" >/dev/null
+mkdir -p "$work/mclip-seed"
+"$build/fuzz/fuzz_mclip_seed" "$work/mclip-seed/seed.mclip" >/dev/null
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for name in rig template landmarks expression clip expression_library arkit_map arkit_take golden mesh_glb mesh_gltf mesh_obj image mrig; do
+for name in rig template landmarks expression clip expression_library arkit_map arkit_take golden mesh_glb mesh_gltf mesh_obj image mrig mclip; do
   mkdir -p "$work/$name/corpus" "$work/$name/seeds"
   # shellcheck disable=SC2046
   cp $(seeds "$name") "$work/$name/seeds/"

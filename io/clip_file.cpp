@@ -3,12 +3,15 @@
 // fields, and writing.
 #include "io/clip_file.h"
 
+#include <cctype>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
 
 #include "core/file_util.h"
+#include "expressions/runtime/clip_binary.h"
 #include "io/formats.h"
 #include "io/json_reader.h"
 
@@ -176,6 +179,19 @@ bool SaveClip(const std::string& path, const ClipSpec& clip, Diagnostics* diag) 
     return false;
   }
   return WriteFileAtomic(path, ClipToJson(clip), diag);
+}
+
+bool IsCompiledClipPath(const std::string& path) {
+  std::string lower = path;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (lower.size() >= 6 && lower.compare(lower.size() - 6, 6, ".mclip") == 0) return true;
+  if (!CheckRegularFile(path, kMaxClipBinaryFileBytes, "clip file").empty()) return false;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  uint8_t tag[4] = {};
+  const size_t got = std::fread(tag, 1, 4, f);
+  std::fclose(f);
+  return got == 4 && HasClipBinaryTag(span<const uint8_t>(tag, 4));
 }
 
 bool BuildClip(const ClipSpec& clip, const std::vector<std::string>& muscle_names,

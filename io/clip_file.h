@@ -39,6 +39,10 @@ std::string ClipToJson(const ClipSpec& clip);
 // CheckClipSpec prefixed with `path`) a clip that breaks a rule.
 bool SaveClip(const std::string& path, const ClipSpec& clip, Diagnostics* diag);
 
+// True when `path` names a compiled clip (expressions/runtime/clip_binary.h): it ends in
+// .mclip (any case) or starts with the "MCLP" tag.
+bool IsCompiledClipPath(const std::string& path);
+
 // BuildClip on the expressions of expression files (io/expression_file.h).
 bool BuildClip(const ClipSpec& clip, const std::vector<std::string>& muscle_names,
                const std::vector<Expression>& expressions, CompiledClip* out, Diagnostics* diag);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/file_util.h"
+#include "expressions/runtime/clip_binary.h"
 #include "expressions/runtime/clip_sample_job.h"
 #include "geometry/mesh.h"
 #include "io/clip_file.h"
@@ -96,25 +97,55 @@ bool LoadPlayExpressions(const ParsedArgs& parsed, std::vector<Expression>* out,
 
 bool LoadPlayInputs(const ParsedArgs& parsed, const char* nothing_written, LoadedRig* loaded,
                     CompiledClip* clip, Diagnostics* diag) {
-  const std::string& rig_path = parsed.positional[0];
-  const std::string& clip_path = parsed.positional[1];
+  return LoadClipInputs("play", parsed.positional[0], parsed.positional[1], parsed,
+                        nothing_written, loaded, clip, diag);
+}
+
+bool LoadClipInputs(const std::string& command, const std::string& rig_path,
+                    const std::string& clip_path, const ParsedArgs& parsed,
+                    const char* nothing_written, LoadedRig* loaded, CompiledClip* clip,
+                    Diagnostics* diag) {
   const bool rig_ok = LoadRig(rig_path, loaded, diag);
-  ClipSpec spec;
-  const bool clip_ok = LoadClip(clip_path, &spec, diag);
-  std::vector<Expression> expressions;
-  const bool expressions_ok = LoadPlayExpressions(parsed, &expressions, diag);
-  if (!rig_ok || !clip_ok || !expressions_ok) {
-    PrintDiagnostics(*diag);
-    std::fprintf(stderr, "mimetic play: %zu error(s); %s\n", diag->ErrorCount(), nothing_written);
-    return false;
-  }
-  Diagnostics build;
-  if (!BuildClip(spec, loaded->rig.muscle_names(), expressions, clip, &build)) {
-    diag->Append(build, clip_path);
-    PrintDiagnostics(*diag);
-    std::fprintf(stderr, "mimetic play: %s does not play on %s: %zu error(s); %s\n",
-                 clip_path.c_str(), rig_path.c_str(), build.ErrorCount(), nothing_written);
-    return false;
+  if (IsCompiledClipPath(clip_path)) {
+    std::string why;
+    const bool clip_ok = LoadClipBinaryFile(clip_path, clip, &why);
+    if (!clip_ok) diag->Error(clip_path, why.substr(std::min(why.size(), clip_path.size() + 2)));
+    if (rig_ok && clip_ok && clip->muscle_count() != loaded->rig.muscle_count()) {
+      diag->Error(clip_path, "was compiled for a rig of " + std::to_string(clip->muscle_count()) +
+                                 " muscles; " + rig_path + " has " +
+                                 std::to_string(loaded->rig.muscle_count()) +
+                                 " (compile the clip for this rig: mimetic build CLIP.clip.json "
+                                 "--rig " + rig_path + " --out FILE.mclip)");
+    }
+    if (diag->ErrorCount()) {
+      PrintDiagnostics(*diag);
+      std::fprintf(stderr, "mimetic %s: %zu error(s); %s\n", command.c_str(), diag->ErrorCount(),
+                   nothing_written);
+      return false;
+    }
+    if (parsed.Has("expression") || parsed.Has("library"))
+      diag->Warning(clip_path, "is a compiled clip: it holds the expressions it uses, so "
+                               "--expression and --library are not used");
+  } else {
+    ClipSpec spec;
+    const bool clip_ok = LoadClip(clip_path, &spec, diag);
+    std::vector<Expression> expressions;
+    const bool expressions_ok = LoadPlayExpressions(parsed, &expressions, diag);
+    if (!rig_ok || !clip_ok || !expressions_ok) {
+      PrintDiagnostics(*diag);
+      std::fprintf(stderr, "mimetic %s: %zu error(s); %s\n", command.c_str(), diag->ErrorCount(),
+                   nothing_written);
+      return false;
+    }
+    Diagnostics build;
+    if (!BuildClip(spec, loaded->rig.muscle_names(), expressions, clip, &build)) {
+      diag->Append(build, clip_path);
+      PrintDiagnostics(*diag);
+      std::fprintf(stderr, "mimetic %s: %s does not play on %s: %zu error(s); %s\n",
+                   command.c_str(), clip_path.c_str(), rig_path.c_str(), build.ErrorCount(),
+                   nothing_written);
+      return false;
+    }
   }
   if (clip->animates_jaw() && loaded->rig.jaw().empty())
     diag->Warning(clip_path, "animates the jaw, but " + rig_path + " has none (its \"jaw\" "

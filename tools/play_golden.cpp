@@ -19,9 +19,10 @@ namespace mimetic::tools {
 const char* kPlayGoldenUsage =
     "       mimetic play RIG CLIP [--expression FILE]... --write-golden DIR [--frames T1,T2,...]\n"
     "  --write-golden DIR      write the playback golden DIR/<clip file name without\n"
-    "                          .clip.json>.golden: the outputs at the --frames times (default:\n"
-    "                          a quarter, half and all of the duration), every skin layer on\n"
-    "                          (tests/golden/README.md); only when a change of outputs is meant\n";
+    "                          .clip.json or .mclip>.golden: the outputs at the --frames times\n"
+    "                          (default: a quarter, half and all of the duration), every skin\n"
+    "                          layer on (tests/golden/README.md); only when a change of outputs\n"
+    "                          is meant\n";
 
 namespace {
 
@@ -32,7 +33,7 @@ int Usage(const std::string& error) {
 
 std::string GoldenName(const std::string& clip_path) {
   std::string name = std::filesystem::path(clip_path).filename().string();
-  for (const char* ext : {".clip.json", ".json"})
+  for (const char* ext : {".clip.json", ".mclip", ".json"})
     if (name.size() > std::strlen(ext) && name.ends_with(ext)) {
       name.resize(name.size() - std::strlen(ext));
       break;

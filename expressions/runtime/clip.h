@@ -3,10 +3,11 @@
 //
 // Built offline by BuildClip (expressions/offline/clip_builder.h) from a parsed clip
 // (expressions/offline/clip_spec.h, read by io/clip_file.h) resolved against one rig's
-// muscles and a set of expressions; sampled per frame by ClipSampleJob (clip_sample_job.h).
-// Immutable and move-only like Rig: members are private with const accessors and only the
-// builder fills them, after checking every invariant listed below, so the sampling job reads
-// the arrays without per-frame checks.
+// muscles and a set of expressions, or read from a compiled clip (.mclip, clip_binary.h);
+// sampled per frame by ClipSampleJob (clip_sample_job.h). Immutable and move-only like Rig:
+// members are private with const accessors and only the builder and the .mclip reader fill
+// them, after checking every invariant listed below, so the sampling job reads the arrays
+// without per-frame checks.
 //
 // Layout (plain arrays):
 //   channels c in [0, channel_count()), in the file's order (the order they are applied):
@@ -68,7 +69,8 @@ enum class KeyInterp : uint8_t {
   kCubic = 2,   // cubic Hermite with the two keys' tangents (never leaves the two values)
 };
 
-class ClipBuilder;  // expressions/offline/clip_builder.h
+class ClipBuilder;       // expressions/offline/clip_builder.h
+class ClipBinaryReader;  // expressions/runtime/clip_binary.cpp (the .mclip reader)
 
 class CompiledClip {
  public:
@@ -107,6 +109,7 @@ class CompiledClip {
 
  private:
   friend class ClipBuilder;
+  friend class ClipBinaryReader;
   std::string name_;
   float duration_ = 0.f;
   ClipEnd end_ = ClipEnd::kClamp;

@@ -1,17 +1,22 @@
 // rig/runtime/rig_binary.cpp: the .mrig writer and reader (docs/mrig-format.md).
 #include "rig/runtime/rig_binary.h"
 
-#include <bit>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
 
-#include <sys/stat.h>
+#include "core/binary_sections.h"
 
 namespace mimetic {
 namespace {
+
+using binary::InSection;
+using binary::LoadF32;
+using binary::LoadU32;
+using binary::Payload;
+using binary::SectionDesc;
+
 
 // Section ids of format 1.x. Adding a RigData array: one id here, one row in kSections, one
 // Put in WriteRigBinary and one Get in ReadRigBinaryData (a new id in a new minor version is
@@ -53,15 +58,6 @@ enum SectionId : uint32_t {
   kJawWeights = 34,
   kInfoUnits = 64,
   kInfoSourceVertexCount = 65,
-};
-
-// element_size 0: a string table (u32 offsets[count + 1], then the characters).
-struct SectionDesc {
-  uint32_t id;
-  const char* name;
-  uint32_t element_size;
-  uint64_t fixed_count;  // 0: any count
-  bool required;
 };
 
 // The muscle-wrinkle table: per wrinkled muscle, muscle, half_cycle, furrow_depth, shape and
@@ -108,80 +104,19 @@ constexpr SectionDesc kSections[] = {
     {kInfoSourceVertexCount, "info_source_vertex_count", 4, 1, false},
 };
 
-const SectionDesc* FindSection(uint32_t id) {
-  for (const SectionDesc& d : kSections)
-    if (d.id == id) return &d;
-  return nullptr;
-}
+constexpr binary::Format kFormat = {
+    {kRigBinaryTag[0], kRigBinaryTag[1], kRigBinaryTag[2], kRigBinaryTag[3]},
+    kRigBinaryMajor,
+    kRigBinaryMinor,
+    ".mrig",
+    "compiled rig",
+    "rebuild the rig with this version's `mimetic build`",
+    kSections,
+    std::size(kSections)};
 
-// ---- little-endian scalars ----------------------------------------------------------------
-
-inline uint32_t LoadU32(const uint8_t* p) {
-  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-inline uint16_t LoadU16(const uint8_t* p) { return uint16_t(p[0] | p[1] << 8); }
-inline uint64_t LoadU64(const uint8_t* p) {
-  if constexpr (std::endian::native == std::endian::little) {
-    uint64_t v;
-    std::memcpy(&v, p, 8);
-    return v;
-  }
-  return LoadU32(p) | uint64_t(LoadU32(p + 4)) << 32;
-}
-inline float LoadF32(const uint8_t* p) { return std::bit_cast<float>(LoadU32(p)); }
-
-inline void StoreU32(uint8_t* p, uint32_t v) {
-  p[0] = uint8_t(v), p[1] = uint8_t(v >> 8), p[2] = uint8_t(v >> 16), p[3] = uint8_t(v >> 24);
-}
-inline void StoreU16(uint8_t* p, uint16_t v) { p[0] = uint8_t(v), p[1] = uint8_t(v >> 8); }
-inline void StoreU64(uint8_t* p, uint64_t v) {
-  StoreU32(p, uint32_t(v));
-  StoreU32(p + 4, uint32_t(v >> 32));
-}
-
-// ---- writer -------------------------------------------------------------------------------
-
-struct OutSection {
-  uint32_t id = 0;
-  uint32_t element_size = 0;
-  uint64_t count = 0;
-  std::vector<uint8_t> payload;
-};
-
-class Payload {
+class SectionWriter : public binary::SectionWriter {
  public:
-  explicit Payload(OutSection* s) : s_(s) {}
-  void U32(uint32_t v) {
-    const size_t n = s_->payload.size();
-    s_->payload.resize(n + 4);
-    StoreU32(&s_->payload[n], v);
-  }
-  void F32(float v) { U32(std::bit_cast<uint32_t>(v)); }
-  void Bytes(const std::string& s) { s_->payload.insert(s_->payload.end(), s.begin(), s.end()); }
-
- private:
-  OutSection* s_;
-};
-
-class SectionWriter {
- public:
-  OutSection& Begin(uint32_t id, uint64_t count) {
-    const SectionDesc* d = FindSection(id);
-    OutSection s;
-    s.id = id;
-    s.element_size = d->element_size;
-    s.count = count;
-    sections_.push_back(std::move(s));
-    return sections_.back();
-  }
-  void U32s(uint32_t id, const std::vector<uint32_t>& v) {
-    Payload p(&Begin(id, v.size()));
-    for (uint32_t x : v) p.U32(x);
-  }
-  void F32s(uint32_t id, const std::vector<float>& v) {
-    Payload p(&Begin(id, v.size()));
-    for (float x : v) p.F32(x);
-  }
+  SectionWriter() : binary::SectionWriter(kFormat) {}
   void Float3s(uint32_t id, const std::vector<float3>& v) {
     Payload p(&Begin(id, v.size()));
     for (const float3& x : v) p.F32(x.x), p.F32(x.y), p.F32(x.z);
@@ -190,125 +125,34 @@ class SectionWriter {
     Payload p(&Begin(id, v.size()));
     for (const float2& x : v) p.F32(x.x), p.F32(x.y);
   }
-  void Strings(uint32_t id, const std::vector<std::string>& v) {
-    Payload p(&Begin(id, v.size()));
-    uint32_t at = 0;
-    p.U32(0);
-    for (const std::string& s : v) p.U32(at += uint32_t(s.size()));
-    for (const std::string& s : v) p.Bytes(s);
-  }
-  std::vector<OutSection>& sections() { return sections_; }
-
- private:
-  std::vector<OutSection> sections_;
 };
 
-size_t Align8(size_t n) { return (n + 7) & ~size_t{7}; }
-
-// ---- reader -------------------------------------------------------------------------------
-
-struct InSection {
-  const SectionDesc* desc = nullptr;
-  uint64_t offset = 0, size = 0, count = 0;
-  const uint8_t* data = nullptr;
-};
-
-std::string SectionWhere(const SectionDesc& d, uint64_t offset) {
-  return "section '" + std::string(d.name) + "' (id " + std::to_string(d.id) + ") at byte " +
-         std::to_string(offset);
-}
-
-class Reader {
+class Reader : public binary::SectionReader {
  public:
-  Reader(const InSection* sections, std::string* error) : sections_(sections), error_(error) {}
-
-  const InSection& Of(uint32_t id) const {
-    for (size_t i = 0; i < std::size(kSections); ++i)
-      if (kSections[i].id == id) return sections_[i];
-    return sections_[0];  // not reached: every id is in kSections
-  }
-  bool Fail(const InSection& s, const std::string& what) {
-    *error_ = SectionWhere(*s.desc, s.offset) + ": " + what;
-    return false;
-  }
-  // Elements [first, first + n) of a fixed-size section, already bounds-checked by the table.
-  // On a little-endian host the file's arrays are the vectors' bytes: one copy each.
-  template <class T>
-  static bool CopyIfNative(const uint8_t* p, uint64_t n, std::vector<T>* out) {
-    static_assert(sizeof(T) % 4 == 0, "arrays of 32-bit words");
-    if constexpr (std::endian::native != std::endian::little) return false;
-    out->resize(size_t(n));
-    if (n) std::memcpy(out->data(), p, size_t(n) * sizeof(T));
-    return true;
-  }
-  void U32s(const InSection& s, uint64_t first, uint64_t n, std::vector<uint32_t>* out) {
-    const uint8_t* p = s.data + 4 * first;
-    if (CopyIfNative(p, n, out)) return;
-    out->resize(size_t(n));
-    for (uint64_t i = 0; i < n; ++i) (*out)[size_t(i)] = LoadU32(p + 4 * i);
-  }
-  void F32s(const InSection& s, uint64_t first, uint64_t n, std::vector<float>* out) {
-    const uint8_t* p = s.data + 4 * first;
-    if (CopyIfNative(p, n, out)) return;
-    out->resize(size_t(n));
-    for (uint64_t i = 0; i < n; ++i) (*out)[size_t(i)] = LoadF32(p + 4 * i);
-  }
-  void U32s(uint32_t id, std::vector<uint32_t>* out) {
-    const InSection& s = Of(id);
-    U32s(s, 0, s.count, out);
-  }
-  void F32s(uint32_t id, std::vector<float>* out) {
-    const InSection& s = Of(id);
-    F32s(s, 0, s.count, out);
-  }
-  void Float3s(uint32_t id, std::vector<float3>* out) {
+  Reader(const std::vector<InSection>& known, std::string* error)
+      : binary::SectionReader(kFormat, known, error) {}
+  using binary::SectionReader::F32s;
+  using binary::SectionReader::U32s;
+  void Float3s(uint32_t id, std::vector<float3>* out) const {
     const InSection& s = Of(id);
     static_assert(sizeof(float3) == 12, "float3 is three packed floats");
-    if (CopyIfNative(s.data, s.count, out)) return;
+    if (binary::CopyIfNative(s.data, s.count, out)) return;
     out->resize(size_t(s.count));
     for (uint64_t i = 0; i < s.count; ++i) {
       const uint8_t* p = s.data + 12 * i;
       (*out)[size_t(i)] = {LoadF32(p), LoadF32(p + 4), LoadF32(p + 8)};
     }
   }
-  void Float2s(uint32_t id, std::vector<float2>* out) {
+  void Float2s(uint32_t id, std::vector<float2>* out) const {
     const InSection& s = Of(id);
     static_assert(sizeof(float2) == 8, "float2 is two packed floats");
-    if (CopyIfNative(s.data, s.count, out)) return;
+    if (binary::CopyIfNative(s.data, s.count, out)) return;
     out->resize(size_t(s.count));
     for (uint64_t i = 0; i < s.count; ++i) {
       const uint8_t* p = s.data + 8 * i;
       (*out)[size_t(i)] = {LoadF32(p), LoadF32(p + 4)};
     }
   }
-  bool Strings(uint32_t id, std::vector<std::string>* out) {
-    const InSection& s = Of(id);
-    if (!s.data) return true;  // optional and absent
-    const uint64_t table = 4 * (s.count + 1);  // the table check made sure it fits
-    const uint64_t chars = s.size - table;
-    const uint8_t* c = s.data + table;
-    out->clear();
-    out->reserve(size_t(s.count));
-    uint32_t prev = LoadU32(s.data);
-    if (prev != 0) return Fail(s, "string offset 0 is " + std::to_string(prev) + "; expected 0");
-    for (uint64_t i = 0; i < s.count; ++i) {
-      const uint32_t next = LoadU32(s.data + 4 * (i + 1));
-      if (next < prev || next > chars)
-        return Fail(s, "string " + std::to_string(i) + " ends at " + std::to_string(next) +
-                           ", outside [" + std::to_string(prev) + ", " + std::to_string(chars) +
-                           "]");
-      out->emplace_back(reinterpret_cast<const char*>(c + prev), next - prev);
-      prev = next;
-    }
-    if (prev != chars)
-      return Fail(s, "the strings hold " + std::to_string(prev) + " bytes; the section has " +
-                         std::to_string(chars) + " after its offsets");
-    return true;
-  }
-
- private:
-  const InSection* sections_;
-  std::string* error_;
 };
 
 }  // namespace
@@ -322,26 +166,7 @@ uint64_t Fnv1a64(span<const uint8_t> bytes) {
   return h;
 }
 
-uint64_t RigBinaryChecksum(span<const uint8_t> file) {
-  if (file.size() < kRigBinaryHeaderBytes) return 0;
-  // FNV-1a's offset basis and prime over 64-bit little-endian words (8x fewer serial steps than
-  // bytes: the 33 MB sample head checks in a few ms), the state rotated before each word so that
-  // high input bits reach the low bits; word 3 (bytes [24, 32), the checksum) counts as 0 and
-  // the tail is zero padded.
-  uint64_t h = 0xcbf29ce484222325ull;
-  const size_t words = file.size() / 8;
-  const uint8_t* p = file.data();
-  for (size_t i = 0; i < words; ++i) {
-    const uint64_t w = i == 3 ? 0 : LoadU64(p + 8 * i);
-    h = (std::rotl(h, 23) ^ w) * 0x100000001b3ull;
-  }
-  if (file.size() % 8) {
-    uint8_t tail[8] = {};
-    std::memcpy(tail, p + 8 * words, file.size() % 8);
-    h = (std::rotl(h, 23) ^ LoadU64(tail)) * 0x100000001b3ull;
-  }
-  return h;
-}
+uint64_t RigBinaryChecksum(span<const uint8_t> file) { return binary::Checksum(file); }
 
 bool HasRigBinaryTag(span<const uint8_t> bytes) {
   return bytes.size() >= 4 && std::memcmp(bytes.data(), kRigBinaryTag, 4) == 0;
@@ -435,147 +260,15 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
     w.U32s(kInfoSourceVertexCount, {info->source_vertex_count});
   }
 
-  // Layout: header, section table, then each payload at an 8-byte boundary (zero padding).
-  std::vector<OutSection>& sections = w.sections();
-  const size_t table_end =
-      kRigBinaryHeaderBytes + kRigBinarySectionEntryBytes * sections.size();
-  size_t at = table_end;
-  std::vector<size_t> offsets;
-  for (const OutSection& s : sections) {
-    at = Align8(at);
-    offsets.push_back(at);
-    at += s.payload.size();
-  }
-  std::string out(at, '\0');
-  uint8_t* b = reinterpret_cast<uint8_t*>(out.data());
-  for (size_t i = 0; i < sections.size(); ++i) {
-    uint8_t* e = b + kRigBinaryHeaderBytes + kRigBinarySectionEntryBytes * i;
-    StoreU32(e, sections[i].id);
-    StoreU32(e + 4, sections[i].element_size);
-    StoreU64(e + 8, offsets[i]);
-    StoreU64(e + 16, sections[i].payload.size());
-    StoreU64(e + 24, sections[i].count);
-    if (!sections[i].payload.empty())
-      std::memcpy(b + offsets[i], sections[i].payload.data(), sections[i].payload.size());
-  }
-  std::memcpy(b, kRigBinaryTag, 4);
-  StoreU16(b + 4, kRigBinaryMajor);
-  StoreU16(b + 6, kRigBinaryMinor);
-  StoreU32(b + 8, 0);  // flags
-  StoreU32(b + 12, uint32_t(sections.size()));
-  StoreU64(b + 16, out.size());
-  StoreU32(b + 32, uint32_t(kRigBinaryHeaderBytes));
-  StoreU32(b + 36, 0);  // reserved
-  StoreU64(b + 24, RigBinaryChecksum(span<const uint8_t>(b, out.size())));
-  return out;
+  return w.Finish();
 }
 
 bool ReadRigBinaryData(span<const uint8_t> bytes, RigData* out, RigBinaryInfo* info,
                        std::string* error) {
   std::string local_error;
   if (!error) error = &local_error;
-  const uint64_t size = bytes.size();
-  const uint8_t* b = bytes.data();
-  auto fail = [&](const std::string& where, const std::string& what) {
-    *error = where + ": " + what;
-    return false;
-  };
-  if (size < kRigBinaryHeaderBytes)
-    return fail("header", "the file is " + std::to_string(size) + " bytes; a .mrig header is " +
-                              std::to_string(kRigBinaryHeaderBytes) + " (truncated)");
-  if (!HasRigBinaryTag(bytes))
-    return fail("header at byte 0", "the tag is not \"MRIG\" (not a compiled rig)");
-  const uint16_t major = LoadU16(b + 4), minor = LoadU16(b + 6);
-  const std::string version = std::to_string(major) + "." + std::to_string(minor);
-  if (major > kRigBinaryMajor)
-    return fail("header at byte 4",
-                "format version " + version + " is newer than this reader's " +
-                    std::to_string(kRigBinaryMajor) + "." + std::to_string(kRigBinaryMinor) +
-                    " (a newer major version); rebuild the rig with this version's "
-                    "`mimetic build`");
-  if (major == 0) return fail("header at byte 4", "format version " + version + " is not valid");
-  const uint32_t flags = LoadU32(b + 8);
-  if (flags != 0)
-    return fail("header at byte 8", "flags are " + std::to_string(flags) +
-                                        "; format 1 defines none (expected 0)");
-  if (LoadU32(b + 32) != kRigBinaryHeaderBytes || LoadU32(b + 36) != 0)
-    return fail("header at byte 32", "header size " + std::to_string(LoadU32(b + 32)) +
-                                         " / reserved " + std::to_string(LoadU32(b + 36)) +
-                                         "; expected " + std::to_string(kRigBinaryHeaderBytes) +
-                                         " / 0");
-  const uint64_t section_count = LoadU32(b + 12);
-  if (section_count > (size - kRigBinaryHeaderBytes) / kRigBinarySectionEntryBytes)
-    return fail("section table at byte " + std::to_string(kRigBinaryHeaderBytes),
-                std::to_string(section_count) + " entries of " +
-                    std::to_string(kRigBinarySectionEntryBytes) +
-                    " bytes extend past the end of the file (" + std::to_string(size) +
-                    " bytes; truncated or corrupt)");
-  const uint64_t table_end = kRigBinaryHeaderBytes + kRigBinarySectionEntryBytes * section_count;
-
-  // Every entry's bounds and counts before any payload is read.
-  InSection known[std::size(kSections)];
-  uint64_t prev_end = table_end;
-  for (uint64_t i = 0; i < section_count; ++i) {
-    const uint64_t at = kRigBinaryHeaderBytes + kRigBinarySectionEntryBytes * i;
-    const uint8_t* e = b + at;
-    const uint32_t id = LoadU32(e), element_size = LoadU32(e + 4);
-    const uint64_t offset = LoadU64(e + 8), bytes_size = LoadU64(e + 16), count = LoadU64(e + 24);
-    const SectionDesc* d = FindSection(id);
-    const std::string where =
-        d ? SectionWhere(*d, offset)
-          : "section table entry " + std::to_string(i) + " (unknown id " + std::to_string(id) +
-                ") at byte " + std::to_string(at);
-    if (offset < prev_end || offset % 8 != 0)
-      return fail(where, "offset " + std::to_string(offset) +
-                             " overlaps the table or the section before it, or is not a "
-                             "multiple of 8 (expected at least " + std::to_string(prev_end) + ")");
-    if (offset > size || bytes_size > size - offset)
-      return fail(where, "its " + std::to_string(bytes_size) +
-                             " bytes extend past the end of the file (" + std::to_string(size) +
-                             " bytes; truncated or corrupt)");
-    prev_end = offset + bytes_size;
-    if (!d) continue;  // a newer minor version's section: skipped
-    const size_t k = size_t(d - kSections);
-    if (known[k].desc) return fail(where, "appears twice in the section table");
-    if (element_size != d->element_size)
-      return fail(where, "element size " + std::to_string(element_size) + "; expected " +
-                             std::to_string(d->element_size));
-    if (d->fixed_count && count != d->fixed_count)
-      return fail(where, std::to_string(count) + " elements; expected " +
-                             std::to_string(d->fixed_count));
-    if (element_size > 0) {
-      if (count > bytes_size / element_size || count * element_size != bytes_size)
-        return fail(where, std::to_string(count) + " elements of " +
-                               std::to_string(element_size) + " bytes do not make its " +
-                               std::to_string(bytes_size) + " bytes");
-    } else if (count >= bytes_size / 4) {  // a string table: count + 1 offsets at least
-      return fail(where, std::to_string(count) + " strings need " +
-                             "more than its " + std::to_string(bytes_size) + " bytes");
-    }
-    known[k] = {d, offset, bytes_size, count, b + offset};
-  }
-  if (LoadU64(b + 16) != size)
-    return fail("header at byte 16", "total size " + std::to_string(LoadU64(b + 16)) +
-                                         " bytes; the file has " + std::to_string(size) +
-                                         " (truncated or corrupt)");
-  const uint64_t stored = LoadU64(b + 24);
-  const uint64_t computed = RigBinaryChecksum(bytes);
-  if (stored != computed) {
-    char hex[80];
-    std::snprintf(hex, sizeof hex, "stored %016llx, computed %016llx",
-                  (unsigned long long)stored, (unsigned long long)computed);
-    return fail("header at byte 24",
-                std::string("checksum mismatch (") + hex + "): the file is corrupt");
-  }
-  for (size_t k = 0; k < std::size(kSections); ++k)
-    if (kSections[k].required && !known[k].desc)
-      return fail("section '" + std::string(kSections[k].name) + "' (id " +
-                      std::to_string(kSections[k].id) + ")",
-                  "missing from the section table");
-  // Absent optional sections read as empty.
-  for (size_t k = 0; k < std::size(kSections); ++k)
-    if (!known[k].desc) known[k] = {&kSections[k], 0, 0, 0, nullptr};
-
+  std::vector<InSection> known;
+  if (!binary::ReadSections(bytes, kFormat, &known, error)) return false;
   Reader r(known, error);
   RigData d;
   r.Float3s(kRestPoints, &d.rest_points);
@@ -739,36 +432,7 @@ bool ReadRigBinary(span<const uint8_t> bytes, Rig* out, RigBinaryInfo* info, std
 bool ReadRigBinaryFile(const std::string& path, std::string* out, std::string* error,
                        size_t max_bytes) {
   std::string local_error;
-  if (!error) error = &local_error;
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    *error = "cannot open: no such file or not readable";
-    return false;
-  }
-  if (!S_ISREG(st.st_mode)) {
-    *error = "is not a regular file (expected a compiled rig)";
-    return false;
-  }
-  if (uint64_t(st.st_size) > max_bytes) {
-    *error = "is larger than the " + std::to_string(max_bytes >> 20) +
-             " MiB limit for a compiled rig (" + std::to_string(st.st_size) + " bytes)";
-    return false;
-  }
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) {
-    *error = "cannot open";
-    return false;
-  }
-  out->assign(size_t(st.st_size), '\0');
-  const size_t got = out->empty() ? 0 : std::fread(out->data(), 1, out->size(), f);
-  const bool more = std::fgetc(f) != EOF;  // the file grew since stat
-  const bool bad = std::ferror(f) != 0;
-  std::fclose(f);
-  if (bad || got != out->size() || more) {
-    *error = "read error (the file changed while it was read)";
-    return false;
-  }
-  return true;
+  return binary::ReadFileBytes(path, kFormat.what, max_bytes, out, error ? error : &local_error);
 }
 
 bool LoadRigBinaryFile(const std::string& path, Rig* out, RigBinaryInfo* info,

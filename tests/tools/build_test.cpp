@@ -53,7 +53,7 @@ TEST(Build, HelpAndUsageErrors) {
   EXPECT_EQ(RunTool({"build", "--out", dir + "/a.mrig"}).exit_code, 2);
   const auto ext = RunTool({"build", SurfaceRig(), "--out", dir + "/a.glb"});
   EXPECT_EQ(ext.exit_code, 2);
-  EXPECT_TRUE(Contains(ext.output, "expected a .mrig file name")) << ext.output;
+  EXPECT_TRUE(Contains(ext.output, "expected a .mrig or .mclip file name")) << ext.output;
   EXPECT_EQ(RunTool({"build", SurfaceRig(), "--out", dir + "/a.mrig", "--bogus"}).exit_code, 2);
   const auto missing = RunTool({"build", dir + "/none.rig.json", "--out", dir + "/a.mrig"});
   EXPECT_EQ(missing.exit_code, 1);
