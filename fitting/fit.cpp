@@ -512,6 +512,17 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
   for (size_t v = 0; v < head.vertex_count(); ++v)
     spec.thickness.per_vertex[v] =
         EvaluateTemplateThickness(tmpl.thickness, frame.ToLocal(head.positions[v])) * s;
+  // Tension regions (docs/tension.md): each template region's mask per vertex, in the face frame.
+  for (const TemplateTensionRegion& g : tmpl.tension_regions) {
+    TensionRegionSpec region;
+    region.name = g.name;
+    region.reference = g.reference;
+    region.weights.resize(head.vertex_count());
+    for (size_t v = 0; v < head.vertex_count(); ++v)
+      region.weights[v] =
+          EvaluateTensionRegion(g, tmpl.thickness.front, frame.ToLocal(head.positions[v]));
+    spec.tension_regions.push_back(std::move(region));
+  }
   // The jaw (docs/model.md §18): condyles from the landmarks (the right one as the template
   // says, the left one mirrored), the mouth point on the inner lip midline (62, 66), the mouth
   // width between the outer corners (48, 54); the region parameters as they are.

@@ -2,6 +2,7 @@
 // file format is io/template_file.cpp.
 #include "fitting/muscle_template.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mimetic {
@@ -20,6 +21,15 @@ float EvaluateTemplateThickness(const TemplateThickness& t, float3 p) {
     den += g;
   }
   return float(num / den);
+}
+
+float EvaluateTensionRegion(const TemplateTensionRegion& r, const float front[2], float3 p) {
+  float u = (p.z - front[0]) / (front[1] - front[0]);
+  u = ClampOrLow(u, 0.f, 1.f);
+  const float fade = u * u * (3.f - 2.f * u);
+  const float dx = (p.x - r.center.x) / r.radius.x, dy = (p.y - r.center.y) / r.radius.y;
+  const float g = std::exp(-0.5f * (dx * dx + dy * dy)) * fade;
+  return g >= kTensionRegionCut ? std::min(g, 1.f) : 0.f;
 }
 
 }  // namespace mimetic

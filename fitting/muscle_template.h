@@ -16,6 +16,7 @@
 
 #include "core/diagnostics.h"
 #include "core/math.h"
+#include "rig/runtime/rig.h"
 #include "muscles/offline/muscle_spec.h"
 #include "wrinkles/offline/wrinkle_spec.h"
 
@@ -108,6 +109,19 @@ struct TemplateJaw {
   float neck_deg[2] = {90.f, 180.f};
 };
 
+// A tension region (docs/tension.md): a named mask the fit turns into per-vertex weights of the
+// rig, g(p) = exp(-((x - cx)^2 / sx^2 + (y - cy)^2 / sy^2) / 2) F(z) in the face frame (F the
+// thickness map's front fade), set to 0 below kTensionRegionCut so that the rig lists only the
+// points inside it.
+struct TemplateTensionRegion {
+  std::string name;               // unique among the regions (after mirroring)
+  float2 center;                  // face-frame (x, y), units of s
+  float2 radius;                  // (sx, sy) > 0, units of s
+  float reference = kDefaultTensionReference;  // c0 of the rig (docs/model.md §19), > 0
+  bool mirrored_copy = false;     // as for muscles
+};
+inline constexpr float kTensionRegionCut = 0.01f;
+
 struct MuscleTemplate {
   std::string file;  // where it was loaded from ("" when parsed from text)
   std::string description;
@@ -115,7 +129,12 @@ struct MuscleTemplate {
   std::vector<TemplateMuscle> muscles;  // `mirror` entries already expanded, file order
   std::vector<TemplateCurveWrinkle> curve_wrinkles;  // likewise
   std::optional<TemplateJaw> jaw;  // absent = the fitted rig has no jaw
+  std::vector<TemplateTensionRegion> tension_regions;  // `mirror` expanded, file order
 };
+
+// The weight of tension region `r` at face-frame position `p` (units of s), in [0, 1]; `front`
+// the thickness map's fade (TemplateThickness::front).
+float EvaluateTensionRegion(const TemplateTensionRegion& r, const float front[2], float3 p);
 
 // Thickness at face-frame position `p` (units of s, as FaceFrame::ToLocal gives), units of s.
 float EvaluateTemplateThickness(const TemplateThickness& t, float3 p);

@@ -211,6 +211,20 @@ const Object kJaw = {
     .description = "The jaw (docs/model.md §18): a hinge through the condyles, an opening range "
                    "and a per-vertex weight, explicit or from the region parameters."};
 
+// docs/tension.md: a named per-vertex mask; EvaluateJob reports its weight per frame.
+const Object kTensionRegion = {
+    .owner = "a tension region",
+    .fields = {
+        String("name").NonEmpty().Required(),
+        Number("reference", "a number > 0 (a mean area compression, 1 - r)").Above(0)
+            .About("c0 of the region's weight 1 - exp(-C / c0) (docs/model.md §19); default 0.1"),
+        Array("weights", Number("").Min(0).Max(1),
+              "array of numbers in [0, 1], one per vertex of the mesh file")
+            .Required().About("the region's mask, one weight per vertex of the mesh file, in file "
+                              "order")},
+    .description = "A tension region (docs/tension.md); names unique among the regions (reader "
+                   "check)."};
+
 const std::string kReserved =
     "(reserved for a later version of the format; this build reads version 1)";
 const Object kRig = {
@@ -232,7 +246,11 @@ const Object kRig = {
         ObjectOf("refinement", kRefinement,
                  "object {\"enabled\": true, \"edge_fraction\": 0.25}"),
         ObjectOf("jaw", kJaw, "object {\"condyles\": [...], \"range_deg\": ..., ...}")
-            .About("the jaw (docs/model.md §18); absent = none")},
+            .About("the jaw (docs/model.md §18); absent = none"),
+        Array("tension_regions", ObjectOf("", kTensionRegion, "object (a tension region)"),
+              "array of tension regions")
+            .About("named masks whose per-frame weight engines blend wrinkle maps with "
+                   "(docs/tension.md); absent = none")},
     .notes = {{"fine_scale", kReserved},
               {"expressions", kReserved},
               {"wrinkles", "(muscle-derived wrinkles go inside each muscle: muscles[i].wrinkles)"}},
@@ -330,6 +348,19 @@ void RigRules::Root(const View& top, RigSpec* spec) {
   refinement.Read("enabled", &spec->refinement.enabled);
   refinement.Read("edge_fraction", &spec->refinement.edge_fraction);
   if (top.Has("jaw")) Jaw(top.Member("jaw"), spec);
+  std::map<std::string, size_t> region_names;
+  for (size_t i = 0; i < top.Size("tension_regions"); ++i) {
+    const View g = top.Element("tension_regions", i);
+    TensionRegionSpec region;
+    g.Read("name", &region.name);
+    g.Read("reference", &region.reference);
+    if (const json* weights = g.Get("weights"))
+      for (const json& e : *weights)
+        if (e.is_number()) region.weights.push_back(static_cast<float>(e.get<double>()));
+    UniqueName(r_, region.name, "tension_regions", i, "tension region", "among the tension regions",
+               &region_names);
+    if (g.ok()) spec->tension_regions.push_back(std::move(region));
+  }
 }
 
 void RigRules::Jaw(const View& j, RigSpec* spec) {
@@ -741,6 +772,20 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       j["weights"] = std::move(w);
     }
     root["jaw"] = std::move(j);
+  }
+
+  if (!spec.tension_regions.empty()) {
+    ordered_json regions = ordered_json::array();
+    for (const TensionRegionSpec& g : spec.tension_regions) {
+      ordered_json j;
+      j["name"] = g.name;
+      if (!(g.reference == kDefaultTensionReference)) j["reference"] = ShortestDecimal(g.reference);
+      ordered_json w = ordered_json::array();
+      for (float v : g.weights) w.push_back(ShortestDecimal(v));
+      j["weights"] = std::move(w);
+      regions.push_back(std::move(j));
+    }
+    root["tension_regions"] = std::move(regions);
   }
 
   const RefinementSpec default_refinement;

@@ -61,6 +61,15 @@ const Object kRegion = {"a thickness region", {
         .Count(2).Required(),
     Number("value").Min(0).Required().About("units of s"),
     Bool("mirror")}};
+const Object kTensionRegion = {"a tension region", {
+    String("name").NonEmpty().Required().About("such as \"glabella\" or \"crows_feet_L\""),
+    Numbers("center", 2, "[x, y], two finite numbers (units of s)").Required()
+        .About("face frame"),
+    Array("radius", Number("").Above(0), "[sx, sy], two numbers > 0 (units of s)")
+        .Count(2).Required(),
+    Number("reference", "a number > 0 (a mean area compression)").Above(0)
+        .About("c0 of the region's weight (docs/model.md §19); default 0.1"),
+    Bool("mirror").About("also the copy mirrored across the midline, _L <-> _R")}};
 const Object kThickness = {"thickness", {
     Number("base").Min(0).Required().About("units of s"),
     Numbers("front", 2, "[z0, z1], two numbers with z0 < z1 (units of s)"),
@@ -149,7 +158,10 @@ const Object kTemplate = {"a muscle template", {
     Array("curve_wrinkles", ObjectOf("", kCurveWrinkle, "a curve wrinkle object {\"name\", "
                                                         "\"control\", \"depth\", \"width\", ...}"),
           "an array of curve wrinkles"),
-    ObjectOf("jaw", kJaw, "a jaw object {\"condyle\": ..., \"range_deg\": ..., ...}")}};
+    ObjectOf("jaw", kJaw, "a jaw object {\"condyle\": ..., \"range_deg\": ..., ...}"),
+    Array("tension_regions", ObjectOf("", kTensionRegion, "a tension region object {\"name\", "
+                                                          "\"center\", \"radius\", ...}"),
+          "an array of tension regions")}};
 
 const Format kTemplateFormat = {
     .name = kFormatName,
@@ -197,6 +209,30 @@ void TemplateRules::Root(const View& top, MuscleTemplate* out) {
   for (const TemplateCurveWrinkle& c : out->curve_wrinkles) names.push_back(c.name);
   UniqueNames(names, origins, "curve wrinkle");
   if (top.Has("jaw")) Jaw(top.Member("jaw"), out);
+  origins.clear();
+  names.clear();
+  for (size_t i = 0; i < top.Size("tension_regions"); ++i) {
+    const View e = top.Element("tension_regions", i);
+    if (!e.ok()) continue;
+    TemplateTensionRegion region;
+    e.Read("name", &region.name);
+    e.Read("center", &region.center);
+    e.Read("radius", &region.radius);
+    e.Read("reference", &region.reference);
+    std::string copy;
+    const bool mirror = Mirror(e, region.name, "tension region", &copy);
+    out->tension_regions.push_back(region);
+    origins.push_back(e.path());
+    if (mirror) {
+      region.name = copy;
+      region.center.x = -region.center.x;
+      region.mirrored_copy = true;
+      out->tension_regions.push_back(region);
+      origins.push_back(e.path() + " (mirrored as " + copy + ")");
+    }
+  }
+  for (const TemplateTensionRegion& g : out->tension_regions) names.push_back(g.name);
+  UniqueNames(names, origins, "tension region");
 }
 
 void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
@@ -536,6 +572,19 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
   }
   if (!regions.empty()) th["regions"] = regions;
   j["thickness"] = th;
+  ordered_json tension = ordered_json::array();
+  for (size_t i = 0; i < t.tension_regions.size(); ++i) {
+    const TemplateTensionRegion& g = t.tension_regions[i];
+    if (g.mirrored_copy) continue;
+    ordered_json e;
+    e["name"] = g.name;
+    e["center"] = ordered_json::array({Short(g.center.x), Short(g.center.y)});
+    e["radius"] = ordered_json::array({Short(g.radius.x), Short(g.radius.y)});
+    if (!(g.reference == kDefaultTensionReference)) e["reference"] = Short(g.reference);
+    if (i + 1 < t.tension_regions.size() && t.tension_regions[i + 1].mirrored_copy)
+      e["mirror"] = true;
+    tension.push_back(e);
+  }
   ordered_json muscles = ordered_json::array();
   for (size_t i = 0; i < t.muscles.size(); ++i) {
     const TemplateMuscle& m = t.muscles[i];
@@ -613,6 +662,7 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     e["neck_deg"] = ordered_json::array({Short(jw.neck_deg[0]), Short(jw.neck_deg[1])});
     j["jaw"] = e;
   }
+  if (!tension.empty()) j["tension_regions"] = tension;
   std::string out;
   Pretty(j, 0, &out);
   return out + "\n";

@@ -137,6 +137,80 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
   return true;
 }
 
+// docs/tension.md: each tension region's weights checked (one per mesh vertex, in [0, 1]) and
+// averaged onto the welded points (as per-vertex thickness is); the rig keeps the points with a
+// weight above 0, ascending.
+bool CheckTensionRegionWeights(const RigSpec& spec, size_t vertex_count, Diagnostics* diag) {
+  bool ok = true;
+  for (size_t i = 0; i < spec.tension_regions.size(); ++i) {
+    const TensionRegionSpec& g = spec.tension_regions[i];
+    const std::string where =
+        "tension_regions[" + std::to_string(i) + "] (" + g.name + ")";
+    if (g.weights.size() != vertex_count) {
+      diag->Error(where + ".weights", "expected one value per mesh vertex (" +
+                                          std::to_string(vertex_count) + "), got " +
+                                          std::to_string(g.weights.size()));
+      ok = false;
+      continue;
+    }
+    for (size_t v = 0; v < g.weights.size(); ++v) {
+      if (!(g.weights[v] >= 0.f && g.weights[v] <= 1.f)) {
+        diag->Error(where + ".weights[" + std::to_string(v) + "]",
+                    "is " + std::to_string(g.weights[v]) + "; expected a number in [0, 1]");
+        ok = false;
+        break;
+      }
+    }
+    if (!(g.reference > 0.f) || !std::isfinite(g.reference)) {
+      diag->Error(where + ".reference", "is " + std::to_string(g.reference) +
+                                            "; expected a finite number > 0");
+      ok = false;
+    }
+    if (g.name.empty()) {
+      diag->Error(where + ".name", "is empty; expected a region name");
+      ok = false;
+    }
+    for (size_t k = 0; k < i; ++k)
+      if (spec.tension_regions[k].name == g.name) {
+        diag->Error(where + ".name", "repeats tension_regions[" + std::to_string(k) +
+                                         "]; expected a name unique among the regions");
+        ok = false;
+      }
+  }
+  return ok;
+}
+
+bool ResolveTensionRegions(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& welded,
+                           RigData* rig, Diagnostics* diag) {
+  RigTensionRegions& out = rig->tension_regions;
+  out = RigTensionRegions();
+  if (spec.tension_regions.empty()) return true;
+  if (!CheckTensionRegionWeights(spec, mesh.vertex_count(), diag)) return false;
+  const size_t points = welded.points.size();
+  std::vector<float> sum(points);
+  std::vector<uint32_t> count(points);
+  out.offsets.push_back(0);
+  for (const TensionRegionSpec& g : spec.tension_regions) {
+    std::fill(sum.begin(), sum.end(), 0.f);
+    std::fill(count.begin(), count.end(), 0u);
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      sum[welded.point_of_vertex[v]] += g.weights[v];
+      ++count[welded.point_of_vertex[v]];
+    }
+    for (uint32_t p = 0; p < points; ++p) {
+      const float w = count[p] ? std::min(sum[p] / float(count[p]), 1.f) : 0.f;
+      if (w > 0.f) {
+        out.points.push_back(p);
+        out.weights.push_back(w);
+      }
+    }
+    out.names.push_back(g.name);
+    out.references.push_back(g.reference);
+    out.offsets.push_back(uint32_t(out.points.size()));
+  }
+  return true;
+}
+
 // docs/model.md §4-8: rest areas, muscle wrinkling regions, curve-wrinkle distances and probes.
 bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
                        const std::vector<uint32_t>& file_triangle, RigData* rig,
@@ -209,7 +283,9 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
   }
   rig->layers.curve_wrinkles = !rig->curve_wrinkles.entries.empty();
 
-  if (rig->layers.thickness || rig->layers.muscle_wrinkles || rig->layers.curve_wrinkles) {
+  // (A rig with tension regions keeps the rest areas too: EvaluateJob measures r for them.)
+  if (rig->layers.thickness || rig->layers.muscle_wrinkles || rig->layers.curve_wrinkles ||
+      !spec.tension_regions.empty()) {
     rig->rest_triangle_areas.resize(rig->triangle_count());
     for (uint32_t t = 0; t < rig->triangle_count(); ++t)
       rig->rest_triangle_areas[t] = TriangleRestArea(rig->rest_points[rig->triangles[3 * t]],
@@ -546,6 +622,7 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
   }
   ok = CompileSkinLayers(spec, mesh, file_triangle, &rig, diag) && ok;
   ok = CompileJaw(spec, mesh, welded, &rig, diag) && ok;
+  ok = ResolveTensionRegions(spec, mesh, welded, &rig, diag) && ok;
   if (!ok) return false;
   *out = std::move(rig);
   return true;
@@ -690,13 +767,17 @@ bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildO
                       "), got " + std::to_string(spec_in.jaw->weights.size()));
       return false;
     }
+    if (!CheckTensionRegionWeights(spec_in, file_mesh.vertex_count(), diag)) return false;
     const bool carry_thickness = spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex;
     const bool carry_jaw = spec_in.jaw && !spec_in.jaw->weights.empty();
-    if (carry_thickness || carry_jaw) {
+    const bool carry_regions = !spec_in.tension_regions.empty();
+    if (carry_thickness || carry_jaw || carry_regions) {
       carried = spec_in;
       if (carry_thickness)
         carried.thickness.per_vertex = CarryAttribute(refined, spec_in.thickness.per_vertex);
       if (carry_jaw) carried.jaw->weights = CarryAttribute(refined, spec_in.jaw->weights);
+      for (TensionRegionSpec& g : carried.tension_regions)
+        g.weights = CarryAttribute(refined, g.weights);
       spec_ptr = &carried;
     }
   }

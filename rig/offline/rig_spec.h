@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "geometry/fingerprint.h"
 #include "muscles/offline/muscle_spec.h"
+#include "rig/runtime/rig.h"
 #include "rig/runtime/skin_layers.h"
 #include "wrinkles/offline/wrinkle_spec.h"
 
@@ -31,6 +32,14 @@ struct ThicknessSpec {
 struct RefinementSpec {
   bool enabled = true;
   float edge_fraction = 0.25f;  // (0, 1]
+};
+
+// A tension region (docs/tension.md): a named mask over the mesh, one weight in [0, 1] per file
+// vertex; the rig keeps the points with a weight above 0.
+struct TensionRegionSpec {
+  std::string name;                            // unique among the regions
+  float reference = kDefaultTensionReference;  // c0 > 0 (docs/model.md §19)
+  std::vector<float> weights;                  // one per mesh vertex, file order, in [0, 1]
 };
 
 struct NamedCurveWrinkle {
@@ -107,6 +116,7 @@ struct RigSpec {
   SkinLayers layers;  // which skin layers to compile (all by default); docs/model.md §1 steps 3-4
   RefinementSpec refinement;
   std::optional<JawSpec> jaw;  // docs/model.md §18; absent = no jaw
+  std::vector<TensionRegionSpec> tension_regions;  // docs/tension.md
 };
 
 // The muscle geometry a wrinkle region needs (docs/model.md §6), from a muscle spec: linear R is

@@ -26,6 +26,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   points_.assign(point_count_ + 1, float3{});
   faces_.assign(triangle_count_, float4{});
   point_ratios_.assign(point_count_, 1.f);
+  point_compressions_.assign(point_count_, 0.f);
   point_sums_.assign(point_count_, float4{});
   edge_lengths_.assign(t.edge_count(), 0.f);
   wrinkle_offsets_.assign(point_count_, 0.f);
@@ -68,15 +69,15 @@ static size_t Bytes(const std::vector<T>& v) {
 
 size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
-         Bytes(point_ratios_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
+         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
          Bytes(limit_point_marks_) + Bytes(limit_tri_marks_) + Bytes(limit_tri_bad_);
 }
 
-size_t RequiredFloats(size_t count, size_t stride_bytes) {
-  return count == 0 ? 0 : (count - 1) * (stride_bytes / 4) + 3;
+size_t RequiredFloats(size_t count, size_t stride_bytes, size_t floats) {
+  return count == 0 ? 0 : (count - 1) * (stride_bytes / 4) + floats;
 }
 
 static bool StrideOk(size_t stride) { return stride >= 12 && stride % 4 == 0; }
@@ -90,6 +91,13 @@ bool EvaluateJob::Validate() const {
     if (!StrideOk(out_normals_stride)) return false;
     if (out_normals.size() < RequiredFloats(rig->vertex_count(), out_normals_stride)) return false;
   }
+  if (!out_tension.empty()) {
+    if (out_tension_stride < 8 || out_tension_stride % 4 != 0) return false;
+    if (out_tension.size() < RequiredFloats(rig->vertex_count(), out_tension_stride, 2))
+      return false;
+  }
+  if (!out_region_weights.empty() && out_region_weights.size() < rig->tension_region_count())
+    return false;
   return true;
 }
 
@@ -196,6 +204,10 @@ struct FrameState {
   bool skin() const { return thickness || muscle_wrinkles || curve_wrinkles; }
   bool wrinkles() const { return muscle_wrinkles || curve_wrinkles; }
   bool normals;                    // out_normals requested
+  bool tension;                    // out_tension or out_region_weights requested
+  bool tension_eps;                // out_tension requested and the rig has muscle-wrinkle rows
+  bool edges;                      // StageStrain measures the edge lengths
+  float* compressions;             // #P compression eps (context), StageTension
   const float* activations;        // #muscles, sanitised
   const float3* base;              // #P: the pose the muscles add to (the rest pose)
   float3* points;                  // #P + pad: X1, then X3 (context)
@@ -279,7 +291,7 @@ void StageJaw(const FrameState& f, float jaw) {
 // anything moves.
 void StageStrain(const FrameState& f) {
   FaceNormalsOfActive(f, true);
-  if (f.wrinkles()) {
+  if (f.edges) {
     const float3* points = f.points;
     const uint32_t* pairs = f.tables.edge_pairs.data();
     float* lengths = f.edge_lengths;
@@ -390,20 +402,26 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
 // gathers alone (independent load chains that overlap), the wrinkle sums of the points that
 // have any, then four points at a time share the square root and the divisions. Each point
 // reads only its own values and the face slots of X1, so it moves in place.
-void StageDisplace(const FrameState& f) {
-  const Rig& r = f.rig;
-  const RigTables& t = f.tables;
+// Per active point: its face slots gathered (N1 unnormalised in xyz) and its area ratio r.
+void GatherRatios(const FrameState& f) {
   const uint32_t* off = f.point_tri_offsets;
   const uint32_t* tri = f.point_tris;
   const float4* faces = f.faces;
   float4* sums = f.sums;
-  ParallelFor(f.job, r.active_point_count(), [&](uint32_t b, uint32_t e) {
+  ParallelFor(f.job, f.rig.active_point_count(), [&](uint32_t b, uint32_t e) {
     float* ratios = f.ratios;
     for (uint32_t p = b; p < e; ++p) {
       sums[p] = GatherFaces4(off, tri, faces, p);
       ratios[p] = PointRatio(sums[p], off[p + 1] - off[p]);
     }
   });
+}
+
+void StageDisplace(const FrameState& f) {
+  const Rig& r = f.rig;
+  const RigTables& t = f.tables;
+  float4* sums = f.sums;
+  GatherRatios(f);
   const bool muscle_wrinkles = f.muscle_wrinkles, curve_wrinkles = f.curve_wrinkles;
   if (f.wrinkles()) {
     ParallelFor(f.job, uint32_t(t.wrinkle_points.size()), [&](uint32_t b, uint32_t e) {
@@ -737,6 +755,52 @@ bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
   return FoldLimitWorklist(f, limited, passes);
 }
 
+// docs/tension.md, docs/model.md §19: the tension outputs of X1. Per point with muscle-wrinkle
+// rows (when out_tension is requested), eps = the largest of its rows' sum_j c_j (L_j - l_j)
+// (the expression StageDisplace evaluates, from the same edge lengths); per region R with
+// point weights w_i, C_R = sum_i w_i max(0, 1 - r_i) / sum_i w_i (in double, in the region's
+// point order) and weight 1 - exp(-C_R / c0_R). Each point writes itself only, the regions run
+// serially in a fixed order: the same bits however the work is split.
+void StageTension(const FrameState& f) {
+  const RigTables& t = f.tables;
+  if (f.tension_eps) {
+    ParallelFor(f.job, uint32_t(t.wrinkle_points.size()), [&](uint32_t b, uint32_t e) {
+      const float* length = f.edge_lengths;
+      const uint32_t* point_rows = t.point_row_offsets.data();
+      const uint32_t* row_entries = t.row_offsets.data();
+      const uint32_t* edges = t.entry_edges.data();
+      const float* coeffs = t.entry_coeffs.data();
+      const float* rest = t.entry_rest.data();
+      float* out = f.compressions;
+      for (uint32_t i = b; i < e; ++i) {
+        const uint32_t p = t.wrinkle_points[i];
+        float best = 0.f;
+        for (uint32_t row = point_rows[p]; row < point_rows[p + 1]; ++row) {
+          float eps = 0.f;
+          for (uint32_t k = row_entries[row]; k < row_entries[row + 1]; ++k)
+            eps += coeffs[k] * (rest[k] - length[edges[k]]);
+          best = row == point_rows[p] ? eps : std::max(best, eps);
+        }
+        out[p] = best;
+      }
+    });
+  }
+  const span<float> weights = f.job.out_region_weights;
+  if (weights.empty()) return;
+  const RigTensionRegions& g = f.rig.tension_regions();
+  for (uint32_t i = 0; i < g.region_count(); ++i) {
+    double num = 0.0, den = 0.0;
+    for (uint32_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k) {
+      const double w = g.weights[k];
+      const float c = 1.f - f.ratios[g.points[k]];
+      num += w * (c > 0.f ? c : 0.f);  // NaN (a non-finite pose) counts as 0
+      den += w;
+    }
+    const double mean = den > 0.0 ? num / den : 0.0;
+    weights[i] = float(1.0 - std::exp(-mean / double(g.references[i])));
+  }
+}
+
 // Face normals of the final points (the per-point gather happens in StageOutputs).
 void StageNormals(const FrameState& f) { FaceNormalsOfActive(f, false); }
 
@@ -752,6 +816,15 @@ void StageOutputs(const FrameState& f) {
   const span<const float3> points(f.points, r.point_count());
   ParallelFor(job, r.vertex_count(), [&](uint32_t b, uint32_t e) {
     Scatter(points, r.vertex_points(), job.out_positions, job.out_positions_stride, b, e);
+    if (!job.out_tension.empty()) {
+      const size_t stride = job.out_tension_stride / 4;
+      for (uint32_t v = b; v < e; ++v) {
+        const uint32_t p = r.vertex_points()[v];
+        float* o = job.out_tension.data() + v * stride;
+        o[0] = f.ratios[p];
+        o[1] = f.compressions[p];
+      }
+    }
     if (!f.normals) return;
     const size_t stride = job.out_normals_stride / 4;
     const uint32_t normal_points = r.normal_point_count();
@@ -787,6 +860,10 @@ bool EvaluateJob::Run() const {
       .curve_wrinkles =
           layers.curve_wrinkles && r.layers().curve_wrinkles && r.curve_wrinkles().row_count() > 0,
       .normals = !out_normals.empty(),
+      .tension = !out_tension.empty() || (!out_region_weights.empty() && r.tension_region_count() > 0),
+      .tension_eps = !out_tension.empty() && !t.row_profiles.empty(),
+      .edges = false,
+      .compressions = ctx.point_compressions_.data(),
       .activations = ctx.activations_.data(),
       .base = r.rest_points().data(),
       .points = ctx.points_.data(),  // padded (face_kernels.h)
@@ -815,6 +892,11 @@ bool EvaluateJob::Run() const {
       .point_tris = r.point_triangles().data(),
   };
   f.limit_folds = limit_folds && f.skin();
+  f.edges = f.wrinkles() || f.tension_eps;
+  // r of X1 for the tension outputs needs the rest areas (every rig with a skin layer or a
+  // tension region keeps them; Rig::Build checked their size then).
+  const bool tension_strain = f.tension && !f.skin() && r.triangle_count() > 0 &&
+                              r.rest_triangle_areas().size() >= r.triangle_count();
   ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
   if (ctx.jaw_ > 0.f && !r.jaw().empty()) StageJaw(f, ctx.jaw_);
@@ -823,9 +905,13 @@ bool EvaluateJob::Run() const {
     StageStrain(f);
     StageDisplace(f);
     if (f.limit_folds) faces_current = StageLimit(f, &ctx.limited_points_, &ctx.limiter_passes_);
+  } else if (tension_strain) {
+    StageStrain(f);  // (StageNormals recomputes the output normals: the bits of a frame without)
+    GatherRatios(f);
   } else {
     std::fill(f.ratios, f.ratios + r.active_point_count(), 1.f);  // r = 1: no skin layer ran
   }
+  if (f.tension) StageTension(f);
   if (f.normals && !faces_current) StageNormals(f);
   StageOutputs(f);
   return true;

@@ -32,10 +32,16 @@
 // Rig::active() (points that can move, points whose normal can change, triangles touching a
 // moving point), which the builder decides in ONE place (rig_builder MovingPoints) and every
 // table of RigTables derives from.
+//   StageTension   (only when a tension output is requested, docs/tension.md) per point the
+//                  compression eps of its wrinkled-muscle rows (their largest) from the edge
+//                  lengths of X1; per tension region its weight from the area ratios r of X1
+//                                                                        docs/model.md §19
+// With a tension output requested and no skin layer running, StageStrain still measures r (and
+// the edge lengths) on X1 when the rig kept its rest areas; nothing moves for it.
 // Where the next features go (each a local change):
 //   - per-vertex outputs (e.g. two fine-scale amplitudes): an optional strided span on the job,
 //     its per-point values kept by StageDisplace in a context buffer named in FrameState, and
-//     one more write in StageOutputs' per-vertex loop.
+//     one more write in StageOutputs' per-vertex loop (out_tension is one).
 // The public stage jobs (FaceNormalsJob, PointNormalsJob, EdgeCompressionJob,
 // DirectionalShrinkageJob, ThicknessJob, MuscleWrinkleJob, CurveWrinkleJob) compute the same
 // quantities for engines that run the stages themselves; EvaluateJob fuses them (kernels in
@@ -72,8 +78,12 @@ class EvaluateContext {
   span<const float> activations() const { return activations_; }
   float jaw() const { return jaw_; }
   span<const float3> points() const { return span<const float3>(points_).first(point_count_); }
-  // Per-point area ratio r of the last frame (docs/model.md §4); 1 where no skin layer ran.
+  // Per-point area ratio r of the last frame (docs/model.md §4); 1 where no skin layer ran
+  // and no tension output was requested.
   span<const float> area_ratios() const { return point_ratios_; }
+  // Per-point compression eps of the last frame that requested out_tension (docs/tension.md):
+  // the largest eps of the point's wrinkled-muscle rows, 0 for a point without any.
+  span<const float> compressions() const { return point_compressions_; }
   // Points whose skin-layer offset the fold limiter reduced in the last frame (docs/model.md
   // §16), and the limiter's passes (0 when it did not run).
   uint32_t limited_point_count() const { return limited_points_; }
@@ -93,6 +103,7 @@ class EvaluateContext {
   std::vector<float4> faces_;          // #T face normals (xyz, unnormalised) and area ratios
                                        // (w); rest normals where nothing moves
   std::vector<float> point_ratios_;    // #P: area ratio r, >= 0
+  std::vector<float> point_compressions_;  // #P: eps of StageTension, 0 without rows
   std::vector<float4> point_sums_;     // #P: gathered face slots (StageDisplace)
   std::vector<float> edge_lengths_;    // RigTables::edge_count(): this frame's, mesh units
   std::vector<float> wrinkle_offsets_; // #P: summed wrinkle displacement of the points in
@@ -130,7 +141,10 @@ struct EvaluateJob {
   // False when: rig or context is null; the context was not sized for this rig;
   // activations.size() < rig->muscle_count(); out_positions is too small for
   // rig->vertex_count() vertices at out_positions_stride; out_normals is non-empty and too
-  // small; a stride is below 12 bytes or not a multiple of 4.
+  // small; out_tension is non-empty and too small for #V vertices at out_tension_stride (or
+  // its stride is below 8 bytes or not a multiple of 4); out_region_weights is non-empty and
+  // holds fewer than rig->tension_region_count() floats; a stride is below 12 bytes or not a
+  // multiple of 4.
   bool Validate() const;
   // Validates first; on false, outputs are untouched.
   bool Run() const;
@@ -147,6 +161,18 @@ struct EvaluateJob {
   size_t out_positions_stride = 12;   // bytes, >= 12, multiple of 4
   span<float> out_normals;            // optional (empty = skip); unit length; same layout rule
   size_t out_normals_stride = 12;     // bytes, >= 12, multiple of 4
+
+  // Tension for engine shaders (docs/tension.md), both optional (empty = not computed, no
+  // cost). They measure X1, the pose before the skin layers, whatever `layers` says:
+  //   out_tension: per vertex v two floats at [v * stride/4, v * stride/4 + 2): the area ratio
+  //     r of its point (docs/model.md §4: < 1 compressed, > 1 stretched; 1 on a rig without
+  //     rest areas) and its compression eps (the largest of its point's wrinkled-muscle rows,
+  //     docs/model.md §5: > 0 compressed along the muscle; 0 for a point without rows).
+  //   out_region_weights: per tension region (Rig::tension_regions() order) its weight in
+  //     [0, 1] (docs/model.md §19); regions past the rig's count are not written.
+  span<float> out_tension;            // >= (#V - 1) * stride/4 + 2 floats
+  size_t out_tension_stride = 8;      // bytes, >= 8, multiple of 4
+  span<float> out_region_weights;     // >= rig->tension_region_count() floats
 
   SkinLayers layers;                  // which skin layers run (default: all the rig has)
   // The fold limiter (docs/model.md §16): reduce the skin layers' offset where it would turn
@@ -178,7 +204,9 @@ inline constexpr uint32_t kOffsetSlopePasses = 4;
 inline constexpr uint32_t kFoldLimitPasses = 32;
 inline constexpr uint32_t kFoldLimitCutLevel = 4;
 
-// Floats needed for `count` elements of 3 floats at `stride_bytes` (0 when count is 0).
-size_t RequiredFloats(size_t count, size_t stride_bytes);
+// Floats needed for `count` elements of `floats` floats (3 unless told) at `stride_bytes` (0
+// when count is 0).
+size_t RequiredFloats(size_t count, size_t stride_bytes, size_t floats = 3);
+
 
 }  // namespace mimetic

@@ -49,6 +49,9 @@ size_t Rig::ByteSize() const {
        Bytes(c.entries) + Bytes(c.probes);
   n += Bytes(d.muscle_names) + Bytes(d.muscles.offsets) + Bytes(d.muscles.entries);
   n += Bytes(d.jaw.points) + Bytes(d.jaw.weights);
+  const RigTensionRegions& g = d.tension_regions;
+  n += Bytes(g.names) + Bytes(g.references) + Bytes(g.offsets) + Bytes(g.points) +
+       Bytes(g.weights);
   const RigTables& t = tables_;
   n += Bytes(t.rest_faces) + Bytes(t.rest_point_normals) + Bytes(t.edge_pairs) +
        Bytes(t.row_offsets) + Bytes(t.entry_edges) + Bytes(t.entry_rest) +

@@ -70,6 +70,24 @@ struct RigJaw {
   bool empty() const { return points.empty(); }
 };
 
+// A tension region's default reference c0 (docs/model.md §19): its weight 1 - exp(-C / c0) is
+// 0.63 at a mean area compression C of 10%.
+inline constexpr float kDefaultTensionReference = 0.1f;
+
+// Tension regions (docs/tension.md, docs/model.md §19): named masks fixed on the rest pose, whose
+// per-frame weight in [0, 1] an engine blends wrinkle maps with. Region i holds the entries
+// [offsets[i], offsets[i + 1]) of `points` (ascending within a region) and `weights` (in (0, 1];
+// a point outside the list has weight 0).
+struct RigTensionRegions {
+  std::vector<std::string> names;    // one per region, unique, non-empty
+  std::vector<float> references;     // c0 per region: the mean compression of weight 1 - 1/e, > 0
+  std::vector<uint32_t> offsets;     // regions + 1 (empty when there is no region)
+  std::vector<uint32_t> points;
+  std::vector<float> weights;
+  uint32_t region_count() const { return uint32_t(names.size()); }
+  bool empty() const { return names.empty(); }
+};
+
 // The leading ranges a frame touches (points and triangles are ordered so, see rig_builder
 // MovingPoints / ActiveOrder, the one place that decides what can move): [0, points) can move;
 // [0, normal_points) can change normal; the rest stay at their rest position and normal.
@@ -111,6 +129,10 @@ struct RigData {
 
   // The jaw (empty = none: EvaluateJob::jaw is ignored).
   RigJaw jaw;
+
+  // Tension regions (empty = none). A rig with any keeps rest_triangle_areas, skin layers or
+  // not, so that EvaluateJob's tension outputs can measure r.
+  RigTensionRegions tension_regions;
 
   uint32_t point_count() const { return uint32_t(rest_points.size()); }
   uint32_t triangle_count() const { return uint32_t(triangles.size() / 3); }
@@ -202,6 +224,9 @@ class Rig {
   const MuscleTable& muscles() const { return data_.muscles; }
   // The jaw (empty when the rig has none).
   const RigJaw& jaw() const { return data_.jaw; }
+  // Tension regions (empty when the rig has none).
+  const RigTensionRegions& tension_regions() const { return data_.tension_regions; }
+  uint32_t tension_region_count() const { return data_.tension_regions.region_count(); }
 
   uint32_t point_count() const { return data_.point_count(); }
   uint32_t triangle_count() const { return data_.triangle_count(); }

@@ -56,6 +56,12 @@ enum SectionId : uint32_t {
   kJawParams = 32,
   kJawPoints = 33,
   kJawWeights = 34,
+  // 1.1: tension regions (optional; absent = none).
+  kTensionNames = 35,
+  kTensionReferences = 36,
+  kTensionOffsets = 37,
+  kTensionPoints = 38,
+  kTensionWeights = 39,
   kInfoUnits = 64,
   kInfoSourceVertexCount = 65,
 };
@@ -100,6 +106,11 @@ constexpr SectionDesc kSections[] = {
     {kJawParams, "jaw_params", 4, 10, true},
     {kJawPoints, "jaw_points", 4, 0, true},
     {kJawWeights, "jaw_weights", 4, 0, true},
+    {kTensionNames, "tension_region_names", 0, 0, false},
+    {kTensionReferences, "tension_region_references", 4, 0, false},
+    {kTensionOffsets, "tension_region_offsets", 4, 0, false},
+    {kTensionPoints, "tension_region_points", 4, 0, false},
+    {kTensionWeights, "tension_region_weights", 4, 0, false},
     {kInfoUnits, "info_units", 0, 1, false},
     {kInfoSourceVertexCount, "info_source_vertex_count", 4, 1, false},
 };
@@ -255,6 +266,14 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
                       jaw.range, jaw.translation.x, jaw.translation.y, jaw.translation.z});
   w.U32s(kJawPoints, jaw.points);
   w.F32s(kJawWeights, jaw.weights);
+  if (!d.tension_regions.empty()) {
+    const RigTensionRegions& g = d.tension_regions;
+    w.Strings(kTensionNames, g.names);
+    w.F32s(kTensionReferences, g.references);
+    w.U32s(kTensionOffsets, g.offsets);
+    w.U32s(kTensionPoints, g.points);
+    w.F32s(kTensionWeights, g.weights);
+  }
   if (info) {
     w.Strings(kInfoUnits, {info->units});
     w.U32s(kInfoSourceVertexCount, {info->source_vertex_count});
@@ -400,6 +419,34 @@ bool ReadRigBinaryData(span<const uint8_t> bytes, RigData* out, RigBinaryInfo* i
     d.jaw.translation = {j[7], j[8], j[9]};
     r.U32s(kJawPoints, &d.jaw.points);
     r.F32s(kJawWeights, &d.jaw.weights);
+  }
+  {  // 1.1's tension regions: all five sections or none (Rig::Build checks the rest)
+    const uint32_t ids[] = {kTensionNames, kTensionReferences, kTensionOffsets, kTensionPoints,
+                            kTensionWeights};
+    int present = 0;
+    for (uint32_t id : ids) present += r.Of(id).data != nullptr;
+    if (present != 0 && present != 5)
+      return fail("sections 'tension_region_*' (ids 35-39)",
+                  "the tension regions need all five sections (ids 35-39); " +
+                      std::to_string(present) + " are present");
+    if (present == 5) {
+      RigTensionRegions& g = d.tension_regions;
+      if (!r.Strings(kTensionNames, &g.names)) return false;
+      r.F32s(kTensionReferences, &g.references);
+      r.U32s(kTensionOffsets, &g.offsets);
+      r.U32s(kTensionPoints, &g.points);
+      r.F32s(kTensionWeights, &g.weights);
+      const InSection& s = r.Of(kTensionOffsets);
+      if (g.references.size() != g.names.size() || g.offsets.size() != g.names.size() + 1 ||
+          g.weights.size() != g.points.size() || g.offsets.back() != g.points.size())
+        return r.Fail(s, std::to_string(g.names.size()) + " regions need as many references, " +
+                             "one more offset and as many weights as points, the last offset "
+                             "equal to the point count; got " +
+                             std::to_string(g.references.size()) + " references, " +
+                             std::to_string(g.offsets.size()) + " offsets, " +
+                             std::to_string(g.points.size()) + " points, " +
+                             std::to_string(g.weights.size()) + " weights");
+    }
   }
   RigBinaryInfo file_info;
   {

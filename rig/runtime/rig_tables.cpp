@@ -71,6 +71,31 @@ bool CheckRigData(const RigData& r) {
         return false;
     }
   }
+  {  // tension regions: named once each, a positive finite reference, a well-formed CSR of
+     // ascending points with weights in (0, 1], and the rest areas their ratios need
+    const RigTensionRegions& g = r.tension_regions;
+    const size_t n = g.names.size();
+    if (g.references.size() != n) return false;
+    if (n == 0) {
+      if (!g.offsets.empty() || !g.points.empty() || !g.weights.empty()) return false;
+    } else {
+      if (g.offsets.size() != n + 1 || g.offsets[0] != 0 || g.offsets[n] != g.points.size() ||
+          g.weights.size() != g.points.size() || r.rest_triangle_areas.size() < tris)
+        return false;
+      for (size_t i = 0; i < n; ++i) {
+        if (g.names[i].empty() || !(g.references[i] > 0.f) || !std::isfinite(g.references[i]))
+          return false;
+        for (size_t k = 0; k < i; ++k)
+          if (g.names[k] == g.names[i]) return false;
+        if (g.offsets[i] > g.offsets[i + 1]) return false;
+        for (uint32_t e = g.offsets[i]; e < g.offsets[i + 1]; ++e) {
+          if (g.points[e] >= points || (e > g.offsets[i] && g.points[e] <= g.points[e - 1]))
+            return false;
+          if (!(g.weights[e] > 0.f && g.weights[e] <= 1.f)) return false;
+        }
+      }
+    }
+  }
   {
     const std::vector<float> activations(r.muscle_count(), 0.f);
     std::vector<float3> moved(size_t(points) + 1);  // EvaluateContext's padded point buffer

@@ -89,7 +89,8 @@ TEST(RigJsonTest, BaseTextsAreValid) {
        {Doc(), Doc("[" + kSheet + "]"), Doc("[]"), Thickness(R"({"type": "constant", "value": 3})"),
         LinearW(R"({"depth": 1, "phi_c_deg": 10})"), SheetW(R"({"depth": 1, "h_c": 5})"),
         Curves("[" + kCurve + "]"), Extra(R"("layers": {"thickness": false})"),
-        Extra(R"("refinement": {"edge_fraction": 1})"), Extra(R"("jaw": )" + kJaw)}) {
+        Extra(R"("refinement": {"edge_fraction": 1})"), Extra(R"("jaw": )" + kJaw),
+        Extra(R"("tension_regions": [{"name": "glabella", "reference": 0.2, "weights": [0, 0.5, 1]}])")}) {
     RigSpec spec;
     Diagnostics diag;
     EXPECT_TRUE(ParseRigSpec(text, "", &spec, &diag)) << diag.Format() << text;
@@ -128,6 +129,17 @@ std::vector<BadCase> BadCases() {
        {"version: unsupported version 2: this build reads version 1"}},
       {"version as string", Top(R"("version": 1)", R"("version": "1")"),
        {"version: expected integer 1, got string"}},
+      {"tension weight above 1",
+       Extra(R"("tension_regions": [{"name": "glabella", "weights": [0, 1.5]}])"),
+       {"tension_regions[0].weights[1]", "1.5"}},
+      {"tension region without weights", Extra(R"("tension_regions": [{"name": "glabella"}])"),
+       {"tension_regions[0].weights: missing required key"}},
+      {"tension reference 0",
+       Extra(R"("tension_regions": [{"name": "a", "reference": 0, "weights": [1]}])"),
+       {"tension_regions[0].reference"}},
+      {"tension names repeat",
+       Extra(R"("tension_regions": [{"name": "a", "weights": [1]}, {"name": "a", "weights": [1]}])"),
+       {"tension_regions[1].name", "\"a\""}},
       {"version overflows", Top(R"("version": 1)", R"("version": 1e999)"),
        {"version: expected integer 1, got a number that overflows to infinity"}},
       {"version 1.5", Top(R"("version": 1)", R"("version": 1.5)"),

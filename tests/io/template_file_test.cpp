@@ -2,6 +2,7 @@
 // template, and the thickness blend against hand-computed values.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -44,6 +45,45 @@ std::string Replace(std::string s, const std::string& from, const std::string& t
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) s.replace(at, from.size(), to);
   return s;
+}
+
+TEST(MuscleTemplate, TensionRegionsParseMirrorAndRoundTrip) {
+  const std::string text = Replace(kValid, R"(  "curve_wrinkles": [)",
+                                   R"(  "tension_regions": [
+    {"name": "glabella", "center": [0, 0.3], "radius": [0.1, 0.08], "reference": 0.2},
+    {"name": "crows_feet_L", "center": [0.55, 0.05], "radius": [0.08, 0.1], "mirror": true}],
+  "curve_wrinkles": [)");
+  MuscleTemplate t;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseMuscleTemplate(text, &t, &diag)) << diag.Format();
+  ASSERT_EQ(t.tension_regions.size(), 3u);
+  EXPECT_EQ(t.tension_regions[2].name, "crows_feet_R");
+  EXPECT_FLOAT_EQ(t.tension_regions[2].center.x, -0.55f);
+  EXPECT_FLOAT_EQ(t.tension_regions[0].reference, 0.2f);
+  EXPECT_FLOAT_EQ(t.tension_regions[1].reference, kDefaultTensionReference);
+  // The weight at a face-frame point, by hand: at the centre in front of the fade 1; one
+  // radius off in x exp(-1/2); behind the fade (z below front[0] = -1) 0; far away 0 (cut).
+  const TemplateTensionRegion& g = t.tension_regions[0];
+  EXPECT_FLOAT_EQ(EvaluateTensionRegion(g, t.thickness.front, {0.f, 0.3f, 0.f}), 1.f);
+  EXPECT_NEAR(EvaluateTensionRegion(g, t.thickness.front, {0.1f, 0.3f, 0.f}), std::exp(-0.5),
+              1e-6);
+  EXPECT_EQ(EvaluateTensionRegion(g, t.thickness.front, {0.f, 0.3f, -2.f}), 0.f);
+  EXPECT_EQ(EvaluateTensionRegion(g, t.thickness.front, {0.5f, 0.3f, 0.f}), 0.f);
+  MuscleTemplate again;
+  ASSERT_TRUE(ParseMuscleTemplate(MuscleTemplateToJson(t), &again, &diag)) << diag.Format();
+  ASSERT_EQ(again.tension_regions.size(), 3u);
+  EXPECT_EQ(again.tension_regions[2].name, "crows_feet_R");
+  // Bad definitions name the path.
+  for (const auto& [from, to, message] : std::vector<std::array<std::string, 3>>{
+           {R"("radius": [0.1, 0.08])", R"("radius": [0, 0.08])", "tension_regions[0].radius"},
+           {R"("name": "crows_feet_L")", R"("name": "crows_feet")", "must end in _L or _R"},
+           {R"("name": "crows_feet_L")", R"("name": "glabella")", "duplicate tension region name"},
+           {R"("reference": 0.2)", R"("reference": -1)", "tension_regions[0].reference"}}) {
+    MuscleTemplate bad;
+    Diagnostics d;
+    EXPECT_FALSE(ParseMuscleTemplate(Replace(text, from, to), &bad, &d)) << to;
+    EXPECT_NE(d.Format().find(message), std::string::npos) << d.Format();
+  }
 }
 
 TEST(MuscleTemplate, ValidTextParsesWithMirroringAndNormalisedWeights) {

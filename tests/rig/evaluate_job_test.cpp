@@ -411,13 +411,13 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const EvaluateContext ctx(rig);
   const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
   const size_t E = t.edge_count();
-  // activations, points (+1 pad), faces, ratios, sums, edge lengths, wrinkle offsets; the fold
+  // activations, points (+1 pad), faces, ratios, compressions, sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
   // flags, the slope bound per neighbour slot; its worklists over the active points (three
   // lists, marks) and triangles (list, marks, verdicts)
   const size_t N = t.point_neighbors.size();
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
-  EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P +
+  EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
                                 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
                                 4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT + AT);
 }

@@ -23,6 +23,14 @@ Rig SurfaceRig() {
   const MeshData mesh = MakeSurfaceMesh(31, 31, 100.f, 100.f, 10.f);
   RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 10.f, 0.3f, 3.f);
   AddEverySkinLayer(&spec, 0.3f, 4.f);
+  // Two tension regions (format 1.1's optional sections), weights from the rest x.
+  TensionRegionSpec left{"left", 0.05f, {}}, right{"right", 0.2f, {}};
+  for (const float3& p : mesh.positions) {
+    const float u = std::min(std::max((p.x + 50.f) / 100.f, 0.f), 1.f);
+    left.weights.push_back(1.f - u);
+    right.weights.push_back(u);
+  }
+  spec.tension_regions = {left, right};
   Rig rig;
   Diagnostics diag;
   EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
