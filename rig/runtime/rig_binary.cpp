@@ -425,10 +425,11 @@ bool ReadRigBinaryData(span<const uint8_t> bytes, RigData* out, RigBinaryInfo* i
                             kTensionWeights};
     int present = 0;
     for (uint32_t id : ids) present += r.Of(id).data != nullptr;
-    if (present != 0 && present != 5)
-      return fail("sections 'tension_region_*' (ids 35-39)",
-                  "the tension regions need all five sections (ids 35-39); " +
-                      std::to_string(present) + " are present");
+    if (present != 0 && present != 5) {
+      *error = "sections 'tension_region_*' (ids 35-39): the tension regions need all five "
+               "sections; " + std::to_string(present) + " are present";
+      return false;
+    }
     if (present == 5) {
       RigTensionRegions& g = d.tension_regions;
       if (!r.Strings(kTensionNames, &g.names)) return false;
