@@ -7,13 +7,7 @@
 # (exit 77), except under CI=true, where their absence is a failure.
 set -euo pipefail
 tool=$1 src=$2 what=$3
-modules="$src/.node/node_modules"
-need=gltf-validator; [[ $what == three ]] && need=three
-if ! command -v node >/dev/null || [[ ! -d "$modules/$need" ]]; then
-  msg="skipped: node or $modules/$need is missing (bash tools/install-deps.sh installs them)"
-  if [[ "${CI:-}" == true ]]; then echo "FAIL (CI): $msg"; exit 1; fi
-  echo "$msg"; exit 77
-fi
+source "$src/tests/tools/node/node_env.sh"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 rig="$src/assets/head/sample_head.rig.json"
 cat > "$tmp/c.clip.json" <<'JSON'

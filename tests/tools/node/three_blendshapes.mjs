@@ -4,11 +4,7 @@
 // ARFaceAnchor.BlendShapeLocation documentation) with 52 targets, then that the base plus target
 // SHAPE at influence 1 matches the `v` lines of FRAME.obj (`mimetic eval` at that shape's
 // activations): max |difference| < 1e-4 of the head size.
-import fs from 'node:fs';
-import path from 'node:path';
-import { pathToFileURL } from 'node:url';
-
-globalThis.self ??= globalThis;  // three's texture path names `self` (no textures are loaded)
+import { check, exitStatus, loadGlb, objVertices } from './gltf_node.mjs';
 
 const ARKIT = [
   'eyeBlinkLeft', 'eyeLookDownLeft', 'eyeLookInLeft', 'eyeLookOutLeft', 'eyeLookUpLeft',
@@ -24,19 +20,7 @@ const ARKIT = [
 ];
 
 const [file, modules, shape, objFile] = process.argv.slice(2);
-const { GLTFLoader } = await import(
-    pathToFileURL(path.join(path.resolve(modules), 'three/examples/jsm/loaders/GLTFLoader.js')).href);
-const bytes = fs.readFileSync(file);
-const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
-const gltf = await new Promise((resolve, reject) =>
-    new GLTFLoader().parse(buffer, '', resolve, reject));
-
-let failed = false;
-const check = (ok, what) => { console.log(`${ok ? 'ok' : 'FAIL'}: ${what}`); if (!ok) failed = true; };
-const meshes = [];
-gltf.scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
-check(meshes.length === 1, `one mesh (got ${meshes.length})`);
-const mesh = meshes[0];
+const { mesh } = await loadGlb(file, modules);
 const dict = mesh.morphTargetDictionary ?? {};
 const targets = mesh.geometry.morphAttributes.position ?? [];
 check(ARKIT.length === 52, 'the reference list has 52 names');
@@ -48,8 +32,7 @@ ARKIT.forEach((name, i) => {
 check(ARKIT.every((name, i) => dict[name] === i), 'every ARKit name at its index, in Apple\'s order');
 
 const t = dict[shape];
-const obj = fs.readFileSync(objFile, 'utf8').split('\n').filter((l) => l.startsWith('v '))
-    .map((l) => l.split(/\s+/).slice(1, 4).map(Number));
+const obj = objVertices(objFile);
 const base = mesh.geometry.attributes.position;
 check(base.count === obj.length, `${obj.length} vertices (got ${base.count})`);
 const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
@@ -64,4 +47,4 @@ for (let v = 0; v < Math.min(base.count, obj.length); ++v)
 const size = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
 check(maxDiff < 1e-4 * size, `${shape} at 1: max |three - mimetic eval| = ${maxDiff} < 1e-4 * ${size}`);
 check(maxMove > 1e-3 * size, `${shape} moves (max ${maxMove}) so the comparison means something`);
-process.exit(failed ? 1 : 0);
+process.exit(exitStatus());

@@ -3,29 +3,11 @@
 // animation lasting DURATION s, and the pose at time T (three's AnimationMixer sets the
 // morph-target influences; base + sum of influence x target, morphTargetsRelative) against the
 // `v` lines of FRAME.obj (`mimetic play --time T`): max |difference| < 1e-4 of the head size.
-import fs from 'node:fs';
-import path from 'node:path';
-import { pathToFileURL } from 'node:url';
-
-// The only polyfill node needs here: three's texture path names `self` (no textures are loaded).
-globalThis.self ??= globalThis;
+import { check, exitStatus, loadGlb, objVertices, threeModule } from './gltf_node.mjs';
 
 const [file, modules, targetsArg, durationArg, timeArg, objFile] = process.argv.slice(2);
-const { GLTFLoader } = await import(
-    pathToFileURL(path.join(path.resolve(modules), 'three/examples/jsm/loaders/GLTFLoader.js')).href);
-const { AnimationMixer } = await import(
-    pathToFileURL(path.join(path.resolve(modules), 'three/build/three.module.js')).href);
-const bytes = fs.readFileSync(file);
-const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
-const gltf = await new Promise((resolve, reject) =>
-    new GLTFLoader().parse(buffer, '', resolve, reject));
-
-let failed = false;
-const check = (ok, what) => { console.log(`${ok ? 'ok' : 'FAIL'}: ${what}`); if (!ok) failed = true; };
-const meshes = [];
-gltf.scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
-check(meshes.length === 1, `one mesh (got ${meshes.length})`);
-const mesh = meshes[0];
+const { AnimationMixer } = await threeModule(modules, 'three/build/three.module.js');
+const { gltf, mesh } = await loadGlb(file, modules);
 const geometry = mesh.geometry;
 const targets = geometry.morphAttributes.position ?? [];
 const count = Number(targetsArg), duration = Number(durationArg), time = Number(timeArg);
@@ -41,8 +23,7 @@ const mixer = new AnimationMixer(gltf.scene);
 mixer.clipAction(clip).play();
 mixer.setTime(time);
 const w = mesh.morphTargetInfluences;
-const obj = fs.readFileSync(objFile, 'utf8').split('\n').filter((l) => l.startsWith('v '))
-    .map((l) => l.split(/\s+/).slice(1, 4).map(Number));
+const obj = objVertices(objFile);
 const base = geometry.attributes.position;
 check(base.count === obj.length, `${obj.length} vertices (got ${base.count})`);
 let lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity], maxDiff = 0, maxMove = 0;
@@ -59,4 +40,4 @@ for (let v = 0; v < Math.min(base.count, obj.length); ++v) {
 const size = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
 check(maxDiff < 1e-4 * size, `t = ${time}: max |three - mimetic play --time| = ${maxDiff} < 1e-4 * ${size}`);
 check(maxMove > 1e-3 * size, `t = ${time} moves (max ${maxMove}) so the comparison means something`);
-process.exit(failed ? 1 : 0);
+process.exit(exitStatus());
