@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/evaluate_setup.h"
 #include "bench/reference_blendshapes.h"
 #include "content/procedural.h"
 #include "content/sample_head.h"
@@ -150,22 +151,7 @@ void FillWeights(std::vector<float>* w, uint32_t frame) {
     (*w)[m] = 0.5f + 0.5f * std::sin(0.1f * float(frame + 7 * m));
 }
 
-// An EvaluateJob over its own context and output buffers.
-struct EvaluateSetup {
-  EvaluateSetup(const Rig& rig, SkinLayers layers)
-      : context(rig), activations(rig.muscle_count()), positions(3 * rig.vertex_count()),
-        normals(3 * rig.vertex_count()) {
-    job.rig = &rig;
-    job.context = &context;
-    job.activations = activations;
-    job.out_positions = positions;
-    job.out_normals = normals;
-    job.layers = layers;
-  }
-  EvaluateContext context;
-  std::vector<float> activations, positions, normals;
-  EvaluateJob job;
-};
+using bench::EvaluateSetup;
 
 void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool limit_folds = true) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;

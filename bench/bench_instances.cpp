@@ -32,6 +32,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/evaluate_setup.h"
 #include "io/rig_loader.h"
 #include "rig/runtime/evaluate_job.h"
 
@@ -53,16 +54,8 @@ const Rig& HeadRig() {
 }
 
 // One character: what an engine keeps per instance of a shared rig.
-struct Instance {
-  explicit Instance(const Rig& rig)
-      : context(rig), activations(rig.muscle_count()), positions(3 * rig.vertex_count()),
-        normals(3 * rig.vertex_count()) {
-    job.rig = &rig;
-    job.context = &context;
-    job.activations = activations;
-    job.out_positions = positions;
-    job.out_normals = normals;
-  }
+struct Instance : bench::EvaluateSetup {
+  explicit Instance(const Rig& rig) : EvaluateSetup(rig) {}
   // Instance i's pose at `frame`: the same waves as bench_evaluate.cpp, shifted per instance so
   // no two instances share a pose.
   void Pose(uint32_t frame, uint32_t i) {
@@ -74,9 +67,6 @@ struct Instance {
     return context.ByteSize() + sizeof(Instance) +
            (activations.capacity() + positions.capacity() + normals.capacity()) * sizeof(float);
   }
-  EvaluateContext context;
-  std::vector<float> activations, positions, normals;
-  EvaluateJob job;
 };
 
 std::vector<std::unique_ptr<Instance>> MakeInstances(const Rig& rig, uint32_t n) {
