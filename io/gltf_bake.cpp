@@ -14,42 +14,50 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "core/file_util.h"
+#include "io/json_reader.h"
 
 namespace mimetic {
 namespace {
 
-// delta = frame - base per vertex (xyz); a vertex whose three components all stay within
-// `epsilon` gets an exact zero, and otherwise is marked in `moved` (when given).
-void FrameDeltas(const float* frame, const float3* base, size_t nv, float epsilon, float* delta,
-                 uint8_t* moved) {
+// delta = frame - base per vertex (`c` components each: 3 for positions and normals, 2 for
+// tension); a vertex whose components all stay within `epsilon` gets exact zeros, and
+// otherwise is marked in `moved` (when given).
+void FrameDeltas(const float* frame, const float* base, size_t nv, int c, float epsilon,
+                 float* delta, uint8_t* moved) {
   for (size_t v = 0; v < nv; ++v) {
-    float* d = delta + 3 * v;
-    d[0] = frame[3 * v + 0] - base[v].x;
-    d[1] = frame[3 * v + 1] - base[v].y;
-    d[2] = frame[3 * v + 2] - base[v].z;
-    if (std::abs(d[0]) <= epsilon && std::abs(d[1]) <= epsilon && std::abs(d[2]) <= epsilon)
-      d[0] = d[1] = d[2] = 0.f;
+    float* d = delta + c * v;
+    bool small = true;
+    for (int i = 0; i < c; ++i) {
+      d[i] = frame[c * v + i] - base[c * v + i];
+      small = small && std::abs(d[i]) <= epsilon;
+    }
+    if (small)
+      for (int i = 0; i < c; ++i) d[i] = 0.f;
     else if (moved)
       moved[v] = 1;
   }
 }
 
-// A hash of the bits of a frame's positions and (when given) normals: FNV-1a's step over
-// 32-bit words (one float each), only to find candidate equal frames (they are compared).
-uint64_t FrameHash(const float* positions, const float* normals, size_t count) {
+// A hash of the bits of a frame's positions and (when given) normals and tension: FNV-1a's
+// step over 32-bit words (one float each), only to find candidate equal frames (they are
+// compared).
+uint64_t FrameHash(const float* positions, const float* normals, const float* tension,
+                   size_t nv) {
   uint64_t h = 1469598103934665603ull;
-  auto add = [&](const float* v) {
+  auto add = [&](const float* v, size_t count) {
     for (size_t i = 0; i < count; ++i) {
       uint32_t w;
       std::memcpy(&w, v + i, sizeof w);
       h = (h ^ w) * 1099511628211ull;
     }
   };
-  add(positions);
-  if (normals) add(normals);
+  add(positions, nv * 3);
+  if (normals) add(normals, nv * 3);
+  if (tension) add(tension, nv * 2);
   return h;
 }
 
@@ -79,37 +87,39 @@ struct Builder {
     model.accessors.push_back(a);
     return int(model.accessors.size()) - 1;
   }
-  // A VEC3 float accessor of `values` (#V * 3), dense or sparse (whichever is fewer bytes;
-  // neither bufferView nor sparse when every value is 0). Returns the accessor and, through
-  // `nonzero`, how many vertices have a non-zero value.
-  int Deltas(const std::vector<float>& values, size_t nv, bool with_min_max, bool* sparse,
-             size_t* nonzero) {
+  // A float accessor of `values` (#V * c, c = 3: VEC3, c = 2: VEC2), dense or sparse
+  // (whichever is fewer bytes; neither bufferView nor sparse when every value is 0). Returns
+  // the accessor and, through `nonzero`, how many vertices have a non-zero value.
+  int Deltas(const std::vector<float>& values, size_t nv, int c, bool with_min_max,
+             bool* sparse, size_t* nonzero) {
     std::vector<uint32_t> idx;
     float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     bool first = true;
     for (size_t v = 0; v < nv; ++v) {
-      const float* d = &values[3 * v];
-      const bool moved = d[0] != 0.f || d[1] != 0.f || d[2] != 0.f;
-      if (moved) idx.push_back(uint32_t(v));
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = first ? d[c] : std::min(lo[c], d[c]);
-        hi[c] = first ? d[c] : std::max(hi[c], d[c]);
+      const float* d = &values[c * v];
+      bool moved = false;
+      for (int i = 0; i < c; ++i) {
+        moved = moved || d[i] != 0.f;
+        lo[i] = first ? d[i] : std::min(lo[i], d[i]);
+        hi[i] = first ? d[i] : std::max(hi[i], d[i]);
       }
+      if (moved) idx.push_back(uint32_t(v));
       first = false;
     }
     *nonzero = idx.size();
+    const int type = c == 2 ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_VEC3;
     const size_t index_bytes = nv < 65536 ? 2 : 4;
-    const size_t dense_bytes = nv * 12, sparse_bytes = idx.size() * (index_bytes + 12);
+    const size_t dense_bytes = nv * 4 * size_t(c), sparse_bytes = idx.size() * (index_bytes + 4 * size_t(c));
     int acc;
     *sparse = false;
     if (idx.empty()) {
-      acc = Accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+      acc = Accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, type);
     } else if (sparse_bytes < dense_bytes) {
       *sparse = true;
-      acc = Accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+      acc = Accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, nv, type);
       std::vector<float> packed;
-      packed.reserve(idx.size() * 3);
-      for (uint32_t v : idx) packed.insert(packed.end(), &values[3 * v], &values[3 * v] + 3);
+      packed.reserve(idx.size() * size_t(c));
+      for (uint32_t v : idx) packed.insert(packed.end(), &values[c * v], &values[c * v] + c);
       int index_view;
       if (index_bytes == 2) {
         std::vector<uint16_t> small(idx.begin(), idx.end());
@@ -129,11 +139,11 @@ struct Builder {
       a.sparse.values.byteOffset = 0;
     } else {
       acc = Accessor(View(values.data(), dense_bytes, TINYGLTF_TARGET_ARRAY_BUFFER),
-                     TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
+                     TINYGLTF_COMPONENT_TYPE_FLOAT, nv, type);
     }
     if (with_min_max) {
-      model.accessors[size_t(acc)].minValues = {lo[0], lo[1], lo[2]};
-      model.accessors[size_t(acc)].maxValues = {hi[0], hi[1], hi[2]};
+      model.accessors[size_t(acc)].minValues.assign(lo, lo + c);
+      model.accessors[size_t(acc)].maxValues.assign(hi, hi + c);
     }
     return acc;
   }
@@ -153,7 +163,9 @@ bool Check(const BakedFrames& f, Diagnostics* diag) {
   if (f.positions.size() != nf * nv * 3 || (!f.normals.empty() && f.normals.size() != nf * nv * 3) ||
       (!f.base.normals.empty() && f.base.normals.size() != nv) ||
       (!f.base.uvs.empty() && f.base.uvs.size() != nv) ||
-      (!f.normals.empty() && f.base.normals.empty())) {
+      (!f.normals.empty() && f.base.normals.empty()) ||
+      (!f.tension.empty() && f.tension.size() != nf * nv * 2) ||
+      f.base_tension.size() != (f.tension.empty() ? 0 : nv * 2)) {
     diag->Error("", "bake: frame or attribute sizes do not match the base mesh's " +
                         std::to_string(nv) + " vertices and " + std::to_string(nf) + " frames");
     ok = false;
@@ -180,12 +192,14 @@ bool Check(const BakedFrames& f, Diagnostics* diag) {
   auto finite = [](const std::vector<float>& v) {
     return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
   };
-  if (!finite(f.positions) || !finite(f.normals)) {
-    diag->Error("", "bake: a frame has a non-finite position or normal");
+  if (!finite(f.positions) || !finite(f.normals) || !finite(f.tension) ||
+      !finite(f.base_tension)) {
+    diag->Error("", "bake: a frame has a non-finite position, normal or tension");
     ok = false;
   }
-  if (!(f.position_epsilon >= 0) || !(f.normal_epsilon >= 0) ||
-      !std::isfinite(f.position_epsilon) || !std::isfinite(f.normal_epsilon)) {
+  if (!(f.position_epsilon >= 0) || !(f.normal_epsilon >= 0) || !(f.tension_epsilon >= 0) ||
+      !std::isfinite(f.position_epsilon) || !std::isfinite(f.normal_epsilon) ||
+      !std::isfinite(f.tension_epsilon)) {
     diag->Error("", "bake: the epsilons must be finite numbers >= 0");
     ok = false;
   }
@@ -209,8 +223,8 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   // The buffer's bound: base attributes and indices, then at most one dense position and normal
   // delta array per frame (sparse ones are smaller), the animation and alignment. Reserved once
   // (the untouched rest is never paged in) so growing it never copies what was written.
-  b.buffer.data.reserve(nv * (12 + 12 + 8) + f.base.indices.size() * 4 +
-                        nf * (nv * 24 + 64) + nf * (nf + 1) * 4 + 4096);
+  b.buffer.data.reserve(nv * (12 + 12 + 8 + 8) + f.base.indices.size() * 4 +
+                        nf * (nv * 32 + 96) + nf * (nf + 1) * 4 + 4096);
   b.model.asset.version = "2.0";
   b.model.asset.generator = "mimetic (bake)";
 
@@ -235,6 +249,10 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
     prim.attributes["TEXCOORD_0"] = b.Accessor(
         b.View(f.base.uvs.data(), nv * sizeof(float2), TINYGLTF_TARGET_ARRAY_BUFFER),
         TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC2);
+  if (!f.tension.empty())
+    prim.attributes["_TENSION"] = b.Accessor(
+        b.View(f.base_tension.data(), nv * 2 * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+        TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC2);
   prim.indices = b.Accessor(b.View(f.base.indices.data(), f.base.indices.size() * 4,
                                    TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, f.base.indices.size(),
@@ -244,21 +262,31 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
   // to an earlier one (a held pose) shows that frame's target; a frame whose every delta is
   // within the epsilons shows the base (no target, all weights 0).
   std::vector<uint8_t> moved(nv, 0);
-  std::vector<float> delta(nv * 3), normal_delta(normals ? nv * 3 : 0);
+  std::vector<float> delta(nv * 3), normal_delta(normals ? nv * 3 : 0),
+      tension_delta(f.tension.empty() ? 0 : nv * 2);
   std::vector<int> target_of(nf, -1);
   std::unordered_multimap<uint64_t, size_t> seen;  // frame hash -> an earlier frame
   const bool with_normal_deltas = normals && !f.normals.empty();
+  const bool with_tension = !f.tension.empty();
   const bool named = !f.target_names.empty();  // a target per frame, in order
+  const auto* base_positions = reinterpret_cast<const float*>(f.base.positions.data());
+  const auto* base_normals = reinterpret_cast<const float*>(f.base.normals.data());
   auto same = [&](size_t a, size_t k) {
     const size_t n = nv * 3 * sizeof(float);
     return std::memcmp(&f.positions[a * nv * 3], &f.positions[k * nv * 3], n) == 0 &&
            (!with_normal_deltas ||
-            std::memcmp(&f.normals[a * nv * 3], &f.normals[k * nv * 3], n) == 0);
+            std::memcmp(&f.normals[a * nv * 3], &f.normals[k * nv * 3], n) == 0) &&
+           (!with_tension ||
+            std::memcmp(&f.tension[a * nv * 2], &f.tension[k * nv * 2], n / 3 * 2) == 0);
+  };
+  auto nonzero = [](const std::vector<float>& d) {
+    return std::any_of(d.begin(), d.end(), [](float x) { return x != 0.f; });
   };
   for (size_t k = 0; k < nf; ++k) {
     const float* p = &f.positions[k * nv * 3];
     const float* n = with_normal_deltas ? &f.normals[k * nv * 3] : nullptr;
-    const uint64_t h = FrameHash(p, n, nv * 3);
+    const float* t = with_tension ? &f.tension[k * nv * 2] : nullptr;
+    const uint64_t h = FrameHash(p, n, t, nv);
     bool reused = false;
     for (auto [it, end] = seen.equal_range(h); it != end && !reused && !named; ++it)
       if (same(it->second, k)) {
@@ -267,34 +295,36 @@ bool BakeGlbBytes(const BakedFrames& f, std::string* out, BakeStats* stats, Diag
       }
     if (reused) continue;
     seen.insert({h, k});
-    FrameDeltas(p, f.base.positions.data(), nv, f.position_epsilon, delta.data(), moved.data());
-    if (n) FrameDeltas(n, f.base.normals.data(), nv, f.normal_epsilon, normal_delta.data(), nullptr);
-    auto nonzero = [](const std::vector<float>& d) {
-      return std::any_of(d.begin(), d.end(), [](float x) { return x != 0.f; });
-    };
-    if (!named && !nonzero(delta) && (!n || !nonzero(normal_delta))) continue;  // the base
+    FrameDeltas(p, base_positions, nv, 3, f.position_epsilon, delta.data(), moved.data());
+    if (n) FrameDeltas(n, base_normals, nv, 3, f.normal_epsilon, normal_delta.data(), nullptr);
+    if (t)
+      FrameDeltas(t, f.base_tension.data(), nv, 2, f.tension_epsilon, tension_delta.data(),
+                  nullptr);
+    if (!named && !nonzero(delta) && (!n || !nonzero(normal_delta)) &&
+        (!t || !nonzero(tension_delta)))
+      continue;  // the base
     std::map<std::string, int> target;
-    bool sparse = false;
-    size_t count = 0;
-    target["POSITION"] = b.Deltas(delta, nv, true, &sparse, &count);
+    bool sparse = false, unused_sparse;
+    size_t count = 0, unused_count;
+    target["POSITION"] = b.Deltas(delta, nv, 3, true, &sparse, &count);
     s.sparse_targets += sparse;
     s.max_moved_in_frame = std::max(s.max_moved_in_frame, count);
-    if (n) {
-      bool unused_sparse;
-      size_t unused_count;
-      target["NORMAL"] = b.Deltas(normal_delta, nv, false, &unused_sparse, &unused_count);
-    }
+    if (n) target["NORMAL"] = b.Deltas(normal_delta, nv, 3, false, &unused_sparse, &unused_count);
+    if (t) target["_TENSION"] = b.Deltas(tension_delta, nv, 2, false, &unused_sparse, &unused_count);
     target_of[k] = int(prim.targets.size());
     prim.targets.push_back(std::move(target));
   }
   if (prim.targets.empty()) {
     // Every frame is the base: one all-zero target keeps the weights animation well formed.
     std::fill(delta.begin(), delta.end(), 0.f);
+    std::fill(tension_delta.begin(), tension_delta.end(), 0.f);
     std::map<std::string, int> target;
     bool unused_sparse;
     size_t unused_count;
-    target["POSITION"] = b.Deltas(delta, nv, true, &unused_sparse, &unused_count);
-    if (with_normal_deltas) target["NORMAL"] = b.Deltas(delta, nv, false, &unused_sparse, &unused_count);
+    target["POSITION"] = b.Deltas(delta, nv, 3, true, &unused_sparse, &unused_count);
+    if (with_normal_deltas) target["NORMAL"] = b.Deltas(delta, nv, 3, false, &unused_sparse, &unused_count);
+    if (with_tension)
+      target["_TENSION"] = b.Deltas(tension_delta, nv, 2, false, &unused_sparse, &unused_count);
     prim.targets.push_back(std::move(target));
   }
   const size_t nt = prim.targets.size();
@@ -388,6 +418,29 @@ void SetDefaultEpsilons(BakedFrames* f) {
       1e-6f * std::sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
                         (hi.z - lo.z) * (hi.z - lo.z));
   f->normal_epsilon = 1e-4f;
+  f->tension_epsilon = 1e-5f;
+}
+
+std::string TensionRegionsToJson(const std::vector<std::string>& names,
+                                 const std::vector<double>& times,
+                                 const std::vector<float>& weights) {
+  nlohmann::ordered_json j;
+  j["format"] = "mimetic-tension-regions";
+  j["version"] = 1;
+  j["times"] = times;
+  nlohmann::ordered_json regions = nlohmann::ordered_json::array();
+  const size_t nr = names.size();
+  for (size_t i = 0; i < nr; ++i) {
+    nlohmann::ordered_json curve = nlohmann::ordered_json::array();
+    for (size_t k = 0; k < times.size() && k * nr + i < weights.size(); ++k)
+      curve.push_back(json_reader::ShortestDecimal(weights[k * nr + i]));
+    nlohmann::ordered_json region;
+    region["name"] = names[i];
+    region["weights"] = std::move(curve);
+    regions.push_back(std::move(region));
+  }
+  j["regions"] = std::move(regions);
+  return j.dump(2) + "\n";
 }
 
 bool WriteBakedGlb(const std::string& path, const BakedFrames& frames, BakeStats* stats,

@@ -364,6 +364,17 @@ std::string FormatFloat(float f) {
   return res.ec == std::errc() ? std::string(buf, res.ptr) : std::to_string(f);
 }
 
+double ShortestDecimal(float f) {
+  if (!std::isfinite(f)) return static_cast<double>(f);
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, f);
+  if (res.ec != std::errc()) return static_cast<double>(f);
+  double d = 0.0;
+  const auto back = std::from_chars(buf, res.ptr, d);
+  if (back.ec != std::errc() || static_cast<float>(d) != f) return static_cast<double>(f);
+  return d;
+}
+
 std::string JoinList(const std::vector<std::string>& items, bool quote) {
   std::string out;
   for (size_t i = 0; i < items.size(); ++i) {

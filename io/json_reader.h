@@ -310,6 +310,9 @@ std::string Quoted(const std::string& s);  // JSON string literal, escaped, at m
 std::string Describe(const Json& v);
 std::string TypeName(const Json& v);  // "null", "boolean", "number", "string", "array", "object"
 std::string FormatFloat(float f);     // the shortest text that reads back as `f`
+// The shortest decimal (as a double) that reads back as `f`, for writing JSON: 0.1f is written
+// "0.1", not "0.10000000149011612". Falls back to the exact double value of `f`.
+double ShortestDecimal(float f);
 std::string JoinList(const std::vector<std::string>& items, bool quote);
 
 // The boundary of a format's Parse function: runs `parse`; an exception (none is expected, the

@@ -581,19 +581,6 @@ bool RigRules::Curve(const View& c, NamedCurveWrinkle* out) {
 // ---------------------------------------------------------------------------------------------
 // Writing.
 
-// The shortest decimal (as a double) that reads back as `f`: 0.1f is written "0.1", not
-// "0.10000000149011612". Falls back to the exact double value of `f`.
-double ShortestDecimal(float f) {
-  if (!std::isfinite(f)) return static_cast<double>(f);
-  char buf[64];
-  const auto res = std::to_chars(buf, buf + sizeof buf, f);
-  if (res.ec != std::errc()) return static_cast<double>(f);
-  double d = 0.0;
-  const auto back = std::from_chars(buf, res.ptr, d);
-  if (back.ec != std::errc() || static_cast<float>(d) != f) return static_cast<double>(f);
-  return d;
-}
-
 // Degrees for a zone angle in radians: the shortest decimal `deg` for which the reader's
 // conversion, float(deg * pi / 180), gives back exactly `rad` (40 degrees is written "40").
 double ShortestDegrees(float rad) {

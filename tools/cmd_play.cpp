@@ -34,7 +34,7 @@ const char* kPlayUsage =
     "       mimetic play RIG CLIP [--expression FILE]... [--library FILE]... --fps F\n"
     "                    --out DIR/frame_%04d.obj | --out FILE.glb\n"
     "                    [--no-thickness] [--no-muscle-wrinkles] [--no-curve-wrinkles]\n"
-    "                    [--no-normals] [--threads N] [--quiet]\n\n"
+    "                    [--no-normals] [--tension] [--threads N] [--quiet]\n\n"
     "Samples CLIP (a mimetic-clip file, docs/expressions.md) and poses RIG with the\n"
     "activations it gives (as `mimetic eval` does), at one time or at every frame.\n\n"
     "options:\n"
@@ -58,6 +58,11 @@ const char* kPlayUsage =
     "  --no-curve-wrinkles     skip curve wrinkles (docs/model.md §7-8)\n"
     "  --no-normals            bake only: no NORMAL attribute and no normal deltas (smaller\n"
     "                          file; viewers then compute flat normals)\n"
+    "  --tension               bake only: each frame's tension for engine shaders\n"
+    "                          (docs/tension.md \"Bake\"): a _TENSION attribute (r - 1, eps)\n"
+    "                          per vertex with its deltas in every morph target, and, when the\n"
+    "                          rig has tension regions, their weights per frame in\n"
+    "                          FILE.regions.json beside FILE.glb\n"
     "  --threads N             bake only: frames evaluated on N threads (default: the\n"
     "                          machine's, at most 8); the frames are the same bits\n"
     "  --quiet                 no progress bar and no summary (errors are still printed)\n\n"
@@ -233,7 +238,7 @@ int CmdPlay(const Args& args) {
   const ParsedArgs parsed =
       ParseArgs(args, {"expression", "library", "time", "fps", "out", "threads", "write-golden", "frames"},
                 {"no-thickness", "no-muscle-wrinkles", "no-curve-wrinkles", "no-normals",
-                 "quiet"});
+                 "tension", "quiet"});
   if (parsed.help) return std::fputs(kPlayUsage, stdout), std::fputs(kPlayGoldenUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("play", parsed.error, kPlayUsage);
   if (parsed.positional.size() != 2)
@@ -254,10 +259,10 @@ int CmdPlay(const Args& args) {
   FramePattern pattern;
   const bool quiet = parsed.flags.count("quiet") != 0;
   const bool bake = sequence && CheckOutputExtension("out", out, {".glb"}).empty();
-  if (!bake && (parsed.flags.count("no-normals") || parsed.Has("threads")))
-    return UsageError("play", std::string(parsed.flags.count("no-normals") ? "--no-normals"
-                                                                           : "--threads") +
-                                  " is for a bake only (--fps F --out FILE.glb)", kPlayUsage);
+  for (const char* bake_only : {"no-normals", "tension", "threads"})
+    if (!bake && parsed.Has(bake_only))
+      return UsageError("play", std::string("--") + bake_only +
+                                    " is for a bake only (--fps F --out FILE.glb)", kPlayUsage);
   long long threads = 0;
   if (parsed.Has("threads") && !ParseInteger(parsed.Get("threads"), 1, 64, &threads))
     return UsageError("play", "--threads " + parsed.Get("threads") +
@@ -318,6 +323,7 @@ int CmdPlay(const Args& args) {
       names.push_back(bake ? out : pattern.Name(i));
     }
     if (bake) names.resize(1);
+    if (bake && parsed.Has("tension")) names.push_back(RegionWeightsPath(out));
   }
   // No output replaces an input.
   std::vector<std::string> inputs = {rig_path, clip_path, loaded.spec.mesh_path,
@@ -349,6 +355,9 @@ int CmdPlay(const Args& args) {
     const double unit = MetresPerUnit(loaded.spec.units);
     request.metres_per_unit = unit > 0 ? unit : 0.001;
     request.normals = !parsed.flags.count("no-normals");
+    request.tension = parsed.flags.count("tension") != 0;
+    if (request.tension && rig.tension_region_count() > 0)
+      request.regions_out = RegionWeightsPath(out);
     request.quiet = quiet;
     request.threads = unsigned(threads);
     return PlayBake(request);

@@ -31,6 +31,7 @@ struct Worker {
   std::atomic<size_t>* next;
   std::atomic<size_t>* done;
   std::atomic<bool>* failed;
+  std::vector<float>* region_weights;  // #F * #regions, when r->tension
 
   void operator()() const {
     const Rig& rig = *r->rig;
@@ -47,19 +48,35 @@ struct Worker {
     evaluate.context = &context;
     evaluate.activations = activations;
     evaluate.layers = r->layers;
+    const size_t nr = rig.tension_region_count();
     for (size_t k; !failed->load() && (k = next->fetch_add(1)) < r->times.size();) {
       sample.time = float(r->times[k]);
       evaluate.out_positions = span<float>(&frames->positions[k * nv * 3], nv * 3);
       if (r->normals) evaluate.out_normals = span<float>(&frames->normals[k * nv * 3], nv * 3);
+      if (r->tension) {
+        evaluate.out_tension = span<float>(&frames->tension[k * nv * 2], nv * 2);
+        if (nr) evaluate.out_region_weights = span<float>(&(*region_weights)[k * nr], nr);
+      }
       const bool sampled = sample.Run();
       evaluate.jaw = jaw;
       if (!sampled || !evaluate.Run()) failed->store(true);
+      // The attribute holds r - 1 so that the neutral's is (0, 0) and a target's delta is the
+      // frame's value minus the neutral's.
+      if (r->tension)
+        for (size_t v = 0; v < nv; ++v) frames->tension[(k * nv + v) * 2] -= 1.f;
       done->fetch_add(1);
     }
   }
 };
 
 }  // namespace
+
+std::string RegionWeightsPath(const std::string& glb) {
+  const std::string stem = glb.size() > 4 && glb.compare(glb.size() - 4, 4, ".glb") == 0
+                               ? glb.substr(0, glb.size() - 4)
+                               : glb;
+  return stem + ".regions.json";
+}
 
 int PlayBake(const PlayBakeRequest& r) {
   using Clock = std::chrono::steady_clock;
@@ -82,7 +99,28 @@ int PlayBake(const PlayBakeRequest& r) {
     }
     if (!r.normals) frames.base.normals.clear();
     SetDefaultEpsilons(&frames);
+    if (r.tension) {
+      frames.tension.resize(nf * nv * 2);
+      frames.base_tension.resize(nv * 2);
+      EvaluateContext context(rig);
+      std::vector<float> positions(nv * 3);
+      EvaluateJob neutral;
+      neutral.rig = &rig;
+      neutral.context = &context;
+      neutral.activations = zero;
+      neutral.layers = r.layers;
+      neutral.out_positions = positions;
+      neutral.out_tension = frames.base_tension;
+      if (!neutral.Run()) {
+        std::fprintf(stderr, "mimetic play: evaluation failed (internal error: job did not "
+                             "validate)\n");
+        return kExitInput;
+      }
+      for (size_t v = 0; v < nv; ++v) frames.base_tension[v * 2] -= 1.f;
+    }
   }
+  const size_t nr = r.tension ? size_t(rig.tension_region_count()) : 0;
+  std::vector<float> region_weights(nf * nr);
 
   unsigned threads = r.threads ? r.threads : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
   threads = unsigned(std::min<size_t>(threads, nf));
@@ -97,7 +135,7 @@ int PlayBake(const PlayBakeRequest& r) {
   };
   {
     std::vector<std::thread> pool;
-    const Worker worker{&r, &frames, &next, &done, &failed};
+    const Worker worker{&r, &frames, &next, &done, &failed, &region_weights};
     for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
     if (bar) {
       // The calling thread draws the bar and works too.
@@ -160,6 +198,18 @@ int PlayBake(const PlayBakeRequest& r) {
     std::fprintf(stderr, "mimetic play: nothing was written\n");
     return kExitInput;
   }
+  if (!r.regions_out.empty()) {
+    Diagnostics regions;
+    if (!WriteFileAtomic(r.regions_out,
+                         TensionRegionsToJson(rig.tension_regions().names, r.times, region_weights),
+                         &regions)) {
+      if (bar) std::fputc('\n', stderr);
+      std::fputs(regions.Format().c_str(), stderr);
+      std::fprintf(stderr, "mimetic play: %s was written, the region weights were not\n",
+                   r.out.c_str());
+      return kExitInput;
+    }
+  }
   if (bar) {
     draw(nf, "written  ");
     std::fputc('\n', stderr);
@@ -177,6 +227,12 @@ int PlayBake(const PlayBakeRequest& r) {
     std::printf("vertices moved: %zu of %zu in some frame, at most %zu in one frame; took %.2f s "
                 "on %u thread(s)\n", stats.moved_vertices, nv, stats.max_moved_in_frame, seconds,
                 threads);
+    if (r.tension)
+      std::printf("tension: a _TENSION attribute (r - 1, eps) in every target%s%s\n",
+                  r.regions_out.empty() ? "; the rig has no tension regions" : "; the weights of ",
+                  r.regions_out.empty() ? ""
+                                        : (std::to_string(rig.tension_region_count()) +
+                                           " regions per frame in " + r.regions_out).c_str());
   }
   return 0;
 }

@@ -23,9 +23,17 @@ struct PlayBakeRequest {
   double fps = 30;
   double metres_per_unit = 0.001;
   bool normals = true;                // NORMAL and its deltas
+  // --tension (docs/tension.md "Bake"): each frame's (r - 1, eps) per vertex as the glb's
+  // `_TENSION` attribute and target deltas, and, when the rig has tension regions, their
+  // per-frame weights in `regions_out` (JSON: times and one weight curve per region).
+  bool tension = false;
+  std::string regions_out;            // empty: no region weights file
   bool quiet = false;                 // no progress bar, no summary
   unsigned threads = 0;               // 0: min(hardware threads, 8)
 };
+
+// The region-weights file's name for a bake to `glb`: FILE.glb -> FILE.regions.json.
+std::string RegionWeightsPath(const std::string& glb);
 
 // Evaluates, bakes, writes atomically, prints the summary (frames, duration, file size,
 // vertices moved). Returns the exit status (0, or kExitInput with the messages on stderr).

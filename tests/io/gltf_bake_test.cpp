@@ -10,6 +10,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "gltf_decode.h"
 #include "io/gltf_bake.h"
 #include "io/mesh_io.h"
@@ -267,6 +269,79 @@ TEST(GltfBake, U32SparseIndicesPastU16AndNoNormals) {
   EXPECT_LT(bytes.size(), nv * 12 + f.base.indices.size() * 4 + 4096);
 }
 
+// Tension (docs/tension.md "Bake"): the quad's frames with pairs (r - 1, eps) written out here:
+// frame 0 the base's pairs, frame 1 vertex 2 at (0.5, 0.25), frame 2 every vertex at
+// (-0.125, 0), and a frame 3 with the positions of frame 2 but vertex 0's pair changed, which
+// must get its own target (a held-pose match compares tension too). The primitive's _TENSION
+// is the base's pairs; base + each target's _TENSION delta is the frame's pairs.
+TEST(GltfBake, TensionAttributeAndDeltasPerTarget) {
+  BakedFrames f = Quad();
+  f.times.push_back(0.3);
+  f.positions.insert(f.positions.end(), f.positions.begin() + 24, f.positions.begin() + 36);
+  f.normals.insert(f.normals.end(), f.normals.begin() + 24, f.normals.begin() + 36);
+  f.base_tension = {0.f, 0.f, 0.f, 0.f, 0.f, 0.f, 0.f, 0.f};
+  f.tension.assign(4 * 4 * 2, 0.f);
+  f.tension[(1 * 4 + 2) * 2 + 0] = 0.5f;
+  f.tension[(1 * 4 + 2) * 2 + 1] = 0.25f;
+  for (size_t k = 2; k < 4; ++k)
+    for (size_t v = 0; v < 4; ++v) f.tension[(k * 4 + v) * 2] = -0.125f;
+  f.tension[(3 * 4 + 0) * 2 + 1] = 0.0625f;
+  std::string bytes;
+  BakeStats stats;
+  Diagnostics diag;
+  ASSERT_TRUE(BakeGlbBytes(f, &bytes, &stats, &diag)) << diag.Format();
+  tinygltf::Model m;
+  std::string err;
+  ASSERT_TRUE(test::LoadGlb(bytes, &m, &err)) << err;
+  const tinygltf::Primitive& prim = m.meshes[0].primitives[0];
+  ASSERT_TRUE(prim.attributes.count("_TENSION"));
+  const tinygltf::Accessor& ta = m.accessors[size_t(prim.attributes.at("_TENSION"))];
+  EXPECT_EQ(ta.type, TINYGLTF_TYPE_VEC2);
+  EXPECT_EQ(ta.count, 4u);
+  const std::vector<float> base = test::ReadFloats(m, prim.attributes.at("_TENSION"));
+  EXPECT_EQ(base, f.base_tension);
+  // Frames 1, 2, 3 each their own target (frame 3 differs from 2 in tension only).
+  ASSERT_EQ(prim.targets.size(), 3u);
+  for (size_t k = 1; k < 4; ++k) {
+    ASSERT_TRUE(prim.targets[k - 1].count("_TENSION")) << k;
+    const std::vector<float> d = test::ReadFloats(m, prim.targets[k - 1].at("_TENSION"));
+    ASSERT_EQ(d.size(), 8u);
+    for (size_t i = 0; i < 8; ++i)
+      EXPECT_EQ(base[i] + d[i], f.tension[k * 8 + i]) << "frame " << k << " float " << i;
+  }
+  // The animation shows frame k's target at its time: row 3 is 1 at target 2.
+  const std::vector<float> rows = test::ReadFloats(m, m.animations[0].samplers[0].output);
+  ASSERT_EQ(rows.size(), 4u * 3u);
+  EXPECT_EQ(rows[3 * 3 + 2], 1.f);
+  EXPECT_EQ(rows[3 * 3 + 1], 0.f);
+
+  // A held pose whose tension is held too shares the target; tension within the epsilon of
+  // the base is the base.
+  f.tension.resize(3 * 8);
+  f.times.pop_back();
+  f.positions.resize(3 * 12);
+  f.normals.resize(3 * 12);
+  f.tension_epsilon = 0.5f;  // frame 1's pair (0.5, 0.25) and frame 2's -0.125 are within it
+  f.positions[1 * 12 + 2 * 3 + 2] = f.base.positions[2].z;  // frame 1 = the base's positions
+  ASSERT_TRUE(BakeGlbBytes(f, &bytes, &stats, &diag)) << diag.Format();
+  ASSERT_TRUE(test::LoadGlb(bytes, &m, &err)) << err;
+  EXPECT_EQ(m.meshes[0].primitives[0].targets.size(), 1u);  // frame 2 only (it moves)
+}
+
+TEST(GltfBake, TensionRegionsJson) {
+  const std::string json =
+      TensionRegionsToJson({"forehead", "glabella"}, {0.0, 0.5}, {0.f, 0.25f, 0.5f, 1.f});
+  const nlohmann::json j = nlohmann::json::parse(json);
+  EXPECT_EQ(j["format"], "mimetic-tension-regions");
+  EXPECT_EQ(j["version"], 1);
+  EXPECT_EQ(j["times"], (std::vector<double>{0.0, 0.5}));
+  ASSERT_EQ(j["regions"].size(), 2u);
+  EXPECT_EQ(j["regions"][0]["name"], "forehead");
+  EXPECT_EQ(j["regions"][0]["weights"], (std::vector<double>{0.0, 0.5}));
+  EXPECT_EQ(j["regions"][1]["name"], "glabella");
+  EXPECT_EQ(j["regions"][1]["weights"], (std::vector<double>{0.25, 1.0}));
+}
+
 TEST(GltfBake, RefusesBadInput) {
   struct Case {
     const char* what;
@@ -280,6 +355,10 @@ TEST(GltfBake, RefusesBadInput) {
       {"NaN", [](BakedFrames* f) { f->positions[5] = std::nanf(""); }, "non-finite"},
       {"index", [](BakedFrames* f) { f->base.indices[4] = 9; }, "out of range"},
       {"unit", [](BakedFrames* f) { f->metres_per_unit = 0; }, "metres_per_unit"},
+      {"tension without its base", [](BakedFrames* f) { f->tension.assign(3 * 4 * 2, 0.f); }, "sizes do not match"},
+      {"short tension", [](BakedFrames* f) { f->tension.assign(3 * 4 * 2 - 1, 0.f); f->base_tension.assign(8, 0.f); }, "sizes do not match"},
+      {"NaN tension", [](BakedFrames* f) { f->tension.assign(24, 0.f); f->base_tension.assign(8, 0.f); f->tension[3] = std::nanf(""); }, "non-finite"},
+      {"tension epsilon", [](BakedFrames* f) { f->tension_epsilon = -1; }, "epsilons"},
   };
   for (const Case& c : cases) {
     BakedFrames f = Quad();

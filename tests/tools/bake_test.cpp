@@ -10,6 +10,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "expressions/offline/clip_builder.h"
 #include "expressions/runtime/clip_sample_job.h"
 #include "gltf_decode.h"
@@ -159,6 +161,106 @@ TEST(Bake, SampleHeadFramesEqualTheRuntime) {
   EXPECT_EQ(s.interpolation, "LINEAR");
 }
 
+// --tension (docs/tension.md "Bake") on the procedural surface's rig with two tension regions
+// added here (every vertex at weight 1, and the left half at 0.5): base + each target's
+// _TENSION deltas is (r - 1, eps) of an independent EvaluateJob with out_tension at k / fps
+// (within the bake's 1e-5), and FILE.regions.json holds the job's out_region_weights per frame.
+TEST(Bake, TensionAttributeAndRegionWeights) {
+  const std::string dir = test::TempDir();
+  nlohmann::json rig = nlohmann::json::parse(
+      ReadBytes(test::SourceDir() + "/assets/surface/surface.rig.json"));
+  rig["mesh"]["path"] = test::SourceDir() + "/assets/surface/surface.obj";
+  MeshData mesh;
+  Diagnostics diag;
+  ASSERT_TRUE(ImportMesh(rig["mesh"]["path"], "", &mesh, &diag)) << diag.Format();
+  std::vector<double> all(mesh.vertex_count(), 1.0), half(mesh.vertex_count(), 0.0);
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) half[v] = mesh.positions[v].x < 0 ? 0.5 : 0.0;
+  rig["tension_regions"] = {{{"name", "all"}, {"weights", all}},
+                            {{"name", "left"}, {"reference", 0.05}, {"weights", half}}};
+  const std::string rig_path = dir + "/tension.rig.json";
+  std::ofstream(rig_path) << rig.dump();
+  const std::string clip = dir + "/z.clip.json";
+  std::ofstream(clip) << R"({"format": "mimetic-clip", "version": 1, "name": "z", "channels": [
+    {"muscle": "zygomatic", "keys": [{"t": 0, "v": 0}, {"t": 0.3, "v": 1}]},
+    {"muscle": "frontalis", "keys": [{"t": 0, "v": 0}, {"t": 0.3, "v": 0.5}]}]})";
+  const std::string glb = dir + "/z.glb";
+  const auto run = RunTool({"play", rig_path, clip, "--fps", "10", "--out", glb, "--tension"});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(Contains(run.output, "2 regions per frame in " + dir + "/z.regions.json"))
+      << run.output;
+
+  LoadedRig loaded;
+  ASSERT_TRUE(LoadRig(rig_path, &loaded, &diag)) << diag.Format();
+  ASSERT_EQ(loaded.rig.tension_region_count(), 2u);
+  ClipSpec spec;
+  ASSERT_TRUE(LoadClip(clip, &spec, &diag)) << diag.Format();
+  CompiledClip compiled;
+  ASSERT_TRUE(BuildClip(spec, loaded.rig.muscle_names(), std::vector<Expression>{}, &compiled, &diag))
+      << diag.Format();
+  const size_t nv = loaded.rig.vertex_count();
+  const std::vector<double> times = {0.0, 0.1, 0.2, 0.3};
+  std::vector<float> want(times.size() * nv * 2), want_regions(times.size() * 2);
+  {
+    EvaluateContext context(loaded.rig);
+    std::vector<float> activations(loaded.rig.muscle_count()), positions(nv * 3);
+    for (size_t k = 0; k < times.size(); ++k) {
+      ClipSampleJob sample;
+      sample.clip = &compiled;
+      sample.time = float(times[k]);
+      sample.out_activations = activations;
+      ASSERT_TRUE(sample.Run());
+      EvaluateJob job;
+      job.rig = &loaded.rig;
+      job.context = &context;
+      job.activations = activations;
+      job.out_positions = positions;
+      job.out_tension = span<float>(&want[k * nv * 2], nv * 2);
+      job.out_region_weights = span<float>(&want_regions[k * 2], 2);
+      ASSERT_TRUE(job.Run());
+    }
+  }
+  tinygltf::Model m;
+  std::string err;
+  ASSERT_TRUE(test::LoadGlb(ReadBytes(glb), &m, &err)) << err;
+  const tinygltf::Primitive& prim = m.meshes[0].primitives[0];
+  ASSERT_TRUE(prim.attributes.count("_TENSION"));
+  const std::vector<float> base = test::ReadFloats(m, prim.attributes.at("_TENSION"));
+  ASSERT_EQ(base.size(), nv * 2);
+  std::vector<std::vector<float>> deltas;
+  for (const auto& target : prim.targets) {
+    ASSERT_TRUE(target.count("_TENSION"));
+    deltas.push_back(test::ReadFloats(m, target.at("_TENSION")));
+  }
+  const std::vector<float> weights = test::ReadFloats(m, m.animations[0].samplers[0].output);
+  ASSERT_EQ(weights.size(), times.size() * deltas.size());
+  double most = 0;
+  for (size_t k = 0; k < times.size(); ++k) {
+    double worst = 0;
+    for (size_t i = 0; i < nv * 2; ++i) {
+      float t = base[i];
+      for (size_t j = 0; j < deltas.size(); ++j) t += weights[k * deltas.size() + j] * deltas[j][i];
+      const double expected = want[k * nv * 2 + i] - (i % 2 == 0 ? 1.0 : 0.0);  // r - 1, eps
+      worst = std::max(worst, std::abs(double(t) - expected));
+      most = std::max(most, std::abs(expected));
+    }
+    EXPECT_LT(worst, 1e-5 + 1e-6) << "frame " << k;
+  }
+  EXPECT_GT(most, 0.01) << "the muscles compress or stretch the surface by more than 1%";
+
+  const nlohmann::json regions = nlohmann::json::parse(ReadBytes(dir + "/z.regions.json"));
+  EXPECT_EQ(regions["format"], "mimetic-tension-regions");
+  ASSERT_EQ(regions["times"].size(), times.size());
+  ASSERT_EQ(regions["regions"].size(), 2u);
+  EXPECT_EQ(regions["regions"][0]["name"], "all");
+  EXPECT_EQ(regions["regions"][1]["name"], "left");
+  for (size_t k = 0; k < times.size(); ++k)
+    for (size_t i = 0; i < 2; ++i)
+      EXPECT_EQ(regions["regions"][i]["weights"][k].get<float>(), want_regions[k * 2 + i])
+          << "frame " << k << " region " << i;
+  EXPECT_EQ(want_regions[0], 0.f);          // the neutral compresses nothing
+  EXPECT_GT(want_regions[3 * 2 + 0], 0.f);  // the full pull compresses some of the surface
+}
+
 TEST(Bake, UsageAndInputErrors) {
   const std::string dir = test::TempDir();
   const std::string clip = test::SourceDir() + "/assets/clips/surprise.clip.json";
@@ -177,6 +279,8 @@ TEST(Bake, UsageAndInputErrors) {
         "--no-normals"}, 2, "is for a bake only"},
       {{"play", Head(), clip, "--library", Library(), "--fps", "30", "--out", dir + "/a.glb",
         "--threads", "0"}, 2, "--threads 0"},
+      {{"play", Head(), clip, "--library", Library(), "--time", "1", "--out", dir + "/a.obj",
+        "--tension"}, 2, "--tension is for a bake only"},
       {{"play", Head(), clip, "--library", Library(), "--fps", "1000", "--out", dir + "/a.glb"}, 1,
        "in a bake"},
   };

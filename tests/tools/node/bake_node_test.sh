@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/tools/node/bake_node_test.sh MIMETIC SOURCE_DIR validate|three: bakes a short clip on
 # the sample head with `mimetic play --fps 10 --out x.glb`, then either runs the Khronos glTF
-# validator on it (0 errors, 0 warnings) or loads it with three.js's GLTFLoader and compares
+# validator on it (0 errors, 0 warnings; this bake also has --tension, so the _TENSION
+# attribute and its per-target deltas are validated) or loads it with three.js's GLTFLoader and compares
 # one frame with `mimetic play --time`. node and the npm packages come from
 # tools/install-deps.sh (SOURCE_DIR/.node/node_modules); without them the test is skipped
 # (exit 77), except under CI=true, where their absence is a failure.
@@ -19,6 +20,8 @@ JSON
 lib="$src/assets/expressions/default.library.json"
 "$tool" play "$rig" "$tmp/c.clip.json" --library "$lib" --fps 10 --out "$tmp/c.glb"
 if [[ $what == validate ]]; then
+  "$tool" play "$rig" "$tmp/c.clip.json" --library "$lib" --fps 10 --out "$tmp/c.glb" --tension \
+    --quiet
   node "$src/tests/tools/node/validate.mjs" "$tmp/c.glb" "$modules"
 else
   # 0.5 s at 10 fps: frames 0..5, frame 0 the neutral (no target): 5 targets; frame 3 at 0.3 s.
