@@ -312,6 +312,8 @@ TEST(RigBinary, HostileIndicesAreRefusedByRigBuild) {
       {31, 0, 0xfffffffeu, "probe point"},
       {31, 4, 3u, "probe side count"},
       {31, 48 * FirstTwoSidedProbe() + 28, 0xfffffffeu, "second side v2 of a probe"},
+      {38, 0, 0xfffffff0u, "tension-region point"},
+      {37, 4, 0u, "tension-region offsets out of order"},
   };
   for (const Edit& e : edits) {
     std::string bad = bytes;
@@ -344,6 +346,44 @@ TEST(RigBinary, HostileIndicesAreRefusedByRigBuild) {
     PutU32(&bad, Find(bytes, 13).offset + 4, 0xffffff00u);  // a string's end
     Rechecksum(&bad);
     EXPECT_NE(ReadError(bad).find("'muscle_names'"), std::string::npos);
+  }
+}
+
+// Format 1.1's tension regions are five sections, all or none: a file with some of them (a
+// section's id changed to one no version knows, so the reader skips it as a newer minor's) is
+// refused naming the sections and the count; with all five renamed the rig loads without
+// regions; counts that do not agree are refused naming the offsets section.
+TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
+  const std::string bytes = WriteRigBinary(Surface().data(), nullptr);
+  ASSERT_EQ(Surface().tension_region_count(), 2u);
+  for (uint32_t missing = 35; missing <= 39; ++missing) {
+    std::string bad = bytes;
+    PutU32(&bad, 4, 1 | 7 << 16);  // minor 7: unknown ids are skipped, not refused
+    PutU32(&bad, Find(bytes, missing).at, 4000 + missing);
+    Rechecksum(&bad);
+    const std::string error = ReadError(bad);
+    EXPECT_NE(error.find("tension regions need all five sections; 4 are present"),
+              std::string::npos) << missing << ": " << error;
+  }
+  {
+    std::string none = bytes;
+    PutU32(&none, 4, 1 | 7 << 16);
+    for (uint32_t id = 35; id <= 39; ++id) PutU32(&none, Find(bytes, id).at, 4000 + id);
+    Rechecksum(&none);
+    Rig rig;
+    std::string error;
+    ASSERT_TRUE(ReadRigBinary(Bytes(none), &rig, nullptr, &error)) << error;
+    EXPECT_EQ(rig.tension_region_count(), 0u);
+    EXPECT_EQ(rig.vertex_count(), Surface().vertex_count());
+  }
+  {
+    // One name fewer than the references (the names section's count): refused.
+    std::string bad = bytes;
+    const Entry names = Find(bytes, 35);
+    PutU64(&bad, names.at + 24, names.count - 1);
+    Rechecksum(&bad);
+    const std::string error = ReadError(bad);
+    EXPECT_NE(error.find("tension_region"), std::string::npos) << error;
   }
 }
 
