@@ -1,7 +1,9 @@
 // core/binary_sections.cpp: the compiled formats' container (core/binary_sections.h).
 #include "core/binary_sections.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <optional>
 
 #include <sys/stat.h>
 
@@ -18,25 +20,66 @@ size_t Align8(size_t n) { return (n + 7) & ~size_t{7}; }
 
 }  // namespace
 
-uint64_t Checksum(span<const uint8_t> file) {
-  if (file.size() < kHeaderBytes) return 0;
-  // FNV-1a's offset basis and prime over 64-bit little-endian words (8x fewer serial steps than
-  // bytes: the 33 MB sample head checks in a few ms), the state rotated before each word so that
-  // high input bits reach the low bits; word 3 (bytes [24, 32), the checksum) counts as 0 and
-  // the tail is zero padded.
-  uint64_t h = 0xcbf29ce484222325ull;
-  const size_t words = file.size() / 8;
-  const uint8_t* p = file.data();
-  for (size_t i = 0; i < words; ++i) {
-    const uint64_t w = i == 3 ? 0 : LoadU64(p + 8 * i);
-    h = (std::rotl(h, 23) ^ w) * 0x100000001b3ull;
+namespace {
+constexpr uint64_t kBasis = 0xcbf29ce484222325ull, kPrime = 0x100000001b3ull;
+inline uint64_t Step(uint64_t h, uint64_t w) { return (std::rotl(h, 23) ^ w) * kPrime; }
+}  // namespace
+
+// FNV-1a's offset basis and prime over 64-bit little-endian words (8x fewer serial steps than
+// bytes), the state rotated before each word so that high input bits reach the low bits; word
+// 3 (bytes [24, 32), the checksum) counts as 0 and the tail is zero padded. Four lanes break
+// the one serial multiply chain into four the core runs side by side.
+Checksummer::Checksummer(int lanes)
+    : h_{kBasis, kBasis ^ 1, kBasis ^ 2, kBasis ^ 3}, lanes_(lanes == 4 ? 4 : 1) {}
+
+void Checksummer::Update(const uint8_t* p, size_t n) {
+  bytes_ += n;
+  size_t i = 0;
+  // The header's words one by one (word 3, the checksum field, as 0).
+  for (; words_ < 4 && i + 8 <= n; i += 8, ++words_)
+    h_[lanes_ == 4 ? words_ : 0] = Step(h_[lanes_ == 4 ? words_ : 0], words_ == 3 ? 0 : LoadU64(p + i));
+  if (lanes_ == 4) {
+    for (; i + 32 <= n; i += 32, words_ += 4) {  // words_ % 4 == 0 here
+      h_[0] = Step(h_[0], LoadU64(p + i));
+      h_[1] = Step(h_[1], LoadU64(p + i + 8));
+      h_[2] = Step(h_[2], LoadU64(p + i + 16));
+      h_[3] = Step(h_[3], LoadU64(p + i + 24));
+    }
+    for (; i + 8 <= n; i += 8, ++words_) h_[words_ % 4] = Step(h_[words_ % 4], LoadU64(p + i));
+  } else {
+    uint64_t h = h_[0];
+    for (; i + 8 <= n; i += 8, ++words_) h = Step(h, LoadU64(p + i));
+    h_[0] = h;
   }
-  if (file.size() % 8) {
+  if (i < n) {  // the file's last partial word
     uint8_t tail[8] = {};
-    std::memcpy(tail, p + 8 * words, file.size() % 8);
-    h = (std::rotl(h, 23) ^ LoadU64(tail)) * 0x100000001b3ull;
+    std::memcpy(tail, p + i, n - i);
+    tail_ = LoadU64(tail);
+    has_tail_ = true;
   }
-  return h;
+}
+
+uint64_t Checksummer::Finish() {
+  if (bytes_ < kHeaderBytes) return 0;
+  if (has_tail_) {
+    uint64_t& h = h_[lanes_ == 4 ? words_ % 4 : 0];
+    h = Step(h, tail_);
+  }
+  if (lanes_ != 4) return h_[0];
+  uint64_t out = kBasis;
+  for (uint64_t lane : h_) out = Step(out, lane);
+  return out;
+}
+
+uint64_t Checksum(span<const uint8_t> file, int lanes) {
+  Checksummer sum(lanes);
+  sum.Update(file.data(), file.size());
+  return sum.Finish();
+}
+
+int ChecksumLanes(const Format& format, span<const uint8_t> file) {
+  if (file.size() < kHeaderBytes || format.four_lane_major == 0) return 1;
+  return LoadU16(file.data() + 4) >= format.four_lane_major ? 4 : 1;
 }
 
 // ---- writer -------------------------------------------------------------------------------
@@ -103,7 +146,8 @@ std::string SectionWriter::Finish() const {
   StoreU64(b + 16, out.size());
   StoreU32(b + 32, uint32_t(kHeaderBytes));
   StoreU32(b + 36, 0);  // reserved
-  StoreU64(b + 24, Checksum(span<const uint8_t>(b, out.size())));
+  const span<const uint8_t> file(b, out.size());
+  StoreU64(b + 24, Checksum(file, ChecksumLanes(format_, file)));
   return out;
 }
 
@@ -115,7 +159,7 @@ std::string SectionWhere(const SectionDesc& d, uint64_t offset) {
 }
 
 bool ReadSections(span<const uint8_t> bytes, const Format& format, std::vector<InSection>* known,
-                  std::string* error) {
+                  std::string* error, const uint64_t* computed_checksum) {
   const uint64_t size = bytes.size();
   const uint8_t* b = bytes.data();
   const std::string tag(format.tag, 4);
@@ -203,7 +247,8 @@ bool ReadSections(span<const uint8_t> bytes, const Format& format, std::vector<I
                                          " bytes; the file has " + std::to_string(size) +
                                          " (truncated or corrupt)");
   const uint64_t stored = LoadU64(b + 24);
-  const uint64_t computed = Checksum(bytes);
+  const uint64_t computed =
+      computed_checksum ? *computed_checksum : Checksum(bytes, ChecksumLanes(format, bytes));
   if (stored != computed) {
     char hex[80];
     std::snprintf(hex, sizeof hex, "stored %016llx, computed %016llx",
@@ -291,8 +336,14 @@ bool SectionReader::Strings(uint32_t id, std::vector<std::string>* out) const {
   return true;
 }
 
-bool ReadFileBytes(const std::string& path, const char* what, size_t max_bytes, std::string* out,
-                   std::string* error) {
+namespace {
+
+// The checks and the read of ReadFileBytes; `allocate(n)` gives the n-byte buffer to fill.
+// `on_piece(end)` is called as the bytes [.., end) arrive, piece_bytes at a time.
+template <class Allocate, class OnPiece>
+bool ReadFileInto(const std::string& path, const char* what, size_t max_bytes,
+                  const Allocate& allocate, size_t piece_bytes, const OnPiece& on_piece,
+                  std::string* error) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     *error = "cannot open: no such file or not readable";
@@ -312,16 +363,68 @@ bool ReadFileBytes(const std::string& path, const char* what, size_t max_bytes, 
     *error = "cannot open";
     return false;
   }
-  out->assign(size_t(st.st_size), '\0');
-  const size_t got = out->empty() ? 0 : std::fread(out->data(), 1, out->size(), f);
+  const size_t size = size_t(st.st_size);
+  uint8_t* data = allocate(size);
+  size_t got = 0;
+  while (got < size) {
+    const size_t want = std::min(size - got, piece_bytes);
+    const size_t n = std::fread(data + got, 1, want, f);
+    if (n == 0) break;
+    got += n;
+    if (got < size && (got % 32) != 0) continue;  // pieces of whole 32-byte blocks but the last
+    on_piece(got);
+  }
+  if (got < size) on_piece(got);  // (a short read; refused below)
   const bool more = std::fgetc(f) != EOF;  // the file grew since stat
   const bool bad = std::ferror(f) != 0;
   std::fclose(f);
-  if (bad || got != out->size() || more) {
+  if (bad || got != size || more) {
     *error = "read error (the file changed while it was read)";
     return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool ReadFileBytes(const std::string& path, const char* what, size_t max_bytes, std::string* out,
+                   std::string* error) {
+  return ReadFileInto(path, what, max_bytes, [&](size_t n) {
+    out->assign(n, '\0');
+    return reinterpret_cast<uint8_t*>(out->data());
+  }, ~size_t{0}, [](size_t) {}, error);
+}
+
+bool ReadFileBuffer(const std::string& path, const char* what, size_t max_bytes,
+                    std::unique_ptr<uint8_t[]>* out, size_t* size, std::string* error) {
+  *size = 0;
+  const bool ok = ReadFileInto(path, what, max_bytes, [&](size_t n) {
+    out->reset(new uint8_t[n ? n : 1]);  // default-initialised: not zero-filled
+    *size = n;
+    return out->get();
+  }, ~size_t{0}, [](size_t) {}, error);
+  if (!ok) *size = 0;
+  return ok;
+}
+
+bool ReadFileBuffer(const std::string& path, const Format& format, size_t max_bytes,
+                    std::unique_ptr<uint8_t[]>* out, size_t* size, uint64_t* checksum,
+                    std::string* error) {
+  *size = 0;
+  std::optional<Checksummer> sum;
+  size_t done = 0;
+  const bool ok = ReadFileInto(path, format.what, max_bytes, [&](size_t n) {
+    out->reset(new uint8_t[n ? n : 1]);  // default-initialised: not zero-filled
+    *size = n;
+    return out->get();
+  }, size_t{1} << 20, [&](size_t end) {
+    if (!sum) sum.emplace(ChecksumLanes(format, span<const uint8_t>(out->get(), end)));
+    sum->Update(out->get() + done, end - done);
+    done = end;
+  }, error);
+  if (!ok) *size = 0;
+  *checksum = sum ? sum->Finish() : 0;
+  return ok;
 }
 
 }  // namespace mimetic::binary

@@ -123,7 +123,8 @@ constexpr binary::Format kFormat = {
     "compiled rig",
     "rebuild the rig with this version's `mimetic build`",
     kSections,
-    std::size(kSections)};
+    std::size(kSections),
+    2};  // 2.0: the four-lane checksum
 
 class SectionWriter : public binary::SectionWriter {
  public:
@@ -177,7 +178,9 @@ uint64_t Fnv1a64(span<const uint8_t> bytes) {
   return h;
 }
 
-uint64_t RigBinaryChecksum(span<const uint8_t> file) { return binary::Checksum(file); }
+uint64_t RigBinaryChecksum(span<const uint8_t> file) {
+  return binary::Checksum(file, binary::ChecksumLanes(kFormat, file));
+}
 
 bool HasRigBinaryTag(span<const uint8_t> bytes) {
   return bytes.size() >= 4 && std::memcmp(bytes.data(), kRigBinaryTag, 4) == 0;
@@ -282,12 +285,41 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
   return w.Finish();
 }
 
+namespace {
+
+// ReadRigBinaryData, with the file's checksum already computed (LoadRigBinaryFile) or not.
+bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
+              RigBinaryInfo* info, std::string* error);
+
+// ReadRigBinary, the same way.
+bool ReadRig(span<const uint8_t> bytes, const uint64_t* checksum, Rig* out, RigBinaryInfo* info,
+             std::string* error) {
+  RigData data;
+  if (!ReadData(bytes, checksum, &data, info, error)) return false;
+  if (!Rig::Build(std::move(data), out)) {
+    if (error)
+      *error = "Rig::Build: the tables fail the rig's check (an index out of range, a malformed "
+               "CSR table, inconsistent sizes or active ranges)";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool ReadRigBinaryData(span<const uint8_t> bytes, RigData* out, RigBinaryInfo* info,
                        std::string* error) {
+  return ReadData(bytes, nullptr, out, info, error);
+}
+
+namespace {
+
+bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
+              RigBinaryInfo* info, std::string* error) {
   std::string local_error;
   if (!error) error = &local_error;
   std::vector<InSection> known;
-  if (!binary::ReadSections(bytes, kFormat, &known, error)) return false;
+  if (!binary::ReadSections(bytes, kFormat, &known, error, checksum)) return false;
   Reader r(known, error);
   RigData d;
   r.Float3s(kRestPoints, &d.rest_points);
@@ -465,16 +497,10 @@ bool ReadRigBinaryData(span<const uint8_t> bytes, RigData* out, RigBinaryInfo* i
   return true;
 }
 
+}  // namespace
+
 bool ReadRigBinary(span<const uint8_t> bytes, Rig* out, RigBinaryInfo* info, std::string* error) {
-  RigData data;
-  if (!ReadRigBinaryData(bytes, &data, info, error)) return false;
-  if (!Rig::Build(std::move(data), out)) {
-    if (error)
-      *error = "Rig::Build: the tables fail the rig's check (an index out of range, a malformed "
-               "CSR table, inconsistent sizes or active ranges)";
-    return false;
-  }
-  return true;
+  return ReadRig(bytes, nullptr, out, info, error);
 }
 
 bool ReadRigBinaryFile(const std::string& path, std::string* out, std::string* error,
@@ -485,11 +511,14 @@ bool ReadRigBinaryFile(const std::string& path, std::string* out, std::string* e
 
 bool LoadRigBinaryFile(const std::string& path, Rig* out, RigBinaryInfo* info,
                        std::string* error) {
-  std::string bytes, why;
-  if (!ReadRigBinaryFile(path, &bytes, &why) ||
-      !ReadRigBinary(span<const uint8_t>(reinterpret_cast<const uint8_t*>(bytes.data()),
-                                         bytes.size()),
-                     out, info, &why)) {
+  // Read in pieces, each checksummed while in cache (one pass over the file's memory fewer).
+  std::unique_ptr<uint8_t[]> bytes;
+  size_t size = 0;
+  uint64_t checksum = 0;
+  std::string why;
+  if (!binary::ReadFileBuffer(path, kFormat, kMaxRigBinaryFileBytes, &bytes, &size, &checksum,
+                              &why) ||
+      !ReadRig(span<const uint8_t>(bytes.get(), size), &checksum, out, info, &why)) {
     if (error) *error = path + ": " + why;
     return false;
   }

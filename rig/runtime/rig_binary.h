@@ -18,8 +18,8 @@
 namespace mimetic {
 
 inline constexpr char kRigBinaryTag[4] = {'M', 'R', 'I', 'G'};
-inline constexpr uint16_t kRigBinaryMajor = 1;  // a reader refuses a newer major version
-inline constexpr uint16_t kRigBinaryMinor = 1;  // a newer minor may add sections (skipped)
+inline constexpr uint16_t kRigBinaryMajor = 2;  // a reader refuses a newer major version
+inline constexpr uint16_t kRigBinaryMinor = 0;  // a newer minor may add sections (skipped)
 inline constexpr size_t kRigBinaryHeaderBytes = 40;
 inline constexpr size_t kRigBinarySectionEntryBytes = 32;
 // The file helper refuses a larger file before reading it.
@@ -58,7 +58,8 @@ uint64_t Fnv1a64(span<const uint8_t> bytes);
 // The format's checksum (docs/mrig-format.md): over the file's 64-bit little-endian words (the
 // tail zero padded; word 3, the checksum field [24, 32), as 0), h = (rotl(h, 23) ^ word) *
 // 0x100000001b3 from h = 0xcbf29ce484222325 (FNV-1a's constants, word-wise), so that a flipped
-// header byte is caught too. 0 for a file shorter than the header.
+// header byte is caught too; from version 2.0 in four interleaved lanes (binary::Checksum),
+// chosen by the file's own version. 0 for a file shorter than the header.
 uint64_t RigBinaryChecksum(span<const uint8_t> file);
 
 }  // namespace mimetic

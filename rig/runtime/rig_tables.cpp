@@ -300,27 +300,22 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
       t.wrinkle_points.push_back(p);
 }
 
-// RigTables::point_triangles_exact: each active point lists, ascending and once each, exactly
-// the triangles with it as a corner (a triangle counted once per point however often the point
-// repeats among its corners).
-bool PointTrianglesExact(const RigData& r) {
+// RigTables::point_triangles_exact, the count half: each active point lists exactly as many
+// triangles as have it as a corner (a triangle counted once per point however often the point
+// repeats among its corners). The other half (each listed triangle has the point as a corner,
+// the list ascending: then, with the count, it is exactly those triangles, each once) is
+// checked in BuildRigTables' one-ring loop, which reads those corners anyway.
+bool PointTriangleCountsExact(const RigData& r) {
   const uint32_t n_active = r.active.points;
   const uint32_t* off = r.point_triangle_offsets.data();
-  const uint32_t* items = r.point_triangles.data();
   std::vector<uint32_t> incident(n_active, 0);
   for (uint32_t t = 0; t < r.triangle_count(); ++t) {
     const uint32_t* c = &r.triangles[3 * size_t(t)];
     for (int j = 0; j < 3; ++j)
       if (c[j] < n_active && (j < 1 || c[j] != c[0]) && (j < 2 || c[j] != c[1])) ++incident[c[j]];
   }
-  for (uint32_t p = 0; p < n_active; ++p) {
+  for (uint32_t p = 0; p < n_active; ++p)
     if (off[p + 1] - off[p] != incident[p]) return false;
-    for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
-      if (k > off[p] && items[k] <= items[k - 1]) return false;
-      const uint32_t* c = &r.triangles[3 * size_t(items[k])];
-      if (c[0] != p && c[1] != p && c[2] != p) return false;
-    }
-  }
   return true;
 }
 
@@ -348,23 +343,33 @@ void BuildRigTables(const RigData& r, RigTables* out) {
   t.point_neighbors.clear();
   t.point_neighbors.reserve(size_t(r.active.points) * 7);
   std::vector<uint32_t> stamp(points, ~0u);
+  bool lists_exact = true;  // every listed triangle has p as a corner, the list ascending
   for (uint32_t p = 0; p < r.active.points; ++p) {
     const size_t first = t.point_neighbors.size();
     stamp[p] = p;
-    for (uint32_t k = r.point_triangle_offsets[p]; k < r.point_triangle_offsets[p + 1]; ++k)
+    for (uint32_t k = r.point_triangle_offsets[p]; k < r.point_triangle_offsets[p + 1]; ++k) {
+      const uint32_t* corner = &r.triangles[3 * size_t(r.point_triangles[k])];
+      lists_exact = lists_exact && (corner[0] == p || corner[1] == p || corner[2] == p) &&
+                    (k == r.point_triangle_offsets[p] ||
+                     r.point_triangles[k] > r.point_triangles[k - 1]);
       for (int j = 0; j < 3; ++j) {
-        const uint32_t q = r.triangles[3 * size_t(r.point_triangles[k]) + j];
+        const uint32_t q = corner[j];
         if (stamp[q] == p) continue;
         stamp[q] = p;
-        // Insert q into the sorted tail [first, end).
+        // Insert q into the sorted tail [first, end): its place is the count of smaller
+        // neighbours (counted without a data-dependent branch), the larger ones shift up.
         t.point_neighbors.push_back(q);
-        for (size_t i = t.point_neighbors.size() - 1;
-             i > first && t.point_neighbors[i - 1] > t.point_neighbors[i]; --i)
-          std::swap(t.point_neighbors[i - 1], t.point_neighbors[i]);
+        uint32_t* ring = t.point_neighbors.data() + first;
+        const size_t n = t.point_neighbors.size() - 1 - first;
+        size_t at = 0;
+        for (size_t i = 0; i < n; ++i) at += ring[i] < q;
+        for (size_t i = n; i > at; --i) ring[i] = ring[i - 1];
+        ring[at] = q;
       }
+    }
     t.point_neighbor_offsets[p + 1] = uint32_t(t.point_neighbors.size());
   }
-  t.point_triangles_exact = PointTrianglesExact(r);
+  t.point_triangles_exact = lists_exact && PointTriangleCountsExact(r);
   // Built by push_back: give back the slack.
   for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
                                    &t.point_row_offsets, &t.point_curve_offsets,

@@ -62,17 +62,26 @@ void PutU64(std::string* b, size_t at, uint64_t v) {
   PutU32(b, at, uint32_t(v));
   PutU32(b, at + 4, uint32_t(v >> 32));
 }
-// The checksum of docs/mrig-format.md, written into [24, 32).
-void Rechecksum(std::string* b) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  std::string padded = *b;
-  padded.resize((b->size() + 7) / 8 * 8, '\0');
+// The checksum of docs/mrig-format.md, written into [24, 32): one lane for major version 1,
+// four interleaved lanes (word i into lane i % 4, lane l from basis ^ l, then the four lanes
+// through the same step from the basis) from major version 2.
+uint64_t Step(uint64_t h, uint64_t w) { return (h << 23 | h >> 41) ^ w; }
+uint64_t ChecksumOf(const std::string& b, bool four_lanes) {
+  const uint64_t basis = 0xcbf29ce484222325ull, prime = 0x100000001b3ull;
+  std::string padded = b;
+  padded.resize((b.size() + 7) / 8 * 8, '\0');
+  uint64_t lane[4] = {basis, basis ^ 1, basis ^ 2, basis ^ 3};
   for (size_t i = 0; i < padded.size() / 8; ++i) {
     const uint64_t w = i == 3 ? 0 : U64At(padded, 8 * i);
-    h = ((h << 23 | h >> 41) ^ w) * 0x100000001b3ull;
+    uint64_t& h = four_lanes ? lane[i % 4] : lane[0];
+    h = Step(h, w) * prime;
   }
-  PutU64(b, 24, h);
+  if (!four_lanes) return lane[0];
+  uint64_t h = basis;
+  for (uint64_t l : lane) h = Step(h, l) * prime;
+  return h;
 }
+void Rechecksum(std::string* b) { PutU64(b, 24, ChecksumOf(*b, U32At(*b, 4) % 65536 >= 2)); }
 
 struct Entry {
   uint32_t id, element_size;
@@ -358,7 +367,7 @@ TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
   ASSERT_EQ(Surface().tension_region_count(), 2u);
   for (uint32_t missing = 35; missing <= 39; ++missing) {
     std::string bad = bytes;
-    PutU32(&bad, 4, 1 | 7 << 16);  // minor 7: unknown ids are skipped, not refused
+    PutU32(&bad, 4, 2 | 7 << 16);  // 2.7: unknown ids are skipped, not refused
     PutU32(&bad, Find(bytes, missing).at, 4000 + missing);
     Rechecksum(&bad);
     const std::string error = ReadError(bad);
@@ -367,7 +376,7 @@ TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
   }
   {
     std::string none = bytes;
-    PutU32(&none, 4, 1 | 7 << 16);
+    PutU32(&none, 4, 2 | 7 << 16);
     for (uint32_t id = 35; id <= 39; ++id) PutU32(&none, Find(bytes, id).at, 4000 + id);
     Rechecksum(&none);
     Rig rig;
@@ -390,16 +399,35 @@ TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
 TEST(RigBinary, VersionsAndUnknownSections) {
   const RigBinaryInfo info{"cm", 12};
   const std::string bytes = WriteRigBinary(Surface().data(), &info);
+  EXPECT_EQ(U32At(bytes, 4), 2u | 0u << 16);  // version 2.0
+  EXPECT_EQ(U64At(bytes, 24), ChecksumOf(bytes, true));
+  {
+    // A 1.1 file (the same sections, the one-lane checksum) still loads, to the same rig.
+    std::string old = bytes;
+    PutU32(&old, 4, 1 | 1 << 16);
+    PutU64(&old, 24, ChecksumOf(old, false));
+    Rig rig;
+    std::string error;
+    ASSERT_TRUE(ReadRigBinary(Bytes(old), &rig, nullptr, &error)) << error;
+    std::vector<float> act(rig.muscle_count(), 0.5f);
+    EXPECT_EQ(Evaluate(rig, act), Evaluate(Surface(), act));
+    // ... but not with the four-lane checksum, and a 2.0 file not with the one-lane one.
+    PutU64(&old, 24, ChecksumOf(old, true));
+    EXPECT_NE(ReadError(old).find("checksum mismatch"), std::string::npos) << ReadError(old);
+    std::string two = bytes;
+    PutU64(&two, 24, ChecksumOf(two, false));
+    EXPECT_NE(ReadError(two).find("checksum mismatch"), std::string::npos) << ReadError(two);
+  }
   {
     std::string newer = bytes;
-    PutU32(&newer, 4, 2 | 0 << 16);  // major 2
+    PutU32(&newer, 4, 3 | 0 << 16);  // major 3
     Rechecksum(&newer);
     EXPECT_NE(ReadError(newer).find("newer"), std::string::npos) << ReadError(newer);
   }
   {
     // A newer minor version with a section this reader does not know: skipped.
     std::string newer = bytes;
-    PutU32(&newer, 4, 1 | 7 << 16);
+    PutU32(&newer, 4, 2 | 7 << 16);
     PutU32(&newer, Find(bytes, 65).at, 4000);  // the optional source-vertex-count section
     Rechecksum(&newer);
     Rig rig;
