@@ -15,6 +15,9 @@
 //   BM_EvaluateHeadNoLimiter/<vertices>, BM_ReferenceHead/<vertices>
 //                                      (the blendshapes move balls of 15% of the head's
 //                                      points centred on the face)
+//   BM_EvaluateHeadJaw/<vertices>, BM_EvaluateHeadJawNoLimiter/<vertices>,
+//   BM_PairedHeadJaw/<vertices>        BM_EvaluateHead(NoLimiter) and BM_PairedHead with the
+//                                      fitted jaw moving too (jaw = 0.5 + 0.5 sin(0.1 (frame + 3)))
 //   BM_EvaluateHeadHardPose/<vertices>/<pose>, BM_EvaluateHeadHardPoseFullScan/<vertices>/<pose>
 //                                      every layer at one fixed pose where the fold limiter
 //                                      is busy (0 Smile, 1 Fear of
@@ -153,7 +156,10 @@ void FillWeights(std::vector<float>* w, uint32_t frame) {
 
 using bench::EvaluateSetup;
 
-void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool limit_folds = true) {
+float JawOf(uint32_t frame, bool jaw);
+
+void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool limit_folds = true,
+                 bool jaw = false) {
   const Rig& rig = GetFixture(head, int(state.range(0))).rig;
   EvaluateSetup setup(rig, layers);
   setup.job.limit_folds = limit_folds;
@@ -162,8 +168,10 @@ void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool lim
   std::vector<float>& normals = setup.normals;
   uint32_t frame = 0;
   double passes = 0, limited = 0;
+  if (jaw && rig.jaw().empty()) state.SkipWithError("the head rig has no jaw");
   for (auto _ : state) {
     FillWeights(&setup.activations, frame);
+    setup.job.jaw = JawOf(frame, jaw);
     if (!job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
@@ -175,6 +183,11 @@ void RunEvaluate(benchmark::State& state, bool head, SkinLayers layers, bool lim
   // The fold limiter's passes and limited points, per frame on average.
   state.counters["limiter_passes"] = frame ? passes / frame : 0.0;
   state.counters["limited_points"] = frame ? limited / frame : 0.0;
+  if (jaw) {
+    state.counters["jaw_points"] = double(rig.jaw().points.size());
+    state.counters["jaw_full_points"] =
+        double(std::count(rig.jaw().weights.begin(), rig.jaw().weights.end(), 1.f));
+  }
   state.counters["influences_per_vertex"] =
       double(rig.muscles().entries.size()) / double(rig.point_count());
   state.counters["active_fraction"] = double(rig.active_point_count()) / double(rig.point_count());
@@ -210,7 +223,13 @@ void RunReference(benchmark::State& state, bool head) {
 // the `ratio` counter is their summed times divided, so drift of a shared machine (which moves
 // separate benchmarks by up to 30%) hits both sides of every pair alike. `rig_bytes` and
 // `context_bytes` report Rig::ByteSize and EvaluateContext::ByteSize.
-void RunPaired(benchmark::State& state, bool head) {
+// The jaw input of frame `frame` when `jaw` (the head's fitted jaw opening and closing, as a
+// clip's jaw channel would move it), else 0.
+float JawOf(uint32_t frame, bool jaw) {
+  return jaw ? 0.5f + 0.5f * std::sin(0.1f * float(frame + 3)) : 0.f;
+}
+
+void RunPaired(benchmark::State& state, bool head, bool jaw = false) {
   const Fixture& f = GetFixture(head, int(state.range(0)));
   const Rig& rig = f.rig;
   EvaluateSetup setup(rig, SkinLayers{});
@@ -224,6 +243,7 @@ void RunPaired(benchmark::State& state, bool head) {
   for (auto _ : state) {
     FillWeights(&setup.activations, frame);
     FillWeights(&weights, frame);
+    setup.job.jaw = JawOf(frame, jaw);
     const Clock::time_point t0 = Clock::now();
     if (!setup.job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(positions.data());
@@ -297,6 +317,10 @@ void BM_EvaluateMusclesOnly(benchmark::State& s) {
 void BM_EvaluateNoLimiter(benchmark::State& s) { RunEvaluate(s, false, SkinLayers{}, false); }
 void BM_Reference(benchmark::State& s) { RunReference(s, false); }
 void BM_EvaluateHead(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}); }
+void BM_EvaluateHeadJaw(benchmark::State& s) { RunEvaluate(s, true, SkinLayers{}, true, true); }
+void BM_EvaluateHeadJawNoLimiter(benchmark::State& s) {
+  RunEvaluate(s, true, SkinLayers{}, false, true);
+}
 void BM_EvaluateHeadMusclesOnly(benchmark::State& s) {
   RunEvaluate(s, true, SkinLayers{false, false, false});
 }
@@ -304,6 +328,7 @@ void BM_EvaluateHeadNoLimiter(benchmark::State& s) { RunEvaluate(s, true, SkinLa
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
+void BM_PairedHeadJaw(benchmark::State& s) { RunPaired(s, true, true); }
 void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
 void BM_EvaluateHeadHardPoseFullScan(benchmark::State& s) { RunHardPose(s, true); }
 
@@ -319,11 +344,14 @@ BENCHMARK(BM_EvaluateMusclesOnly) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_Reference) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHead) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateHeadJaw) MIMETIC_SIZES;
+BENCHMARK(BM_EvaluateHeadJawNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHeadMusclesOnly) MIMETIC_SIZES;
 BENCHMARK(BM_EvaluateHeadNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
+BENCHMARK(BM_PairedHeadJaw) MIMETIC_SIZES;
 #define MIMETIC_HARD_POSES                                                     \
   ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
       ->ComputeStatistics("min", Fastest)

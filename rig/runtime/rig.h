@@ -56,6 +56,11 @@ struct RigCurveWrinkles {
   uint32_t row_count() const { return uint32_t(points.size()); }
 };
 
+// The largest jaw opening a rig may have: 90 degrees (the rig file says range_deg <= 90), in
+// radians rounded up to a float; EvaluateJob's jaw stage relies on it (its sine and cosine
+// series are accurate to t = pi/2).
+inline constexpr float kMaxJawRange = 1.5707964f;
+
 // The jaw (docs/model.md §18): a hinge through the two condyles and a per-point weight. At jaw
 // value j in [0, 1] a carried point p turns about the hinge by the angle w_p j range (Rodrigues'
 // rotation) and then moves by w_p j translation (the condyles' glide); the muscles'
@@ -63,7 +68,7 @@ struct RigCurveWrinkles {
 struct RigJaw {
   float3 pivot{};         // a point on the hinge axis (the condyles' midpoint), mesh units
   float3 axis{};          // unit: subject's right condyle -> left one; opening = positive angle
-  float range = 0.f;      // radians at jaw = 1, > 0
+  float range = 0.f;      // radians at jaw = 1, in (0, kMaxJawRange]
   float3 translation{};   // the condyles' glide at jaw = 1, mesh units: + w_p jaw translation
   std::vector<uint32_t> points;  // carried points, ascending, all < active points
   std::vector<float> weights;    // per entry of `points`, in (0, 1]

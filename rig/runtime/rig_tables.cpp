@@ -67,7 +67,7 @@ bool CheckRigData(const RigData& r) {
     if (!j.points.empty()) {
       const float len2 = Dot(j.axis, j.axis);
       if (!(std::fabs(len2 - 1.f) < 1e-4f) || !IsFinite(j.pivot) || !IsFinite(j.translation) || !(j.range > 0.f) ||
-          !std::isfinite(j.range))
+          !(j.range <= kMaxJawRange))
         return false;
     }
   }

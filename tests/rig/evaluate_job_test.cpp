@@ -630,6 +630,48 @@ TEST(EvaluateJobJaw, TooLongAGlideAndAWrongWeightCountAreBuildErrors) {
   EXPECT_TRUE(count.Contains("expected one value per mesh vertex (" +
                              std::to_string(mesh.vertex_count()) + "), got 2"))
       << count.Format();
+  // Rig::Build refuses a range past 90 degrees (the jaw stage's series hold up to pi/2), as a
+  // hostile .mrig could give it; 90 degrees itself is accepted.
+  spec.jaw->weights.clear();
+  Rig good;
+  Diagnostics built;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &good, &built)) << built.Format();
+  RigData edited = good.data();
+  edited.jaw.range = float(std::acos(-1.0) / 2);
+  Rig ninety;
+  EXPECT_TRUE(Rig::Build(edited, &ninety));
+  edited.jaw.range = 1.6f;
+  EXPECT_FALSE(Rig::Build(edited, &ninety));
+}
+
+// The jaw stage's sine and cosine (a series, not libm) against std::sin/cos in double over the
+// whole range of angles a rig can have, [0, pi/2]: within 2e-7 (a few float ulp).
+TEST(EvaluateJobJaw, EveryOpeningUpToNinetyDegreesTurnsByTheExactAngle) {
+  const Surface s = MakeJawSurface();
+  for (double deg : {1.0, 20.0, 45.0, 89.0, 90.0}) {
+    RigData d = s.rig.data();
+    d.jaw.range = float(deg * std::acos(-1.0) / 180.0);
+    Rig rig;
+    ASSERT_TRUE(Rig::Build(d, &rig)) << deg;
+    EvaluateContext ctx(rig);
+    const std::vector<float> zero(rig.muscle_count(), 0.f);
+    std::vector<float> pos, nrm;
+    EvaluateJob job = MakeJob(rig, &ctx, zero, &pos, &nrm);
+    job.layers = {false, false, false};
+    job.jaw = 1.f;
+    ASSERT_TRUE(job.Run());
+    const float3 c{0.f, 30.f, -40.f}, k{1.f, 0.f, 0.f};
+    double worst = 0;
+    for (size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+      const float w = SurfaceJawWeight(s.mesh.positions[v]);
+      if (w == 0.f) continue;
+      const float3 want = RotateAbout(s.mesh.positions[v], c, k, double(w) * double(d.jaw.range));
+      const float3 got{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
+      worst = std::max(worst, double(Length(got - want)) /
+                                  double(Length(s.mesh.positions[v] - c)));
+    }
+    EXPECT_LT(worst, 1e-6) << deg << " degrees";
+  }
 }
 
 // The region weight's lip side and neck fade (docs/model.md §18), from its formula: on the lip
