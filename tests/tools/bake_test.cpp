@@ -42,9 +42,14 @@ bool Contains(const std::string& haystack, const std::string& needle) {
   return haystack.find(needle) != std::string::npos;
 }
 
-// Frames of `clip_path` at `times`, evaluated here (#F * #V * 3 floats).
-std::vector<float> Evaluate(const LoadedRig& loaded, const std::string& clip_path,
-                            const std::vector<double>& times) {
+// Frames of `clip_path` at `times`, evaluated here: positions (#F * #V * 3 floats) and, when
+// `tension`, out_tension (#F * #V * 2) and out_region_weights (#F * #regions). The clip's
+// expressions come from the default library.
+struct Frames {
+  std::vector<float> positions, tension, regions;
+};
+Frames Evaluate(const LoadedRig& loaded, const std::string& clip_path,
+                const std::vector<double>& times, bool tension = false) {
   Diagnostics diag;
   ClipSpec spec;
   EXPECT_TRUE(LoadClip(clip_path, &spec, &diag)) << diag.Format();
@@ -52,8 +57,14 @@ std::vector<float> Evaluate(const LoadedRig& loaded, const std::string& clip_pat
   EXPECT_TRUE(LoadExpressionLibrary(Library(), &library, &diag)) << diag.Format();
   CompiledClip clip;
   EXPECT_TRUE(BuildClip(spec, loaded.rig.muscle_names(), library, &clip, &diag)) << diag.Format();
-  const size_t nv = loaded.rig.vertex_count();
-  std::vector<float> out(times.size() * nv * 3), activations(loaded.rig.muscle_count());
+  const size_t nv = loaded.rig.vertex_count(), nr = loaded.rig.tension_region_count();
+  Frames out;
+  out.positions.resize(times.size() * nv * 3);
+  if (tension) {
+    out.tension.resize(times.size() * nv * 2);
+    out.regions.resize(times.size() * nr);
+  }
+  std::vector<float> activations(loaded.rig.muscle_count());
   EvaluateContext context(loaded.rig);
   for (size_t k = 0; k < times.size(); ++k) {
     ClipSampleJob sample;
@@ -65,7 +76,11 @@ std::vector<float> Evaluate(const LoadedRig& loaded, const std::string& clip_pat
     job.rig = &loaded.rig;
     job.context = &context;
     job.activations = activations;
-    job.out_positions = span<float>(&out[k * nv * 3], nv * 3);
+    job.out_positions = span<float>(&out.positions[k * nv * 3], nv * 3);
+    if (tension) {
+      job.out_tension = span<float>(&out.tension[k * nv * 2], nv * 2);
+      job.out_region_weights = span<float>(out.regions.data() + k * nr, nr);
+    }
     EXPECT_TRUE(job.Run());
   }
   return out;
@@ -89,7 +104,7 @@ TEST(Bake, SampleHeadFramesEqualTheRuntime) {
   ASSERT_TRUE(LoadRig(Head(), &loaded, &diag)) << diag.Format();
   const size_t nv = loaded.rig.vertex_count();
   const std::vector<double> times = {0.0, 0.1, 0.2, 0.3, 0.4};
-  const std::vector<float> want = Evaluate(loaded, clip, times);
+  const std::vector<float> want = Evaluate(loaded, clip, times).positions;
 
   tinygltf::Model m;
   std::string err;
@@ -192,33 +207,11 @@ TEST(Bake, TensionAttributeAndRegionWeights) {
   LoadedRig loaded;
   ASSERT_TRUE(LoadRig(rig_path, &loaded, &diag)) << diag.Format();
   ASSERT_EQ(loaded.rig.tension_region_count(), 2u);
-  ClipSpec spec;
-  ASSERT_TRUE(LoadClip(clip, &spec, &diag)) << diag.Format();
-  CompiledClip compiled;
-  ASSERT_TRUE(BuildClip(spec, loaded.rig.muscle_names(), std::vector<Expression>{}, &compiled, &diag))
-      << diag.Format();
   const size_t nv = loaded.rig.vertex_count();
   const std::vector<double> times = {0.0, 0.1, 0.2, 0.3};
-  std::vector<float> want(times.size() * nv * 2), want_regions(times.size() * 2);
-  {
-    EvaluateContext context(loaded.rig);
-    std::vector<float> activations(loaded.rig.muscle_count()), positions(nv * 3);
-    for (size_t k = 0; k < times.size(); ++k) {
-      ClipSampleJob sample;
-      sample.clip = &compiled;
-      sample.time = float(times[k]);
-      sample.out_activations = activations;
-      ASSERT_TRUE(sample.Run());
-      EvaluateJob job;
-      job.rig = &loaded.rig;
-      job.context = &context;
-      job.activations = activations;
-      job.out_positions = positions;
-      job.out_tension = span<float>(&want[k * nv * 2], nv * 2);
-      job.out_region_weights = span<float>(&want_regions[k * 2], 2);
-      ASSERT_TRUE(job.Run());
-    }
-  }
+  const Frames frames = Evaluate(loaded, clip, times, true);
+  const std::vector<float>& want = frames.tension;
+  const std::vector<float>& want_regions = frames.regions;
   tinygltf::Model m;
   std::string err;
   ASSERT_TRUE(test::LoadGlb(ReadBytes(glb), &m, &err)) << err;
