@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -28,7 +29,14 @@ struct mimetic_context {
   const mimetic_rig* rig = nullptr;
   mimetic::EvaluateContext evaluate;
   std::vector<float> activations;  // mimetic_play's: one per muscle
+  // mimetic_context_set_parallel_for's scheduler (the C type is the runtime's ParallelForFn).
+  mimetic::ParallelForFn parallel_for = nullptr;
+  void* parallel_for_user = nullptr;
+  uint32_t parallel_min_count = mimetic::kParallelMinCount;
 };
+
+static_assert(std::is_same_v<mimetic_parallel_for_fn, mimetic::ParallelForFn>,
+              "the C scheduler type is the runtime's");
 
 namespace {
 
@@ -70,37 +78,89 @@ mimetic::span<const uint8_t> Bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
 
-// The checks every evaluation shares; the sizes in floats.
-mimetic_status CheckOutputs(const char* function, const mimetic_context* c, const float* positions,
-                            size_t positions_capacity, const float* normals,
-                            size_t normals_capacity) {
-  if (!c) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(function, "context"));
-  if (!positions) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(function, "positions"));
-  const size_t need = 3 * size_t(c->rig->rig.vertex_count());
-  if (positions_capacity < need)
-    return Fail(MIMETIC_ERROR_BUFFER_TOO_SMALL,
-                std::string(function) + ": positions holds " + N(positions_capacity) +
-                    " floats; the rig's " + N(c->rig->rig.vertex_count()) + " vertices need " +
-                    N(need));
-  if (normals && normals_capacity < need)
-    return Fail(MIMETIC_ERROR_BUFFER_TOO_SMALL,
-                std::string(function) + ": normals holds " + N(normals_capacity) +
-                    " floats; the rig's " + N(c->rig->rig.vertex_count()) + " vertices need " +
-                    N(need));
-  return MIMETIC_OK;
+// Floats a strided buffer of `count` vertices of `width` floats needs (0 for no vertex).
+size_t Needed(size_t count, size_t stride_bytes, size_t width) {
+  return count ? (count - 1) * (stride_bytes / 4) + width : 0;
 }
 
+// The checks every evaluation shares (the capacities in floats), then EvaluateJob with
+// `options` (null: the defaults).
 mimetic_status Evaluate(const char* function, mimetic_context* c, const float* activations,
-                        float jaw, float* positions, float* normals) {
+                        float jaw, const mimetic_evaluate_options* options, float* positions,
+                        size_t positions_capacity, float* normals, size_t normals_capacity) {
+  if (!c) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(function, "context"));
+  if (!positions) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(function, "positions"));
+  mimetic_evaluate_options o;
+  mimetic_evaluate_options_init(&o);
+  if (options) {
+    if (options->size != sizeof(mimetic_evaluate_options))
+      return Fail(MIMETIC_ERROR_INVALID_ARGUMENT,
+                  std::string(function) + ": options->size is " + N(options->size) +
+                      "; expected sizeof(mimetic_evaluate_options) = " +
+                      N(sizeof(mimetic_evaluate_options)) +
+                      " (fill it with mimetic_evaluate_options_init)");
+    o = *options;
+  }
+  if (o.layers & ~MIMETIC_LAYERS_ALL)
+    return Fail(MIMETIC_ERROR_INVALID_ARGUMENT,
+                std::string(function) + ": options->layers has unknown bits (" + N(o.layers) +
+                    "); expected MIMETIC_LAYER_* bits, at most " + N(MIMETIC_LAYERS_ALL));
+  struct Stride {
+    const char* name;
+    uint32_t* value;
+    uint32_t min;
+  } strides[] = {{"positions_stride", &o.positions_stride, 12},
+                 {"normals_stride", &o.normals_stride, 12},
+                 {"tension_stride", &o.tension_stride, 8}};
+  for (Stride& st : strides) {
+    if (*st.value == 0) *st.value = st.min;
+    if (*st.value < st.min || *st.value % 4)
+      return Fail(MIMETIC_ERROR_INVALID_ARGUMENT,
+                  std::string(function) + ": options->" + st.name + " is " + N(*st.value) +
+                      " bytes; expected 0 or a multiple of 4 of at least " + N(st.min));
+  }
   const mimetic::Rig& rig = c->rig->rig;
-  const size_t n = 3 * size_t(rig.vertex_count());
+  const size_t nv = rig.vertex_count(), nr = rig.tension_region_count();
+  struct Buffer {
+    const char* name;
+    const float* data;
+    size_t capacity, need;
+  } buffers[] = {
+      {"positions", positions, positions_capacity, Needed(nv, o.positions_stride, 3)},
+      {"normals", normals, normals_capacity, Needed(nv, o.normals_stride, 3)},
+      {"options->tension", o.tension, o.tension_capacity, Needed(nv, o.tension_stride, 2)},
+      {"options->region_weights", o.region_weights, o.region_weights_capacity, nr},
+  };
+  for (const Buffer& b : buffers)
+    if (b.data && b.capacity < b.need)
+      return Fail(MIMETIC_ERROR_BUFFER_TOO_SMALL,
+                  std::string(function) + ": " + b.name + " holds " + N(b.capacity) +
+                      " floats; the rig's " +
+                      (b.need == nr && b.data == o.region_weights
+                           ? N(nr) + " tension regions need " + N(b.need)
+                           : N(nv) + " vertices need " + N(b.need)));
   mimetic::EvaluateJob job;
   job.rig = &rig;
   job.context = &c->evaluate;
   job.activations = mimetic::span<const float>(activations, rig.muscle_count());
   job.jaw = jaw;
-  job.out_positions = mimetic::span<float>(positions, n);
-  if (normals) job.out_normals = mimetic::span<float>(normals, n);
+  job.layers = {.thickness = (o.layers & MIMETIC_LAYER_THICKNESS) != 0,
+                .muscle_wrinkles = (o.layers & MIMETIC_LAYER_MUSCLE_WRINKLES) != 0,
+                .curve_wrinkles = (o.layers & MIMETIC_LAYER_CURVE_WRINKLES) != 0};
+  job.out_positions = mimetic::span<float>(positions, buffers[0].need);
+  job.out_positions_stride = o.positions_stride;
+  if (normals) {
+    job.out_normals = mimetic::span<float>(normals, buffers[1].need);
+    job.out_normals_stride = o.normals_stride;
+  }
+  if (o.tension) {
+    job.out_tension = mimetic::span<float>(o.tension, buffers[2].need);
+    job.out_tension_stride = o.tension_stride;
+  }
+  if (o.region_weights) job.out_region_weights = mimetic::span<float>(o.region_weights, nr);
+  job.parallel_for = c->parallel_for;
+  job.parallel_for_user = c->parallel_for_user;
+  job.parallel_min_count = c->parallel_min_count;
   if (!job.Run())
     return Fail(MIMETIC_ERROR_INTERNAL,
                 std::string(function) + ": EvaluateJob refused the job after the C checks");
@@ -180,6 +240,7 @@ mimetic_status mimetic_rig_get_info(const mimetic_rig* rig, mimetic_rig_info* ou
     out->triangle_count = rig->rig.triangle_count();
     out->muscle_count = rig->rig.muscle_count();
     out->has_jaw = rig->rig.jaw().empty() ? 0 : 1;
+    out->tension_region_count = rig->rig.tension_region_count();
     return MIMETIC_OK;
   });
 }
@@ -194,6 +255,21 @@ mimetic_status mimetic_rig_muscle_name(const mimetic_rig* rig, uint32_t index, c
                                                       "; the rig has " +
                                                       N(rig->rig.muscle_count()) + " muscles");
     *out = rig->rig.muscle_names()[index].c_str();
+    return MIMETIC_OK;
+  });
+}
+
+mimetic_status mimetic_rig_tension_region_name(const mimetic_rig* rig, uint32_t index,
+                                               const char** out) {
+  const char* const fn = __func__;
+  return Guard(fn, [&] {
+    if (!rig) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "rig"));
+    if (!out) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "out"));
+    const uint32_t n = rig->rig.tension_region_count();
+    if (index >= n)
+      return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, std::string(fn) + ": tension region " +
+                                                      N(index) + "; the rig has " + N(n));
+    *out = rig->rig.tension_regions().names[index].c_str();
     return MIMETIC_OK;
   });
 }
@@ -237,15 +313,21 @@ mimetic_status mimetic_context_create(const mimetic_rig* rig, mimetic_context** 
 
 void mimetic_context_destroy(mimetic_context* context) { delete context; }
 
-mimetic_status mimetic_evaluate(mimetic_context* context, const float* activations,
-                                size_t activation_count, float jaw, float* positions,
-                                size_t positions_capacity, float* normals,
-                                size_t normals_capacity) {
-  const char* const fn = __func__;
+void mimetic_evaluate_options_init(mimetic_evaluate_options* options) {
+  if (!options) return;
+  *options = mimetic_evaluate_options{};
+  options->size = sizeof(mimetic_evaluate_options);
+  options->layers = MIMETIC_LAYERS_ALL;
+}
+
+// mimetic_evaluate(_ex)'s body, `fn` naming the entry point in messages.
+static mimetic_status EvaluateEntry(const char* fn, mimetic_context* context,
+                                    const float* activations, size_t activation_count, float jaw,
+                                    const mimetic_evaluate_options* options, float* positions,
+                                    size_t positions_capacity, float* normals,
+                                    size_t normals_capacity) {
   return Guard(fn, [&] {
-    const mimetic_status s = CheckOutputs(fn, context, positions, positions_capacity,
-                                          normals, normals_capacity);
-    if (s != MIMETIC_OK) return s;
+    if (!context) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "context"));
     const uint32_t muscles = context->rig->rig.muscle_count();
     if (!activations && muscles)
       return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "activations"));
@@ -253,7 +335,38 @@ mimetic_status mimetic_evaluate(mimetic_context* context, const float* activatio
       return Fail(MIMETIC_ERROR_MISMATCH, std::string(fn) + ": " + N(activation_count) +
                                               " activations; the rig has " + N(muscles) +
                                               " muscles");
-    return Evaluate(fn, context, activations, jaw, positions, normals);
+    return Evaluate(fn, context, activations, jaw, options, positions, positions_capacity,
+                    normals, normals_capacity);
+  });
+}
+
+mimetic_status mimetic_evaluate_ex(mimetic_context* context, const float* activations,
+                                   size_t activation_count, float jaw,
+                                   const mimetic_evaluate_options* options, float* positions,
+                                   size_t positions_capacity, float* normals,
+                                   size_t normals_capacity) {
+  return EvaluateEntry(__func__, context, activations, activation_count, jaw, options, positions,
+                       positions_capacity, normals, normals_capacity);
+}
+
+mimetic_status mimetic_evaluate(mimetic_context* context, const float* activations,
+                                size_t activation_count, float jaw, float* positions,
+                                size_t positions_capacity, float* normals,
+                                size_t normals_capacity) {
+  return EvaluateEntry(__func__, context, activations, activation_count, jaw, nullptr, positions,
+                       positions_capacity, normals, normals_capacity);
+}
+
+mimetic_status mimetic_context_set_parallel_for(mimetic_context* context,
+                                                mimetic_parallel_for_fn parallel_for,
+                                                void* user, uint32_t min_count) {
+  const char* const fn = __func__;
+  return Guard(fn, [&] {
+    if (!context) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "context"));
+    context->parallel_for = parallel_for;
+    context->parallel_for_user = user;
+    context->parallel_min_count = min_count ? min_count : mimetic::kParallelMinCount;
+    return MIMETIC_OK;
   });
 }
 
@@ -365,9 +478,8 @@ mimetic_status mimetic_play(mimetic_context* context, const mimetic_clip* clip, 
   const char* const fn = __func__;
   return Guard(fn, [&] {
     if (!clip) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "clip"));
-    const mimetic_status s = CheckOutputs(fn, context, positions, positions_capacity,
-                                          normals, normals_capacity);
-    if (s != MIMETIC_OK) return s;
+    if (!context) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "context"));
+    if (!positions) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "positions"));
     const mimetic_status m = CheckClipRig(fn, clip, context->rig);
     if (m != MIMETIC_OK) return m;
     float jaw = 0.f;
@@ -379,7 +491,8 @@ mimetic_status mimetic_play(mimetic_context* context, const mimetic_clip* clip, 
     if (!job.Run())
       return Fail(MIMETIC_ERROR_INTERNAL,
                   std::string(fn) + ": ClipSampleJob refused the job after the C checks");
-    return Evaluate(fn, context, context->activations.data(), jaw, positions, normals);
+    return Evaluate(fn, context, context->activations.data(), jaw, nullptr, positions,
+                    positions_capacity, normals, normals_capacity);
   });
 }
 

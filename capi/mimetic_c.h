@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* The version of this interface: raised when a declaration changes. */
-#define MIMETIC_C_API_VERSION 1
+#define MIMETIC_C_API_VERSION 2  /* 2: mimetic_evaluate_ex, the scheduler hook, tension */
 
 typedef enum mimetic_status {
   MIMETIC_OK = 0,
@@ -53,6 +53,7 @@ typedef struct mimetic_rig_info {
   uint32_t triangle_count; /* the triangle indices are 3 per triangle, into the vertices */
   uint32_t muscle_count;   /* activations are 1 float per muscle, in rig order */
   uint32_t has_jaw;        /* 1 when the rig has a jaw (the `jaw` argument moves it), else 0 */
+  uint32_t tension_region_count; /* named tension regions (docs/tension.md); 0: none */
 } mimetic_rig_info;
 
 typedef struct mimetic_clip_info {
@@ -94,6 +95,11 @@ mimetic_status mimetic_rig_muscle_name(const mimetic_rig* rig, uint32_t index, c
  * out[0, 3 * triangle_count); `capacity` is out's length in uint32_t. */
 mimetic_status mimetic_rig_triangles(const mimetic_rig* rig, uint32_t* out, size_t capacity);
 
+/* The name of tension region `index` (< tension_region_count; docs/tension.md), owned by the
+ * rig: the order of mimetic_evaluate_options.region_weights. */
+mimetic_status mimetic_rig_tension_region_name(const mimetic_rig* rig, uint32_t index,
+                                               const char** out);
+
 /* ---- contexts -------------------------------------------------------------------------- */
 
 /* A context for `rig` (allocates the per-frame state once; any number per rig). */
@@ -109,6 +115,60 @@ mimetic_status mimetic_evaluate(mimetic_context* context, const float* activatio
                                 size_t activation_count, float jaw, float* positions,
                                 size_t positions_capacity, float* normals,
                                 size_t normals_capacity);
+
+/* The skin layers (docs/model.md §4-8), for mimetic_evaluate_options.layers; a layer the rig
+ * does not have is skipped either way. */
+#define MIMETIC_LAYER_THICKNESS 1u
+#define MIMETIC_LAYER_MUSCLE_WRINKLES 2u
+#define MIMETIC_LAYER_CURVE_WRINKLES 4u
+#define MIMETIC_LAYERS_ALL 7u
+
+/* What mimetic_evaluate_ex does beyond mimetic_evaluate. Fill it with
+ * mimetic_evaluate_options_init (which sets `size`, so that a later, longer version of this
+ * struct stays compatible), then set what you need. Strides are in bytes between consecutive
+ * vertices (a multiple of 4; 0: packed), so the outputs can go straight into an interleaved
+ * vertex buffer; a buffer's capacity (in floats) must then reach its last vertex's last float. */
+typedef struct mimetic_evaluate_options {
+  uint32_t size;             /* sizeof(mimetic_evaluate_options) */
+  uint32_t layers;           /* MIMETIC_LAYER_* bits; MIMETIC_LAYERS_ALL by default */
+  uint32_t positions_stride; /* >= 12 or 0 (12) */
+  uint32_t normals_stride;   /* >= 12 or 0 (12) */
+  /* Tension for engine shaders (docs/tension.md), both optional (NULL: not computed): per
+   * vertex the area ratio r and the compression eps (2 floats at tension_stride, >= 8 or 0
+   * (8)); per tension region its weight in [0, 1] (region_weights_capacity >= the rig's
+   * tension_region_count). */
+  float* tension;
+  size_t tension_capacity;
+  uint32_t tension_stride;
+  float* region_weights;
+  size_t region_weights_capacity;
+} mimetic_evaluate_options;
+
+/* Defaults: every layer, packed outputs, no tension. */
+void mimetic_evaluate_options_init(mimetic_evaluate_options* options);
+
+/* mimetic_evaluate with `options` (NULL: the defaults, the same as mimetic_evaluate). A wrong
+ * `size`, an unknown layer bit or a bad stride is MIMETIC_ERROR_INVALID_ARGUMENT; a buffer too
+ * short for its stride MIMETIC_ERROR_BUFFER_TOO_SMALL. */
+mimetic_status mimetic_evaluate_ex(mimetic_context* context, const float* activations,
+                                   size_t activation_count, float jaw,
+                                   const mimetic_evaluate_options* options, float* positions,
+                                   size_t positions_capacity, float* normals,
+                                   size_t normals_capacity);
+
+/* An engine's scheduler (docs/embedding.md "Threads"): parallel_for(user, count, task,
+ * task_data) must call task(task_data, begin, end) over disjoint ranges that together cover
+ * [0, count), on any threads, and return when every call has returned. */
+typedef void (*mimetic_task_fn)(void* task_data, uint32_t begin, uint32_t end);
+typedef void (*mimetic_parallel_for_fn)(void* user, uint32_t count, mimetic_task_fn task,
+                                        void* task_data);
+
+/* Gives the context's evaluations (mimetic_evaluate, _ex, mimetic_play) to `parallel_for`
+ * (NULL: the calling thread only, the default). Loops over fewer than `min_count` items stay on
+ * the calling thread (0: the library's default, 4096). Any split gives the same bits. */
+mimetic_status mimetic_context_set_parallel_for(mimetic_context* context,
+                                                mimetic_parallel_for_fn parallel_for,
+                                                void* user, uint32_t min_count);
 
 /* ---- clips ----------------------------------------------------------------------------- */
 

@@ -7,7 +7,11 @@
 //                       the files above): u32 vertex_count, triangle_count, muscle_count,
 //                       has_jaw, frame_count; u32 triangle indices[3 T]; then per frame f: f32
 //                       time (f * 0.07 - 0.2 s), activations[M], jaw, positions[3 V], normals[3 V]
-//                       (ClipSampleJob, then EvaluateJob with every layer the rig has).
+//                       (ClipSampleJob, then EvaluateJob with every layer the rig has);
+//                       then u32 region_count and, for frames 10, 20 and 30: u32 frame,
+//                       positions[3 V] with no skin layer, tension[2 V] (r, eps),
+//                       region_weights[region_count]. The rig has two tension regions added
+//                       here ("left": x < 0 at weight 1; "top": y > 0 at 0.5).
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -16,6 +20,7 @@
 #include "expressions/runtime/clip_binary.h"
 #include "expressions/runtime/clip_sample_job.h"
 #include "io/rig_loader.h"
+#include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "rig/runtime/rig_binary.h"
 
@@ -74,7 +79,20 @@ int main(int argc, char** argv) {
                  diag.Format().c_str());
     return 1;
   }
-  const Rig& rig = loaded.rig;
+  // The surface with two tension regions (they change no position).
+  RigSpec spec = loaded.spec;
+  TensionRegionSpec left{"left", 0.05f, {}}, top{"top", 0.1f, {}};
+  for (const float3& p : loaded.mesh.positions) {
+    left.weights.push_back(p.x < 0.f ? 1.f : 0.f);
+    top.weights.push_back(p.y > 0.f ? 0.5f : 0.f);
+  }
+  spec.tension_regions = {left, top};
+  Rig rig;
+  if (!BuildRig(spec, loaded.mesh, {}, &rig, &diag)) {
+    std::fprintf(stderr, "capi_reference: the surface rig with regions does not build\n%s",
+                 diag.Format().c_str());
+    return 1;
+  }
   CompiledClip clip, other;
   std::vector<std::string> more = rig.muscle_names();
   more.push_back("extra");
@@ -97,6 +115,10 @@ int main(int argc, char** argv) {
   std::vector<float> act(rig.muscle_count()), pos(3 * size_t(rig.vertex_count())),
       nrm(3 * size_t(rig.vertex_count()));
   float jaw = 0.f;
+  std::string extended;
+  const uint32_t regions = rig.tension_region_count();
+  Put(&extended, &regions, sizeof regions);
+  std::vector<float> bare(pos.size()), tension(2 * size_t(rig.vertex_count())), weights(regions);
   for (int f = 0; f < kFrames; ++f) {
     ClipSampleJob sample;
     sample.clip = &clip;
@@ -119,7 +141,31 @@ int main(int argc, char** argv) {
     Put(&ref, &jaw, sizeof jaw);
     Put(&ref, pos.data(), pos.size() * sizeof(float));
     Put(&ref, nrm.data(), nrm.size() * sizeof(float));
+    if (f % 10 == 0 && f > 0) {
+      // The same activations with no skin layer; then the tension outputs.
+      job.layers = {false, false, false};
+      job.out_positions = bare;
+      job.out_normals = {};
+      EvaluateJob with_tension;
+      with_tension.rig = &rig;
+      with_tension.context = &context;
+      with_tension.activations = act;
+      with_tension.jaw = jaw;
+      with_tension.out_positions = pos;
+      with_tension.out_tension = tension;
+      with_tension.out_region_weights = weights;
+      if (!job.Run() || !with_tension.Run()) {
+        std::fprintf(stderr, "capi_reference: frame %d's variants do not run\n", f);
+        return 1;
+      }
+      const uint32_t index = uint32_t(f);
+      Put(&extended, &index, sizeof index);
+      Put(&extended, bare.data(), bare.size() * sizeof(float));
+      Put(&extended, tension.data(), tension.size() * sizeof(float));
+      Put(&extended, weights.data(), weights.size() * sizeof(float));
+    }
   }
+  ref += extended;
   if (!Write(dir + "/reference.bin", ref)) return 1;
   std::printf("capi_reference: wrote %s (%u vertices, %u muscles, %d frames)\n", dir.c_str(),
               rig.vertex_count(), rig.muscle_count(), kFrames);

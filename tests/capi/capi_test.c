@@ -6,7 +6,10 @@
  * triangles are the reference's; sampling and evaluating through the ABI (two contexts on one
  * rig, and mimetic_play) give the reference's bits exactly; bad inputs (a missing file, a
  * truncated or corrupt .mrig, NULL pointers, buffers too small, activations and a clip for
- * another muscle count) return their status with a message. */
+ * another muscle count) return their status with a message. Then mimetic_evaluate_ex: no skin
+ * layer, the tension outputs, interleaved strides and an engine scheduler (a C parallel_for
+ * calling the task over three ranges in reverse order) against the reference's bits, its bad
+ * options refused. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,6 +74,18 @@ static int WriteAll(const char* path, const char* data, size_t size) {
   return ok;
 }
 
+/* A scheduler as an engine would hand one over: here it calls `task` over three ranges, last
+ * first (any split and any order must give the same bits), and counts the calls. */
+static int scheduler_calls = 0;
+static void ReverseThirds(void* user, uint32_t count, mimetic_task_fn task, void* task_data) {
+  const uint32_t a = count / 3, b = 2 * (count / 3);
+  int* calls = (int*)user;
+  task(task_data, b, count);
+  task(task_data, a, b);
+  task(task_data, 0, a);
+  *calls += 1;
+}
+
 static uint32_t U32(const char* p) {
   uint32_t v;
   memcpy(&v, p, 4);
@@ -96,6 +111,10 @@ int main(int argc, char** argv) {
   float *act, *pos, *nrm, *pos2, *nrm2;
   float jaw = -1.f;
   const char* name = NULL;
+  const char* frame_data[64] = {0}; /* per frame: its positions and normals in reference.bin */
+  uint32_t region_count, k;
+  mimetic_evaluate_options options;
+  float *inter, *tension, *weights;
 
   if (argc != 2) {
     fprintf(stderr, "usage: capi_test DIR\n");
@@ -165,6 +184,7 @@ int main(int argc, char** argv) {
     at += 4 * (muscle_count + 1);
     /* Context a: evaluate the sampled activations; context b: mimetic_play, every other frame
      * (so that the two contexts hold different frames' state). */
+    if (f < 64) frame_data[f] = at;
     EXPECT_OK(mimetic_evaluate(a, act, muscle_count, jaw, pos, n, nrm, n));
     CHECK(memcmp(pos, at, sizeof(float) * n) == 0);
     CHECK(memcmp(nrm, at + 4 * n, sizeof(float) * n) == 0);
@@ -175,11 +195,93 @@ int main(int argc, char** argv) {
     }
     at += 8 * n;
   }
+  /* mimetic_evaluate_ex at frames 10, 20, 30: no skin layer; every layer with the tension
+   * outputs, positions and normals interleaved (24-byte vertices), tension at a 12-byte stride
+   * and the scheduler. */
+  region_count = U32(at);
+  at += 4;
+  CHECK(info.tension_region_count == region_count);
+  CHECK(region_count == 2);
+  EXPECT_OK(mimetic_rig_tension_region_name(rig, 1, &name));
+  CHECK(name != NULL && strcmp(name, "top") == 0);
+  inter = (float*)malloc(sizeof(float) * 6 * vertex_count);
+  tension = (float*)malloc(sizeof(float) * 3 * vertex_count);
+  weights = (float*)malloc(sizeof(float) * (region_count + 1));
+  EXPECT_OK(mimetic_context_set_parallel_for(b, ReverseThirds, &scheduler_calls, 1));
+  for (k = 0; k < 3; ++k) {
+    const size_t n = 3 * (size_t)vertex_count;
+    const uint32_t frame = U32(at);
+    float time = (float)frame * 0.07f - 0.2f;
+    uint32_t v;
+    int same = 1;
+    at += 4;
+    CHECK(frame == 10 * (k + 1));
+    EXPECT_OK(mimetic_clip_sample(clip, time, act, muscle_count, &jaw));
+    mimetic_evaluate_options_init(&options);
+    options.layers = 0;
+    EXPECT_OK(mimetic_evaluate_ex(a, act, muscle_count, jaw, &options, pos, n, NULL, 0));
+    CHECK(memcmp(pos, at, sizeof(float) * n) == 0);
+    at += 4 * n;
+    mimetic_evaluate_options_init(&options);
+    options.positions_stride = 24;
+    options.normals_stride = 24;
+    options.tension = tension;
+    options.tension_capacity = 3 * (size_t)vertex_count - 1;
+    options.tension_stride = 12;
+    options.region_weights = weights;
+    options.region_weights_capacity = region_count;
+    EXPECT_OK(mimetic_evaluate_ex(b, act, muscle_count, jaw, &options, inter, 6 * n / 3 * 1 - 3,
+                                  inter + 3, 6 * (size_t)vertex_count - 3));
+    for (v = 0; v < vertex_count; ++v) {
+      same = same && memcmp(inter + 6 * v, frame_data[frame] + 12 * v, 12) == 0 &&
+             memcmp(inter + 6 * v + 3, frame_data[frame] + 4 * n + 12 * v, 12) == 0 &&
+             memcmp(tension + 3 * v, at + 8 * v, 8) == 0;
+    }
+    CHECK(same);
+    at += 8 * (size_t)vertex_count;
+    CHECK(memcmp(weights, at, sizeof(float) * region_count) == 0);
+    at += 4 * region_count;
+  }
+  CHECK(scheduler_calls > 0);
   CHECK(at == ref + ref_size);
   /* Positions alone (normals NULL). */
   EXPECT_OK(mimetic_evaluate(a, act, muscle_count, 0.f, pos, 3 * (size_t)vertex_count, NULL, 0));
   CHECK(!isnan(pos[0]));
   CHECK(strcmp(mimetic_last_error(), "") == 0); /* nothing failed so far */
+  /* Bad options. */
+  mimetic_evaluate_options_init(&options);
+  options.size = 8;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "mimetic_evaluate_ex: options->size is 8");
+  mimetic_evaluate_options_init(&options);
+  options.layers = 8;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "options->layers has unknown bits");
+  mimetic_evaluate_options_init(&options);
+  options.positions_stride = 10;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "options->positions_stride is 10 bytes");
+  mimetic_evaluate_options_init(&options);
+  options.positions_stride = 16;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_BUFFER_TOO_SMALL, "positions holds");
+  mimetic_evaluate_options_init(&options);
+  options.tension = tension;
+  options.tension_capacity = 2 * (size_t)vertex_count - 1;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_BUFFER_TOO_SMALL, "options->tension holds");
+  mimetic_evaluate_options_init(&options);
+  options.region_weights = weights;
+  options.region_weights_capacity = 1;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_BUFFER_TOO_SMALL, "2 tension regions need 2");
+  EXPECT_ERROR(mimetic_context_set_parallel_for(NULL, ReverseThirds, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "context is NULL");
+  EXPECT_ERROR(mimetic_rig_tension_region_name(rig, 2, &name), MIMETIC_ERROR_INVALID_ARGUMENT,
+               "tension region 2; the rig has 2");
+  free(inter);
+  free(tension);
+  free(weights);
 
   /* Bad inputs: each its status and a message. */
   snprintf(missing, sizeof missing, "%s/none.mrig", argv[1]);
