@@ -696,8 +696,51 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 }  // namespace
 
-bool BuildRig(const RigSpec& spec_in, const MeshData& file_mesh_in, const BuildOptions& options,
-              Rig* out, Diagnostics* diag) {
+// The sparse tension regions of `spec` (TensionRegionSpec::vertices) made dense for a mesh of
+// `vertex_count` vertices into *out (a copy of spec); false, with a message, for a bad index list.
+bool DenseTensionRegions(const RigSpec& spec, size_t vertex_count, RigSpec* out,
+                         Diagnostics* diag) {
+  *out = spec;
+  bool ok = true;
+  for (size_t i = 0; i < out->tension_regions.size(); ++i) {
+    TensionRegionSpec& g = out->tension_regions[i];
+    if (!g.sparse) continue;
+    const std::string where = "tension_regions[" + std::to_string(i) + "] (" + g.name + ")";
+    if (g.weights.size() != g.vertices.size()) {
+      diag->Error(where + ".weights", "expected one value per entry of vertices (" +
+                                          std::to_string(g.vertices.size()) + "), got " +
+                                          std::to_string(g.weights.size()));
+      ok = false;
+      continue;
+    }
+    std::vector<float> dense(vertex_count, 0.f);
+    for (size_t k = 0; k < g.vertices.size(); ++k) {
+      const uint32_t v = g.vertices[k];
+      if (v >= vertex_count || (k > 0 && v <= g.vertices[k - 1])) {
+        diag->Error(where + ".vertices[" + std::to_string(k) + "]",
+                    "is " + std::to_string(v) + "; expected ascending vertex indices below the "
+                    "mesh's " + std::to_string(vertex_count) + " vertices");
+        ok = false;
+        break;
+      }
+      dense[v] = g.weights[k];
+    }
+    g.weights = std::move(dense);
+    g.vertices.clear();
+    g.sparse = false;
+  }
+  return ok;
+}
+
+bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
+              const BuildOptions& options, Rig* out, Diagnostics* diag) {
+  RigSpec dense_spec;
+  const bool sparse = std::any_of(spec_original.tension_regions.begin(),
+                                  spec_original.tension_regions.end(),
+                                  [](const TensionRegionSpec& g) { return g.sparse; });
+  if (sparse && !DenseTensionRegions(spec_original, file_mesh_in.vertex_count(), &dense_spec, diag))
+    return false;
+  const RigSpec& spec_in = sparse ? dense_spec : spec_original;
   if (options.check_magnitudes && !ValidateMagnitudes(spec_in, file_mesh_in, diag)) return false;
   // The mesh the per-vertex and texture-space data were made for (geometry/fingerprint.h).
   {

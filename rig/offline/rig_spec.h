@@ -40,6 +40,11 @@ struct TensionRegionSpec {
   std::string name;                            // unique among the regions
   float reference = kDefaultTensionReference;  // c0 > 0 (docs/model.md §19)
   std::vector<float> weights;                  // one per mesh vertex, file order, in [0, 1]
+  // The rig file's sparse form (docs/rig-format.md): when `sparse`, weights[k] is vertex
+  // vertices[k]'s (ascending, below the mesh's vertex count) and every other vertex has 0;
+  // BuildRig makes it dense first.
+  bool sparse = false;
+  std::vector<uint32_t> vertices;
 };
 
 struct NamedCurveWrinkle {

@@ -2,6 +2,8 @@
 // (io/rig_file.cpp, docs/rig-format.md, assets/schema/mimetic-rig.schema.json).
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdlib>
 
 #include <algorithm>
@@ -1372,6 +1374,49 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
       EXPECT_EQ(loaded.jaw->back[1], 0.5f);
     }
   }
+}
+
+// Tension regions in both forms: a region on fewer than half the vertices is saved sparse
+// ("vertices" + one weight each), a wider one dense (one weight per vertex); both read back to
+// what was saved; a sparse region given by hand parses as written.
+TEST(RigJsonTest, TensionRegionsSaveSparseWhenShorterAndRoundTrip) {
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseRigSpec(Extra(R"("tension_regions": [{"name": "a", "vertices": [1, 4], )"
+                                 R"("weights": [0.5, 1]}])"),
+                           "", &spec, &diag))
+      << diag.Format();
+  ASSERT_EQ(spec.tension_regions.size(), 1u);
+  EXPECT_TRUE(spec.tension_regions[0].sparse);
+  EXPECT_EQ(spec.tension_regions[0].vertices, (std::vector<uint32_t>{1, 4}));
+  EXPECT_EQ(spec.tension_regions[0].weights, (std::vector<float>{0.5f, 1.f}));
+  TensionRegionSpec narrow{"narrow", 0.2f, {0.f, 0.f, 0.75f, 0.f, 0.f, 0.f, 0.25f, 0.f}};
+  TensionRegionSpec wide{"wide", 0.1f, {0.f, 1.f, 1.f, 1.f, 0.5f, 0.f, 0.f, 1.f}};
+  TensionRegionSpec none{"none", 0.1f, std::vector<float>(8, 0.f)};
+  spec.tension_regions = {narrow, wide, none};
+  const std::string dir = test::TempDir();
+  const std::string path = dir + "/regions.rig.json";
+  spec.file = path;
+  spec.mesh_path = dir + "/surface.obj";
+  ASSERT_TRUE(SaveRigSpec(path, spec, &diag)) << diag.Format();
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
+  const nlohmann::json& regions = j["tension_regions"];
+  ASSERT_EQ(regions.size(), 3u);
+  EXPECT_EQ(regions[0]["vertices"], (std::vector<int>{2, 6}));
+  EXPECT_EQ(regions[0]["weights"], (std::vector<double>{0.75, 0.25}));
+  EXPECT_FALSE(regions[1].contains("vertices"));  // 5 of 8 non-zero: dense is shorter
+  EXPECT_EQ(regions[1]["weights"].size(), 8u);
+  EXPECT_EQ(regions[2]["vertices"].size(), 0u);   // all zero: sparse and empty
+  RigSpec loaded;
+  ASSERT_TRUE(LoadRigSpec(path, &loaded, &diag)) << diag.Format();
+  ASSERT_EQ(loaded.tension_regions.size(), 3u);
+  EXPECT_TRUE(loaded.tension_regions[0].sparse);
+  EXPECT_EQ(loaded.tension_regions[0].vertices, (std::vector<uint32_t>{2, 6}));
+  EXPECT_EQ(loaded.tension_regions[0].weights, (std::vector<float>{0.75f, 0.25f}));
+  EXPECT_FALSE(loaded.tension_regions[1].sparse);
+  EXPECT_EQ(loaded.tension_regions[1].weights, wide.weights);
+  EXPECT_TRUE(loaded.tension_regions[2].sparse);
+  EXPECT_TRUE(loaded.tension_regions[2].weights.empty());
 }
 
 TEST(RigJsonTest, SchemaAgreesWithTheLoader) {

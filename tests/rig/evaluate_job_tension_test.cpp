@@ -265,6 +265,50 @@ TEST(EvaluateJobTension, RegionsComeThroughTheBuilderAndCompressionIsTheLargestE
   }
 }
 
+// The rig file's sparse form (TensionRegionSpec::vertices) builds the same regions as the dense
+// weights it lists; a bad index list or a weight count that does not match is an error.
+TEST(EvaluateJobTension, SparseRegionsBuildTheSameRigAsDenseOnes) {
+  const Surface s = MakeSurfaceWithRegions(20, 2);
+  RigSpec sparse = s.spec;
+  for (TensionRegionSpec& g : sparse.tension_regions) {
+    std::vector<float> w;
+    for (uint32_t v = 0; v < g.weights.size(); ++v)
+      if (g.weights[v] != 0.f) {
+        g.vertices.push_back(v);
+        w.push_back(g.weights[v]);
+      }
+    g.weights = w;
+    g.sparse = true;
+  }
+  ASSERT_LT(sparse.tension_regions[0].vertices.size(), s.mesh.vertex_count());
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(sparse, s.mesh, {}, &rig, &diag)) << diag.Format();
+  const RigTensionRegions& a = rig.tension_regions();
+  const RigTensionRegions& b = s.rig.tension_regions();
+  EXPECT_EQ(a.names, b.names);
+  EXPECT_EQ(a.references, b.references);
+  EXPECT_EQ(a.offsets, b.offsets);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.weights, b.weights);
+  RigSpec bad = sparse;
+  bad.tension_regions[0].weights.pop_back();
+  Diagnostics count;
+  EXPECT_FALSE(BuildRig(bad, s.mesh, {}, &rig, &count));
+  EXPECT_TRUE(count.Contains("tension_regions[0] (left).weights")) << count.Format();
+  EXPECT_TRUE(count.Contains("expected one value per entry of vertices")) << count.Format();
+  bad = sparse;
+  std::swap(bad.tension_regions[1].vertices[0], bad.tension_regions[1].vertices[1]);
+  Diagnostics order;
+  EXPECT_FALSE(BuildRig(bad, s.mesh, {}, &rig, &order));
+  EXPECT_TRUE(order.Contains("tension_regions[1] (right).vertices[1]")) << order.Format();
+  bad = sparse;
+  bad.tension_regions[1].vertices.back() = uint32_t(s.mesh.vertex_count());
+  Diagnostics range;
+  EXPECT_FALSE(BuildRig(bad, s.mesh, {}, &rig, &range));
+  EXPECT_TRUE(range.Contains("expected ascending vertex indices below the mesh's")) << range.Format();
+}
+
 TEST(EvaluateJobTension, BitIdenticalSplitsZeroAllocationAndNoEffectOnPositions) {
   const Surface s = MakeSurfaceWithRegions(50, 8);
   std::vector<float> act = SomeActivations(s.rig);
