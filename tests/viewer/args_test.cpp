@@ -11,7 +11,7 @@ TEST(ViewerArgs, AScreenshotWithEveryOption) {
   std::string error;
   ASSERT_TRUE(ParseViewerArgs({"head.rig.json", "--clip", "c.clip.json", "--time=1.5",
                                "--screenshot", "out.PNG", "--size", "640x360", "--overlay",
-                               "compression", "--view", "three-quarter", "--ui"},
+                               "compression", "--view", "three-quarter", "--ui", "--select", "m"},
                               &a, &error))
       << error;
   EXPECT_EQ(a.rig, "head.rig.json");
@@ -24,6 +24,7 @@ TEST(ViewerArgs, AScreenshotWithEveryOption) {
   EXPECT_EQ(a.overlay, Overlay::kCompression);
   EXPECT_EQ(a.view, ViewPreset::kThreeQuarter);
   EXPECT_TRUE(a.ui);
+  EXPECT_EQ(a.select, "m");
   EXPECT_TRUE(a.headless());
 }
 
@@ -54,6 +55,7 @@ TEST(ViewerArgs, UsageErrorsNameTheOption) {
       {{"r", "--clip", "c", "--time", "-1"}, "--time -1"},
       {{"r", "--clip", "c", "--set", "a=1"}, "exclude each other"},
       {{"r", "--overlay", "wrinkle"}, "need --screenshot"},
+      {{"r", "--select", "frontalis_inner_L"}, "need --screenshot"},
       {{"--screenshot", "o.png"}, "need RIG"},
       {{"a", "b"}, "at most one RIG"},
       {{"r", "--bench-frames", "2.5"}, "--bench-frames 2.5"},

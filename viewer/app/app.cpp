@@ -92,7 +92,12 @@ void App::UpdateGizmos() {
     const std::vector<float3>& pos = session.positions();
     for (const RigMuscleWrinkles& w : rig.muscle_wrinkles()) {
       if (w.muscle != m) continue;
-      for (uint32_t p : w.points) {
+      // At most about kMaxRegionDots dots, evenly taken: the region stays readable as a
+      // stipple over the skin instead of a solid patch.
+      constexpr size_t kMaxRegionDots = 1200;
+      const size_t step = std::max<size_t>(1, (w.points.size() + kMaxRegionDots - 1) / kMaxRegionDots);
+      for (size_t i = 0; i < w.points.size(); i += step) {
+        const uint32_t p = w.points[i];
         if (p < point_vertex.size() && point_vertex[p] < pos.size()) {
           points.push_back(pos[point_vertex[p]]);
           point_colors.push_back(magenta);

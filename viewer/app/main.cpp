@@ -86,6 +86,14 @@ int Headless(const ViewerArgs& args, App* app, GLFWwindow* window) {
   PrintMessages(app->session);  // warnings
   app->overlay = args.overlay;
   app->camera.SetPreset(args.view);
+  if (!args.select.empty()) {
+    app->selected_muscle = app->session.rig().FindMuscle(args.select);
+    if (app->selected_muscle < 0) {
+      std::fprintf(stderr, "error: --select %s: the rig %s has no such muscle\n",
+                   args.select.c_str(), args.rig.c_str());
+      return kExitInput;
+    }
+  }
   if (app->pose_from_clip) app->session.SampleClip(app->clip_time);
   const int w = args.width, h = args.height;
   if (!app->renderer.BindOffscreen(w, h)) {

@@ -103,6 +103,10 @@ void MusclesPanel(App* app) {
     return;
   }
   const Rig& rig = s.rig();
+  if (app->selected_muscle >= 0)
+    ImGui::Text("gizmos: %s", rig.muscle_names()[size_t(app->selected_muscle)].c_str());
+  if (app->selected_muscle >= 0 && s.loaded().spec.muscles.empty())
+    ImGui::TextDisabled("(a .mrig keeps no attachment or zone: wrinkling region only)");
   ImGui::Checkbox("link left/right", &app->link_sides);
   ImGui::SameLine();
   if (ImGui::Button("Reset")) {
@@ -141,6 +145,7 @@ void ExpressionsPanel(App* app, float width) {
   ImGui::SetNextWindowPos(ImVec2(width - 330, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(320, 300), ImGuiCond_FirstUseEver);
   ImGui::Begin("Expressions");
+  ImGui::PushItemWidth(150);
   Session& s = app->session;
   ImGui::TextWrapped("%s", s.library_path().empty() ? "no library" : s.library_path().c_str());
   bool changed = false;
@@ -162,12 +167,13 @@ void ExpressionsPanel(App* app, float width) {
     app->pose_from_clip = false;
     app->dirty = true;
   }
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 
 void ClipPanel(App* app, float width, float height) {
-  ImGui::SetNextWindowPos(ImVec2(350, height - 230), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(width - 700, 220), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(ImVec2(350, height - 130), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(width - 700, 120), ImGuiCond_FirstUseEver);
   ImGui::Begin("Clip");
   Session& s = app->session;
   if (!s.has_clip()) {

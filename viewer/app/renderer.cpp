@@ -67,7 +67,7 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_color;
 uniform mat4 u_view_projection;
 out vec3 v_color;
-void main() { v_color = a_color; gl_Position = u_view_projection * vec4(a_position, 1.0); gl_PointSize = 4.0; }
+void main() { v_color = a_color; gl_Position = u_view_projection * vec4(a_position, 1.0); gl_PointSize = 3.0; }
 )";
 
 const char* kLineFragment = R"(#version 330 core
@@ -247,10 +247,12 @@ void Renderer::Draw(const DrawParams& p) {
                        glm::value_ptr(vp));
     glBindVertexArray(gizmo_vao_);
     glEnable(GL_PROGRAM_POINT_SIZE);
-    glDepthFunc(GL_ALWAYS);  // gizmos sit under the skin (attachments are on the bone)
-    glDrawArrays(GL_LINES, 0, GLsizei(gizmo_lines_));
+    // The region's points on the skin first, then the lines over everything: a muscle's
+    // attachment lies under the skin, on the bone.
     glDepthFunc(GL_LEQUAL);
     glDrawArrays(GL_POINTS, GLsizei(gizmo_lines_), GLsizei(gizmo_points_));
+    glDepthFunc(GL_ALWAYS);
+    glDrawArrays(GL_LINES, 0, GLsizei(gizmo_lines_));
     glDepthFunc(GL_LESS);
   }
   glBindVertexArray(0);

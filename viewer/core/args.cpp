@@ -33,7 +33,7 @@ const char* ViewerUsage() {
   return "usage: mimetic-viewer [RIG] [--clip CLIP] [--library LIB]\n"
          "                      [--time T | --set NAME=VALUE ...]\n"
          "                      [--screenshot OUT.png [--size WxH] [--overlay NAME]\n"
-         "                       [--view front|side|three-quarter] [--ui]]\n"
+         "                       [--view front|side|three-quarter] [--ui] [--select MUSCLE]]\n"
          "                      [--bench-frames N] [--threads N]\n\n"
          "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
          "overlays, a slider per muscle, expressions and clips (docs/viewer.md). A file that\n"
@@ -52,6 +52,8 @@ const char* ViewerUsage() {
          "                       compression, wrinkle, thickness, displacement\n"
          "  --view V             the camera preset: front (default), side, three-quarter\n"
          "  --ui                 draw the panels into the screenshot\n"
+         "  --select MUSCLE      draw MUSCLE's gizmos (attachment, insertion, zone or sheet\n"
+         "                       outline, wrinkling region) in the screenshot\n"
          "  --bench-frames N     evaluate, upload and draw N frames headless (playing the clip\n"
          "                       if one is given) and print the mean and worst times\n"
          "  --threads N          evaluation threads (default: the hardware's; 1 = serial)\n"
@@ -82,7 +84,7 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       continue;
     }
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
-                                    "--size", "--overlay", "--view", "--bench-frames",
+                                    "--size", "--overlay", "--view", "--select", "--bench-frames",
                                     "--threads"};
     bool valued = false;
     for (const char* k : kValued) valued = valued || a == k;
@@ -105,6 +107,8 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->clip = value;
     } else if (a == "--library") {
       out->library = value;
+    } else if (a == "--select") {
+      out->select = value;
     } else if (a == "--set") {
       out->sets.push_back(value);
     } else if (a == "--screenshot") {
@@ -169,9 +173,11 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
     *error = "--set and --clip exclude each other (the clip sets the activations)";
     return false;
   }
-  if ((has_size || has_overlay || has_view || out->ui) && out->screenshot.empty() &&
+  if ((has_size || has_overlay || has_view || out->ui || !out->select.empty()) &&
+      out->screenshot.empty() &&
       out->bench_frames == 0) {
-    *error = "--size, --overlay, --view and --ui need --screenshot OUT.png (or --bench-frames)";
+    *error = "--size, --overlay, --view, --ui and --select need --screenshot OUT.png (or "
+             "--bench-frames)";
     return false;
   }
   if (out->headless() && out->rig.empty()) {

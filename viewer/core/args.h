@@ -1,7 +1,7 @@
 // viewer/core/args.h: mimetic-viewer's command line (docs/viewer.md "Command line").
 //
 //   mimetic-viewer [RIG] [--clip CLIP] [--library LIB] [--time T | --set NAME=V ...]
-//                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui]]
+//                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]]
 //                  [--bench-frames N] [--threads N]
 #pragma once
 
@@ -25,6 +25,7 @@ struct ViewerArgs {
   Overlay overlay = Overlay::kNone;  // --overlay
   ViewPreset view = ViewPreset::kFront;  // --view
   bool ui = false;                // --ui: draw the panels into the screenshot
+  std::string select;             // --select MUSCLE: the muscle whose gizmos are drawn
   int bench_frames = 0;           // --bench-frames N (>= 1): time N frames headless and exit
   int threads = 0;                // --threads N: evaluation threads (0: hardware threads)
   bool help = false;              // --help / -h
@@ -34,7 +35,7 @@ struct ViewerArgs {
 // Parses `args` (without the program name). On a usage problem returns false with `error` set
 // to one line naming the option and what was expected; the caller prints it with the usage
 // and exits 2. Rules: --time needs --clip; --set and --clip exclude each other; --size, --overlay,
-// --view and --ui need --screenshot; a headless run needs RIG; --screenshot ends in .png.
+// --view, --ui and --select need --screenshot; a headless run needs RIG; --screenshot ends in .png.
 bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std::string* error);
 
 // The usage text (--help).
