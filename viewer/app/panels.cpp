@@ -92,9 +92,9 @@ void ScenePanel(App* app) {
   ImGui::End();
 }
 
-void MusclesPanel(App* app) {
-  ImGui::SetNextWindowPos(ImVec2(10, 520), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(330, 400), ImGuiCond_FirstUseEver);
+void MusclesPanel(App* app, float height) {
+  ImGui::SetNextWindowPos(ImVec2(10, 570), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330, std::max(150.f, height - 580)), ImGuiCond_FirstUseEver);
   ImGui::Begin("Muscles");
   Session& s = app->session;
   if (!s.has_rig()) {
@@ -118,6 +118,7 @@ void MusclesPanel(App* app) {
     app->pose_from_clip = false;
     app->dirty = true;
   }
+  ImGui::PushItemWidth(120);
   for (const MuscleGroup& g : GroupMuscles(rig.muscle_names())) {
     if (!ImGui::CollapsingHeader(g.region.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
     for (uint32_t m : g.muscles) {
@@ -138,6 +139,7 @@ void MusclesPanel(App* app) {
       ImGui::PopID();
     }
   }
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 
@@ -286,7 +288,7 @@ void HoverTooltip(App* app) {
 void DrawPanels(App* app, float width, float height) {
   FilesPanel(app);
   ScenePanel(app);
-  MusclesPanel(app);
+  MusclesPanel(app, height);
   ExpressionsPanel(app, width);
   ClipPanel(app, width, height);
   MessagesPanel(app, width, height);
