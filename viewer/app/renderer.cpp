@@ -76,20 +76,27 @@ out vec4 frag;
 void main() { frag = vec4(v_color, 1.0); }
 )";
 
+// True when the shader (program = false) compiled or the program linked; else `error` gets
+// `what` and the GL info log.
+bool Succeeded(unsigned object, bool program, const char* what, std::string* error) {
+  GLint ok = 0;
+  if (program) glGetProgramiv(object, GL_LINK_STATUS, &ok);
+  else glGetShaderiv(object, GL_COMPILE_STATUS, &ok);
+  if (ok) return true;
+  char log[2048] = "";
+  if (program) glGetProgramInfoLog(object, sizeof log, nullptr, log);
+  else glGetShaderInfoLog(object, sizeof log, nullptr, log);
+  *error = std::string(what) + ": " + log;
+  return false;
+}
+
 unsigned Compile(GLenum kind, const char* source, std::string* error) {
   const unsigned shader = glCreateShader(kind);
   glShaderSource(shader, 1, &source, nullptr);
   glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    *error = std::string("shader does not compile: ") + log;
-    glDeleteShader(shader);
-    return 0;
-  }
-  return shader;
+  if (Succeeded(shader, false, "shader does not compile", error)) return shader;
+  glDeleteShader(shader);
+  return 0;
 }
 
 unsigned Link(const char* vs, const char* fs, std::string* error) {
@@ -103,16 +110,9 @@ unsigned Link(const char* vs, const char* fs, std::string* error) {
   glLinkProgram(program);
   glDeleteShader(v);
   glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    *error = std::string("shader program does not link: ") + log;
-    glDeleteProgram(program);
-    return 0;
-  }
-  return program;
+  if (Succeeded(program, true, "shader program does not link", error)) return program;
+  glDeleteProgram(program);
+  return 0;
 }
 
 void Attribute(unsigned vbo, unsigned location) {

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "geometry/ray_triangle.h"
+
 namespace mimetic::viewer {
 
 bool PickTriangle(span<const float3> positions, span<const uint32_t> indices,
@@ -13,19 +15,11 @@ bool PickTriangle(span<const float3> positions, span<const uint32_t> indices,
   for (size_t t = 0; t + 2 < indices.size(); t += 3) {
     const uint32_t ia = indices[t], ib = indices[t + 1], ic = indices[t + 2];
     if (ia >= nv || ib >= nv || ic >= nv) return false;
-    const float3 a = positions[ia], e1 = positions[ib] - a, e2 = positions[ic] - a;
-    const float3 p = Cross(direction, e2);
-    const float det = Dot(e1, p);
-    if (std::fabs(det) < 1e-12f) continue;
-    const float inv = 1.f / det;
-    const float3 s = origin - a;
-    const float u = Dot(s, p) * inv;
-    if (u < 0.f || u > 1.f) continue;
-    const float3 q = Cross(s, e1);
-    const float w = Dot(direction, q) * inv;
-    if (w < 0.f || u + w > 1.f) continue;
-    const float d = Dot(e2, q) * inv;
-    if (d <= 0.f || d >= best) continue;
+    float d = 0.f, u = 0.f, w = 0.f;
+    if (!RayTriangle(origin, direction, positions[ia], positions[ib], positions[ic], &d, &u, &w,
+                     1e-12f) ||
+        d >= best)
+      continue;
     best = d;
     found = true;
     hit->triangle = uint32_t(t / 3);
