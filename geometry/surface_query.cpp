@@ -8,6 +8,7 @@
 
 #include "geometry/closest_point.h"
 #include "geometry/normals.h"
+#include "geometry/ray_triangle.h"
 
 namespace mimetic {
 namespace {
@@ -131,22 +132,12 @@ SurfaceQuery::Hit SurfaceQuery::Raycast(float3 o, float3 dir) const {
     }
     for (uint32_t i = n.first; i < n.first + n.count; ++i) {
       const uint32_t t = order_[i];
-      // Moller-Trumbore, both sides.
-      const float3 a = mesh_.positions[mesh_.indices[3 * t]];
-      const float3 e1 = mesh_.positions[mesh_.indices[3 * t + 1]] - a;
-      const float3 e2 = mesh_.positions[mesh_.indices[3 * t + 2]] - a;
-      const float3 pv = Cross(d, e2);
-      const float det = Dot(e1, pv);
-      if (std::fabs(det) < 1e-20f) continue;
-      const float inv_det = 1.f / det;
-      const float3 tv = o - a;
-      const float u = Dot(tv, pv) * inv_det;
-      if (u < 0.f || u > 1.f) continue;
-      const float3 qv = Cross(tv, e1);
-      const float v = Dot(d, qv) * inv_det;
-      if (v < 0.f || u + v > 1.f) continue;
-      const float tt = Dot(e2, qv) * inv_det;
-      if (tt > 0.f && tt < best) best = tt, best_tri = t;
+      float tt = 0.f, u = 0.f, v = 0.f;
+      if (RayTriangle(o, d, mesh_.positions[mesh_.indices[3 * t]],
+                      mesh_.positions[mesh_.indices[3 * t + 1]],
+                      mesh_.positions[mesh_.indices[3 * t + 2]], &tt, &u, &v) &&
+          tt < best)
+        best = tt, best_tri = t;
     }
   }
   if (best == kInf) return hit;

@@ -43,7 +43,11 @@ static std::string Quote(const std::string& s) {
 }
 
 ToolResult RunTool(const std::vector<std::string>& args) {
-  std::string cmd = Quote(MIMETIC_TOOL_PATH);
+  return RunCommand(Quote(MIMETIC_TOOL_PATH), args);
+}
+
+ToolResult RunCommand(const std::string& command, const std::vector<std::string>& args) {
+  std::string cmd = command;
   for (const std::string& a : args) cmd += " " + Quote(a);
   cmd += " 2>&1";
   ToolResult result;
@@ -56,5 +60,7 @@ ToolResult RunTool(const std::vector<std::string>& args) {
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
 }
+
+std::string ShellQuote(const std::string& s) { return Quote(s); }
 
 }  // namespace mimetic::test

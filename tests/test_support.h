@@ -21,5 +21,9 @@ struct ToolResult {
 };
 // Runs the built `mimetic` tool with `args` (each quoted for the shell).
 ToolResult RunTool(const std::vector<std::string>& args);
+// Runs `command` (shell text, already quoted) with `args` appended, each quoted.
+ToolResult RunCommand(const std::string& command, const std::vector<std::string>& args);
+// `s` quoted for the shell.
+std::string ShellQuote(const std::string& s);
 
 }  // namespace mimetic::test

@@ -2,25 +2,25 @@
 # Installs what mimetic needs to build and test on Debian 12, non-interactively and
 # idempotently: packages already present are not touched, and apt-get runs only when
 # something is missing. Run as root (CI and the README's commands do).
-#   bash tools/install-deps.sh            # build + tests + benchmark
-#   bash tools/install-deps.sh --viewer   # also GLFW, Dear ImGui and Xvfb for the viewer
+#   bash tools/install-deps.sh            # build + tests + benchmark + viewer (+ node tools)
+#   bash tools/install-deps.sh --viewer   # the same packages, without the npm tools
 #   bash tools/install-deps.sh --fuzz     # also clang and its libFuzzer runtime (fuzz/)
 set -euo pipefail
 
 # Why each is here (README "Dependencies"): the toolchain; nlohmann-json (the JSON reader),
 # tinygltf (glTF), OpenMesh (OBJ reading, offline geometry), stb (images) for the offline io
 # module; Eigen (bounded least squares, offline fitting); GoogleTest and Google Benchmark for
-# tests/ and bench/; python3-jsonschema checks the rig schema in a test. The runtime
-# libraries need none of them.
+# tests/ and bench/; python3-jsonschema checks the rig schema in a test; GLFW, Dear ImGui
+# 1.86, OpenGL and GLM for the viewer (built by default when they are found, docs/viewer.md),
+# Xvfb and xauth (xvfb-run) for its headless screenshots, and Mesa's software OpenGL under
+# it. The runtime libraries need none of them.
 packages=(
   build-essential cmake pkg-config git
   nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libstb-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
+  libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth libgl1-mesa-dri
 )
-if [[ "${1:-}" == "--viewer" ]]; then
-  packages+=(libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth)
-fi
 if [[ "${1:-}" == "--fuzz" ]]; then
   packages+=(clang libclang-rt-14-dev)  # Debian 12's clang 14; the runtime holds libFuzzer
 fi

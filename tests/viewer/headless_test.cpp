@@ -1,0 +1,178 @@
+// mimetic-viewer headless (docs/viewer.md "Headless"): screenshots under xvfb-run with Mesa.
+// The sample head's image is not blank; Surprise at its peak changes the forehead and leaves the
+// chin; an overlay differs from the shading; a broken rig exits 1 with its message; a missing
+// rig on the command line opens the window (still running when the test stops it).
+// Without xvfb-run the tests skip (CI, which installs it, fails instead).
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "core/image.h"
+#include "io/image.h"
+#include "test_support.h"
+
+namespace mimetic::viewer {
+namespace {
+
+bool HaveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+
+#define REQUIRE_XVFB()                                                                      \
+  do {                                                                                      \
+    if (!HaveXvfb()) {                                                                      \
+      if (std::getenv("CI")) FAIL() << "xvfb-run is missing (bash tools/install-deps.sh)";  \
+      GTEST_SKIP() << "xvfb-run is missing (bash tools/install-deps.sh installs it)";       \
+    }                                                                                       \
+  } while (0)
+
+// Leak detection is off for the viewer's process only: under Xvfb, LeakSanitizer reports two
+// 56-byte callocs made from an "<unknown module>" (the Mesa DRI driver that libGL dlopens and
+// unloads at exit, so neither a frame nor a suppression can name it). The viewer's own memory is
+// still checked by AddressSanitizer (bounds, use after free) and UBSan here, and by the GL-free
+// tests of viewer_core (tests/viewer/*_test.cpp but this one), which run with leak detection.
+const char* kViewer = "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 xvfb-run -a ";
+
+test::ToolResult RunViewer(const std::vector<std::string>& args) {
+  return test::RunCommand(kViewer + test::ShellQuote(MIMETIC_VIEWER_PATH), args);
+}
+
+std::string Head() { return test::SourceDir() + "/assets/head/sample_head.rig.json"; }
+std::string Clip(const std::string& name) {
+  return test::SourceDir() + "/assets/clips/" + name + ".clip.json";
+}
+
+GrayImage Screenshot(const std::vector<std::string>& args, const std::string& name) {
+  const std::string out = test::TempDir() + "/" + name + ".png";
+  std::vector<std::string> all = args;
+  all.insert(all.end(), {"--screenshot", out, "--size", "640x360"});
+  const test::ToolResult r = RunViewer(all);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  GrayImage image;
+  Diagnostics diag;
+  EXPECT_TRUE(LoadGrayImage(out, "test", "screenshot", &image, &diag)) << diag.Format();
+  return image;
+}
+
+// Rows [top, bottom) of the head's silhouette: pixels that differ from the corner's colour.
+struct Box {
+  int top = 0, bottom = 0, left = 0, right = 0;
+};
+Box Silhouette(const GrayImage& g) {
+  const int bg = g.pixels[0];
+  Box b{g.height, 0, g.width, 0};
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x)
+      if (std::abs(int(g.pixels[size_t(y) * g.width + x]) - bg) > 3) {
+        b.top = std::min(b.top, y);
+        b.bottom = std::max(b.bottom, y + 1);
+        b.left = std::min(b.left, x);
+        b.right = std::max(b.right, x + 1);
+      }
+  return b;
+}
+
+// Mean absolute difference of two images over rows [y0, y1) and columns [x0, x1).
+double MeanDifference(const GrayImage& a, const GrayImage& b, int y0, int y1, int x0, int x1) {
+  double sum = 0.0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x)
+      sum += std::abs(int(a.pixels[size_t(y) * a.width + x]) - int(b.pixels[size_t(y) * b.width + x]));
+  return sum / std::max(1, (y1 - y0) * (x1 - x0));
+}
+
+TEST(ViewerHeadless, SampleHeadScreenshotIsNotBlank) {
+  REQUIRE_XVFB();
+  const GrayImage g = Screenshot({Head()}, "neutral");
+  ASSERT_EQ(g.width, 640);
+  ASSERT_EQ(g.height, 360);
+  const Box b = Silhouette(g);
+  // The framed head spans most of the height and a sensible part of the width.
+  EXPECT_GT(b.bottom - b.top, 180);
+  EXPECT_GT(b.right - b.left, 100);
+  // Shaded, not flat: many grey levels on the face.
+  std::vector<int> seen(256, 0);
+  for (uint8_t p : g.pixels) seen[p] = 1;
+  int levels = 0;
+  for (int s : seen) levels += s;
+  EXPECT_GT(levels, 60);
+}
+
+TEST(ViewerHeadless, SurprisePeakMovesTheForeheadAndNotTheChin) {
+  REQUIRE_XVFB();
+  const GrayImage neutral = Screenshot({Head()}, "neutral");
+  // surprise.clip.json holds Surprise at weight 1 from 0.6 s to 1.7 s.
+  const GrayImage peak = Screenshot({Head(), "--clip", Clip("surprise"), "--time", "1.0"}, "peak");
+  ASSERT_EQ(neutral.pixels.size(), peak.pixels.size());
+  const Box b = Silhouette(neutral);
+  const int h = b.bottom - b.top;
+  // The forehead: 15-35% down the silhouette; the chin: its last 15%.
+  const double forehead = MeanDifference(neutral, peak, b.top + h * 15 / 100, b.top + h * 35 / 100,
+                                         b.left, b.right);
+  const double chin = MeanDifference(neutral, peak, b.top + h * 85 / 100, b.bottom, b.left, b.right);
+  EXPECT_GT(forehead, 2.0) << "forehead " << forehead << ", chin " << chin;
+  EXPECT_LT(chin, 0.5) << "forehead " << forehead << ", chin " << chin;
+}
+
+TEST(ViewerHeadless, OverlayScreenshotDiffersFromTheShadedOne) {
+  REQUIRE_XVFB();
+  const std::vector<std::string> pose = {Head(), "--set", "frontalis_inner=1", "--set",
+                                         "frontalis_major=1"};
+  const GrayImage shaded = Screenshot(pose, "shaded");
+  std::vector<std::string> with_overlay = pose;
+  with_overlay.insert(with_overlay.end(), {"--overlay", "displacement"});
+  const GrayImage overlay = Screenshot(with_overlay, "overlay");
+  const Box b = Silhouette(shaded);
+  EXPECT_GT(MeanDifference(shaded, overlay, b.top, b.bottom, b.left, b.right), 10.0);
+  // The background is the same.
+  EXPECT_EQ(shaded.pixels[0], overlay.pixels[0]);
+}
+
+TEST(ViewerHeadless, PanelsDrawIntoTheScreenshot) {
+  REQUIRE_XVFB();
+  // The small test surface, every panel, an overlay: the panels cover the top-left corner.
+  const std::string surface = test::SourceDir() + "/assets/surface/surface.rig.json";
+  const GrayImage plain = Screenshot({surface, "--overlay", "area-ratio"}, "plain");
+  const GrayImage ui = Screenshot({surface, "--overlay", "area-ratio", "--ui"}, "ui");
+  EXPECT_GT(MeanDifference(plain, ui, 0, 100, 0, 200), 5.0);
+}
+
+TEST(ViewerHeadless, ABrokenRigExits1WithItsMessages) {
+  REQUIRE_XVFB();
+  const std::string bad = test::SourceDir() + "/tests/data/bad/rig_mesh_missing.json";
+  const std::string out = test::TempDir() + "/never.png";
+  const test::ToolResult r = RunViewer({bad, "--screenshot", out});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("rig_mesh_missing.json"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no screenshot was written"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // A clip that does not build on the rig: exit 1 naming the clip's problem.
+  const test::ToolResult c = RunViewer({test::SourceDir() + "/assets/surface/surface.rig.json",
+                                        "--clip", test::SourceDir() + "/tests/data/bad/clip_unknown_muscle.clip.json",
+                                        "--screenshot", out});
+  EXPECT_EQ(c.exit_code, 1) << c.output;
+  EXPECT_NE(c.output.find("zygomatc"), std::string::npos) << c.output;
+}
+
+TEST(ViewerHeadless, UsageErrorsExit2) {
+  const test::ToolResult r = test::RunCommand(test::ShellQuote(MIMETIC_VIEWER_PATH),
+                                              {"--overlay", "bogus", "--screenshot", "o.png", "r"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--overlay bogus"), std::string::npos) << r.output;
+  const test::ToolResult h = test::RunCommand(test::ShellQuote(MIMETIC_VIEWER_PATH), {"--help"});
+  EXPECT_EQ(h.exit_code, 0);
+  EXPECT_NE(h.output.find("usage: mimetic-viewer"), std::string::npos);
+}
+
+TEST(ViewerHeadless, AMissingRigOpensTheWindowInsteadOfExiting) {
+  REQUIRE_XVFB();
+  // Interactive: the window opens with the message in its Messages panel; `timeout` stops it
+  // after 3 s (exit 124: it was still running).
+  const test::ToolResult r = test::RunCommand(
+      "ASAN_OPTIONS=detect_leaks=0 timeout -s INT -k 5 4 xvfb-run -a " + test::ShellQuote(MIMETIC_VIEWER_PATH),
+      {test::TempDir() + "/no_such.rig.json"});
+  EXPECT_EQ(r.exit_code, 124) << r.output;
+}
+
+}  // namespace
+}  // namespace mimetic::viewer

@@ -1,0 +1,121 @@
+// The viewer's session (viewer/core/session.h): a file that fails to load keeps the last good
+// state and reports every message; --set, the expression blend and the clip pose the rig; the
+// displacement overlay equals |posed - rest| of an independent PosedMesh.
+#include "viewer/core/session.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "rig/offline/rig_builder.h"
+#include "test_support.h"
+
+namespace mimetic::viewer {
+namespace {
+
+std::string Surface() { return test::SourceDir() + "/assets/surface/surface.rig.json"; }
+
+bool AnyMessageContains(const Session& s, const std::string& needle) {
+  for (const Message& m : s.messages())
+    if (m.text.find(needle) != std::string::npos) return true;
+  return false;
+}
+
+TEST(ViewerSession, ABrokenRigKeepsTheLastGoodOne) {
+  Session s(1);
+  ASSERT_TRUE(s.LoadRigFile(Surface()));
+  const uint32_t vertices = s.rig().vertex_count();
+  const std::string bad = test::SourceDir() + "/tests/data/bad/rig_mesh_missing.json";
+  EXPECT_FALSE(s.LoadRigFile(bad));
+  ASSERT_TRUE(s.has_rig());
+  EXPECT_EQ(s.rig_path(), Surface());
+  EXPECT_EQ(s.rig().vertex_count(), vertices);
+  EXPECT_TRUE(AnyMessageContains(s, "rig_mesh_missing.json"));
+  EXPECT_TRUE(AnyMessageContains(s, "still showing"));
+  EXPECT_FALSE(s.LoadRigFile(test::TempDir() + "/no_such.rig.json"));
+  EXPECT_TRUE(AnyMessageContains(s, "no_such.rig.json"));
+  EXPECT_TRUE(s.Evaluate(Overlay::kNone));
+}
+
+TEST(ViewerSession, ABrokenClipOrLibraryChangesNothing) {
+  Session s(1);
+  EXPECT_FALSE(s.LoadClipFile(test::SourceDir() + "/assets/clips/smile.clip.json"));
+  EXPECT_TRUE(AnyMessageContains(s, "no rig is loaded"));
+  ASSERT_TRUE(s.LoadRigFile(Surface()));
+  EXPECT_FALSE(s.LoadClipFile(test::SourceDir() + "/tests/data/bad/clip_unknown_muscle.clip.json"));
+  EXPECT_FALSE(s.has_clip());
+  EXPECT_TRUE(AnyMessageContains(s, "zygomatc"));
+  EXPECT_FALSE(s.LoadLibraryFile(test::SourceDir() + "/tests/data/bad/clip_not_json.clip.json"));
+  EXPECT_TRUE(s.library().empty());
+}
+
+TEST(ViewerSession, SettingsBlendAndClipPoseTheRig) {
+  Session s(2);
+  ASSERT_TRUE(s.LoadRigFile(Surface()));
+  const int zyg = s.rig().FindMuscle("zygomatic"), front = s.rig().FindMuscle("frontalis");
+  ASSERT_GE(zyg, 0);
+  ASSERT_GE(front, 0);
+  ASSERT_TRUE(s.ApplySettings({"zygomatic=0.75"}));
+  EXPECT_FLOAT_EQ(s.activations[size_t(zyg)], 0.75f);
+  EXPECT_FALSE(s.ApplySettings({"zygomatc=1"}));  // unknown: the pose is kept
+  EXPECT_FLOAT_EQ(s.activations[size_t(zyg)], 0.75f);
+  EXPECT_TRUE(AnyMessageContains(s, "zygomatc"));
+
+  // The displacement overlay is |posed - rest| of the same pose through PosedMesh.
+  ASSERT_TRUE(s.Evaluate(Overlay::kDisplacement));
+  MeshData posed;
+  ASSERT_TRUE(PosedMesh(s.rig(), s.activations, SkinLayers{}, &posed));
+  const MeshData rest = RestMesh(s.rig());
+  const OverlayField& f = s.overlay_field();
+  ASSERT_EQ(f.values.size(), posed.positions.size());
+  float largest = 0.f;
+  for (size_t v = 0; v < posed.positions.size(); ++v) {
+    EXPECT_NEAR(f.values[v], Length(posed.positions[v] - rest.positions[v]), 1e-4f) << v;
+    largest = std::max(largest, f.values[v]);
+  }
+  EXPECT_GT(largest, 0.1f);
+  EXPECT_FLOAT_EQ(f.max_value, largest);
+
+  // Blend: 0.5 A + 1.0 B with A = {zygomatic 0.8, frontalis 0.4}, B = {frontalis 0.9}:
+  // zygomatic 0.4, frontalis min(1, 0.2 + 0.9) = 1.
+  const std::string lib = test::TempDir() + "/two.library.json";
+  std::ofstream(lib) << R"({"format": "mimetic-expression-library", "version": 1, "expressions": [
+    {"name": "A", "activations": {"zygomatic": 0.8, "frontalis": 0.4}},
+    {"name": "B", "activations": {"frontalis": 0.9}}]})";
+  ASSERT_TRUE(s.LoadLibraryFile(lib));
+  ASSERT_EQ(s.expression_weights.size(), 2u);
+  s.expression_weights = {0.5f, 1.f};
+  s.ApplyExpressionBlend();
+  EXPECT_FLOAT_EQ(s.activations[size_t(zyg)], 0.4f);
+  EXPECT_FLOAT_EQ(s.activations[size_t(front)], 1.f);
+
+  // A clip of expression A, weight 0 at t = 0 rising linearly to 1 at t = 2: at t = 1, 0.5 A.
+  const std::string clip = test::TempDir() + "/a.clip.json";
+  std::ofstream(clip) << R"({"format": "mimetic-clip", "version": 1, "name": "a", "channels": [
+    {"expression": "A", "keys": [{"t": 0, "v": 0}, {"t": 2, "v": 1}]}]})";
+  ASSERT_TRUE(s.LoadClipFile(clip));
+  ASSERT_TRUE(s.SampleClip(1.f));
+  EXPECT_NEAR(s.activations[size_t(zyg)], 0.4f, 1e-6f);
+  EXPECT_NEAR(s.activations[size_t(front)], 0.2f, 1e-6f);
+  ASSERT_EQ(s.timeline().size(), 1u);
+  EXPECT_EQ(s.timeline()[0].label, "expression A");
+}
+
+TEST(ViewerSession, ThreadedEvaluationGivesTheSameBits) {
+  Session one(1), two(2);
+  ASSERT_TRUE(one.LoadRigFile(Surface()));
+  ASSERT_TRUE(two.LoadRigFile(Surface()));
+  ASSERT_TRUE(one.ApplySettings({"zygomatic=1", "frontalis=0.6"}));
+  ASSERT_TRUE(two.ApplySettings({"zygomatic=1", "frontalis=0.6"}));
+  ASSERT_TRUE(one.Evaluate(Overlay::kAreaRatio));
+  ASSERT_TRUE(two.Evaluate(Overlay::kAreaRatio));
+  ASSERT_EQ(one.positions().size(), two.positions().size());
+  EXPECT_EQ(0, std::memcmp(one.positions().data(), two.positions().data(),
+                           one.positions().size() * sizeof(float3)));
+  EXPECT_EQ(one.overlay_field().values, two.overlay_field().values);
+}
+
+}  // namespace
+}  // namespace mimetic::viewer

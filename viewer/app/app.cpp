@@ -1,0 +1,144 @@
+// viewer/app/app.cpp: see app.h.
+#include "viewer/app/app.h"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "viewer/core/scene_query.h"
+#include "viewer/core/skin_shading.h"
+
+namespace mimetic::viewer {
+
+void App::OnRigLoaded() {
+  const Rig& rig = session.rig();
+  renderer.SetMesh(rig.vertex_indices(), rig.vertex_count());
+  const float3 lo = session.bounds_lo(), hi = session.bounds_hi();
+  camera.Frame({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
+  point_vertex.assign(rig.point_count(), 0);
+  for (uint32_t v = rig.vertex_count(); v-- > 0;) point_vertex[rig.vertex_points()[v]] = v;
+  selected_muscle = -1;
+  hover_valid = false;
+  std::snprintf(rig_field, sizeof rig_field, "%s", session.rig_path().c_str());
+  dirty = true;
+}
+
+void App::Update() {
+  if (!session.has_rig()) return;
+  if (dirty) {
+    if (!session.Evaluate(overlay)) {
+      session.AddMessages({}, "evaluation failed (the job did not validate); showing the last frame");
+    }
+    stats.evaluate_ms = session.evaluate_ms();
+    stats.overlay_ms = overlay == Overlay::kNone ? 0.0 : session.overlay_ms();
+    auto start = std::chrono::steady_clock::now();
+    renderer.UploadFrame(session.positions(), session.normals());
+    if (overlay != Overlay::kNone) {
+      std::vector<float3> colors;
+      OverlayColors(session.overlay_field(), &colors);
+      renderer.UploadColors(colors);
+    }
+    glFinish();  // the upload's real cost, not just the queued copy
+    stats.upload_ms = MillisecondsSince(start);
+    UpdateGizmos();
+    dirty = false;
+  }
+}
+
+void App::UpdateGizmos() {
+  std::vector<float3> lines, line_colors, points, point_colors;
+  const Rig& rig = session.rig();
+  const LoadedRig& loaded = session.loaded();
+  if (show_gizmos && selected_muscle >= 0 && uint32_t(selected_muscle) < rig.muscle_count()) {
+    const uint32_t m = uint32_t(selected_muscle);
+    const float3 yellow{1.f, 0.85f, 0.1f}, cyan{0.2f, 0.9f, 1.f}, magenta{1.f, 0.3f, 0.9f};
+    auto line = [&](float3 a, float3 b, float3 c) {
+      lines.push_back(a);
+      lines.push_back(b);
+      line_colors.push_back(c);
+      line_colors.push_back(c);
+    };
+    if (m < loaded.spec.muscles.size()) {  // a .rig.json keeps the muscle geometry; a .mrig not
+      const MuscleSpec& spec = loaded.spec.muscles[m];
+      if (spec.type == MuscleType::kLinear) {
+        const LinearMuscleSpec& l = spec.linear;
+        line(l.attachment, l.insertion, yellow);  // attachment -> insertion
+        // The zone: a cone of half-angle Omega about the axis, out to the fall-off end Rf.
+        const float3 axis = NormalizeOr(l.insertion - l.attachment, float3{0.f, 0.f, 1.f});
+        const float3 side = NormalizeOr(Cross(axis, float3{0.f, 1.f, 0.f}), float3{1.f, 0.f, 0.f});
+        const float3 up = Cross(side, axis);
+        const int n = 24;
+        for (float radius : {l.falloff_start, l.falloff_end}) {
+          const float along = radius * std::cos(l.zone_angle), across = radius * std::sin(l.zone_angle);
+          float3 prev{};
+          for (int i = 0; i <= n; ++i) {
+            const float a = 6.2831853f * float(i) / float(n);
+            const float3 p = l.attachment + along * axis + across * (std::cos(a) * side + std::sin(a) * up);
+            if (i > 0) line(prev, p, cyan);
+            if (i % 6 == 0 && radius == l.falloff_end) line(l.attachment, p, cyan);
+            prev = p;
+          }
+        }
+      } else {
+        const SheetMuscleSpec& s = spec.sheet;
+        line(s.attachment[0], s.attachment[1], yellow);
+        line(s.insertion[0], s.insertion[1], yellow);
+        line(s.attachment[0], s.insertion[0], cyan);
+        line(s.attachment[1], s.insertion[1], cyan);
+      }
+    }
+    const std::vector<float3>& pos = session.positions();
+    for (const RigMuscleWrinkles& w : rig.muscle_wrinkles()) {
+      if (w.muscle != m) continue;
+      // At most about kMaxRegionDots dots, evenly taken: the region stays readable as a
+      // stipple over the skin instead of a solid patch.
+      constexpr size_t kMaxRegionDots = 1200;
+      const size_t step = std::max<size_t>(1, (w.points.size() + kMaxRegionDots - 1) / kMaxRegionDots);
+      for (size_t i = 0; i < w.points.size(); i += step) {
+        const uint32_t p = w.points[i];
+        if (p < point_vertex.size() && point_vertex[p] < pos.size()) {
+          points.push_back(pos[point_vertex[p]]);
+          point_colors.push_back(magenta);
+        }
+      }
+    }
+  }
+  renderer.SetGizmos(lines, line_colors, points, point_colors);
+}
+
+DrawParams App::MakeDrawParams(float aspect) const {
+  DrawParams p;
+  p.view = camera.View();
+  p.projection = camera.Projection(aspect);
+  p.albedo = SkinAlbedo(melanin, hemoglobin);
+  p.light_camera = LightDirection(light_azimuth, light_elevation);
+  const SkinLighting lighting;
+  p.ambient = lighting.ambient;
+  p.light = lighting.light;
+  p.specular = lighting.specular;
+  p.exponent = lighting.exponent;
+  p.overlay = overlay != Overlay::kNone;
+  p.wireframe = wireframe;
+  p.surface = show_surface;
+  return p;
+}
+
+void App::Hover(float x, float y, float width, float height) {
+  hover_valid = false;
+  if (!session.has_rig()) return;
+  const Ray ray = camera.PixelRay(x, y, width, height);
+  PickHit hit;
+  const std::vector<float3>& pos = session.positions();
+  if (!PickTriangle(pos, session.rig().vertex_indices(), {ray.origin.x, ray.origin.y, ray.origin.z},
+                    {ray.direction.x, ray.direction.y, ray.direction.z}, &hit))
+    return;
+  hover_valid = true;
+  hover_vertex = hit.nearest;
+  hover_muscles = MusclesReachingPoint(session.rig(), session.rig().vertex_points()[hit.nearest]);
+  const uint32_t* t = &session.rig().vertex_indices()[3 * size_t(hit.triangle)];
+  hover_value = InterpolateValue(session.overlay_field(), t[0], t[1], t[2], hit.u, hit.w);
+}
+
+}  // namespace mimetic::viewer

@@ -1,0 +1,288 @@
+// viewer/app/main.cpp: mimetic-viewer (docs/viewer.md). A window with the panels, or, with
+// --screenshot / --bench-frames, one headless run (a hidden window's context, an offscreen
+// framebuffer) that exits 0 done, 1 an input failed (every message on stderr), 2 usage.
+#include <GL/glcorearb.h>
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "io/image.h"
+#include "viewer/app/app.h"
+#include "viewer/core/args.h"
+#include "viewer/core/timeline.h"
+
+namespace mimetic::viewer {
+namespace {
+
+constexpr int kExitInput = 1, kExitUsage = 2;
+
+void PrintMessages(const Session& s) {
+  for (const Message& m : s.messages())
+    std::fprintf(stderr, "%s: %s\n", m.error ? "error" : "warning", m.text.c_str());
+}
+
+bool HasErrors(const Session& s) {
+  for (const Message& m : s.messages())
+    if (m.error) return true;
+  return false;
+}
+
+// Loads what the command line names. Headless: false on any error (the caller exits 1).
+// Interactive: every problem stays in the Messages panel.
+bool LoadInputs(const ViewerArgs& args, App* app) {
+  Session& s = app->session;
+  if (!args.rig.empty() && s.LoadRigFile(args.rig)) app->OnRigLoaded();
+  const std::string library = !args.library.empty() ? args.library
+                              : args.rig.empty()    ? ""
+                                                    : DefaultLibraryPath(args.rig);
+  if (!library.empty()) s.LoadLibraryFile(library);
+  std::snprintf(app->library_field, sizeof app->library_field, "%s", library.c_str());
+  if (!args.clip.empty() && s.has_rig() && s.LoadClipFile(args.clip)) {
+    app->clip_time = args.time;
+    app->pose_from_clip = true;
+  }
+  if (!args.clip.empty() && !s.has_rig() && !args.rig.empty())
+    s.AddMessages({}, args.clip + ": not loaded (no rig to play it on)");
+  std::snprintf(app->clip_field, sizeof app->clip_field, "%s", args.clip.c_str());
+  if (!args.sets.empty() && s.has_rig()) s.ApplySettings(args.sets);
+  if (!args.rig.empty() && !s.has_rig() && app->rig_field[0] == '\0')
+    std::snprintf(app->rig_field, sizeof app->rig_field, "%s", args.rig.c_str());
+  return !HasErrors(s);
+}
+
+void Render(App* app, int width, int height) {
+  auto start = std::chrono::steady_clock::now();
+  glViewport(0, 0, width, height);
+  app->renderer.Draw(app->MakeDrawParams(float(width) / float(std::max(height, 1))));
+  glFinish();
+  app->stats.draw_ms = MillisecondsSince(start);
+}
+
+void UiFrame(App* app, int width, int height) {
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::GetIO().DisplaySize = ImVec2(float(width), float(height));
+  ImGui::NewFrame();
+  DrawPanels(app, float(width), float(height));
+  ImGui::Render();
+}
+
+int Headless(const ViewerArgs& args, App* app, GLFWwindow* window) {
+  if (!LoadInputs(args, app)) {
+    PrintMessages(app->session);
+    std::fprintf(stderr, "mimetic-viewer: %s\n",
+                 args.screenshot.empty() ? "nothing was measured" : "no screenshot was written");
+    return kExitInput;
+  }
+  PrintMessages(app->session);  // warnings
+  app->overlay = args.overlay;
+  app->camera.SetPreset(args.view);
+  if (!args.select.empty()) {
+    app->selected_muscle = app->session.rig().FindMuscle(args.select);
+    if (app->selected_muscle < 0) {
+      std::fprintf(stderr, "error: --select %s: the rig %s has no such muscle\n",
+                   args.select.c_str(), args.rig.c_str());
+      return kExitInput;
+    }
+  }
+  if (app->pose_from_clip) app->session.SampleClip(app->clip_time);
+  const int w = args.width, h = args.height;
+  if (!app->renderer.BindOffscreen(w, h)) {
+    std::fprintf(stderr, "mimetic-viewer: the offscreen framebuffer (%dx%d) is incomplete\n", w, h);
+    return kExitInput;
+  }
+  if (args.bench_frames > 0) {
+    // Each frame: the clip sampled at 1/60 s steps (when given), evaluate, upload, draw.
+    double sum[4] = {0, 0, 0, 0}, worst[4] = {0, 0, 0, 0};
+    for (int f = 0; f < args.bench_frames; ++f) {
+      if (app->session.has_clip()) {
+        const float d = app->session.clip().duration();
+        app->clip_time = d > 0.f ? std::fmod(float(f) / 60.f, d) : 0.f;
+        app->session.SampleClip(app->clip_time);
+      } else {
+        // Without a clip, alternate two poses so every frame does the same work.
+        for (float& a : app->session.activations) a = (f % 2) ? 0.6f : 0.3f;
+      }
+      app->dirty = true;
+      app->Update();
+      Render(app, w, h);
+      const double v[4] = {app->stats.evaluate_ms, app->stats.upload_ms,
+                           app->stats.evaluate_ms + app->stats.upload_ms, app->stats.draw_ms};
+      for (int i = 0; i < 4; ++i) {
+        sum[i] += v[i];
+        worst[i] = std::max(worst[i], v[i]);
+      }
+    }
+    const double n = args.bench_frames;
+    std::printf("mimetic-viewer bench: %s, %u vertices, %d frames, %u threads, %s\n",
+                args.rig.c_str(), app->session.rig().vertex_count(), args.bench_frames,
+                app->session.threads(), reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+    const char* names[4] = {"evaluate", "upload", "evaluate+upload", "draw"};
+    for (int i = 0; i < 4; ++i)
+      std::printf("  %-16s mean %7.3f ms  worst %7.3f ms\n", names[i], sum[i] / n, worst[i]);
+    if (args.screenshot.empty()) return 0;
+  }
+  app->dirty = true;
+  app->Update();
+  Render(app, w, h);
+  if (args.ui) {
+    // ImGui lays windows out over the first frames; draw a few, keep the last.
+    for (int i = 0; i < 3; ++i) {
+      UiFrame(app, w, h);
+      Render(app, w, h);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+  }
+  glFinish();
+  const Image image = Renderer::ReadPixels(w, h);
+  app->renderer.UnbindOffscreen();
+  (void)window;
+  Diagnostics diag;
+  if (!SavePng(args.screenshot, image, &diag)) {
+    std::fputs(diag.Format().c_str(), stderr);
+    return kExitInput;
+  }
+  std::printf("mimetic-viewer: wrote %s (%dx%d)\n", args.screenshot.c_str(), w, h);
+  return 0;
+}
+
+void Interactive(App* app, GLFWwindow* window) {
+  double last = glfwGetTime();
+  float last_x = -1.f, last_y = -1.f;
+  while (!glfwWindowShouldClose(window)) {
+    glfwPollEvents();
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window, &w, &h);
+    const double now = glfwGetTime();
+    const float dt = float(now - last);
+    ImGuiIO& io = ImGui::GetIO();
+    Session& s = app->session;
+    // Playback at the fps the Clip panel sets: a new pose every 1/fps seconds.
+    if (app->playing && s.has_clip() && dt >= 1.f / app->fps) {
+      bool stopped = false;
+      app->clip_time = AdvancePlayhead(app->clip_time, dt * app->speed, s.clip().duration(),
+                                       app->loop, &stopped);
+      if (stopped) app->playing = false;
+      app->dirty = true;
+      last = now;
+    } else if (!app->playing) {
+      last = now;
+    }
+    if (app->dirty && app->pose_from_clip) s.SampleClip(app->clip_time);
+    // Camera: left drag orbits, right or middle drag (or shift + left) pans, the wheel zooms.
+    if (!io.WantCaptureMouse) {
+      const bool pan = io.MouseDown[1] || io.MouseDown[2] || (io.MouseDown[0] && io.KeyShift);
+      if (pan) app->camera.Pan(io.MouseDelta.x, io.MouseDelta.y, float(h));
+      else if (io.MouseDown[0]) app->camera.Orbit(io.MouseDelta.x, io.MouseDelta.y);
+      if (io.MouseWheel != 0.f) app->camera.Zoom(io.MouseWheel);
+      const bool moved = io.MousePos.x != last_x || io.MousePos.y != last_y;
+      if (moved && !io.MouseDown[0] && !io.MouseDown[1] && !io.MouseDown[2]) {
+        int ww = 0, wh = 0;
+        glfwGetWindowSize(window, &ww, &wh);
+        app->Hover(io.MousePos.x, io.MousePos.y, float(ww), float(wh));
+      }
+      last_x = io.MousePos.x;
+      last_y = io.MousePos.y;
+    } else {
+      app->hover_valid = false;
+    }
+    if (!io.WantCaptureKeyboard) {
+      const float3 lo = s.bounds_lo(), hi = s.bounds_hi();
+      if (ImGui::IsKeyPressed(GLFW_KEY_F)) app->camera.Frame({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
+      if (ImGui::IsKeyPressed(GLFW_KEY_1)) app->camera.SetPreset(ViewPreset::kFront);
+      if (ImGui::IsKeyPressed(GLFW_KEY_2)) app->camera.SetPreset(ViewPreset::kSide);
+      if (ImGui::IsKeyPressed(GLFW_KEY_3)) app->camera.SetPreset(ViewPreset::kThreeQuarter);
+      if (ImGui::IsKeyPressed(GLFW_KEY_W)) app->wireframe = !app->wireframe;
+      if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && s.has_clip()) {
+        app->playing = !app->playing;
+        app->pose_from_clip = true;
+      }
+    }
+    app->Update();
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(window, &ww, &wh);
+    UiFrame(app, ww, wh);
+    Render(app, w, h);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    glfwSwapBuffers(window);
+  }
+}
+
+int Main(int argc, char** argv) {
+  ViewerArgs args;
+  std::string error;
+  if (!ParseViewerArgs(std::vector<std::string>(argv + 1, argv + argc), &args, &error)) {
+    std::fprintf(stderr, "mimetic-viewer: %s\n\n%s", error.c_str(), ViewerUsage());
+    return kExitUsage;
+  }
+  if (args.help) return std::fputs(ViewerUsage(), stdout), 0;
+  if (!glfwInit()) {
+    std::fprintf(stderr, "mimetic-viewer: cannot start GLFW (no display? headless runs need one: "
+                         "xvfb-run -a mimetic-viewer ...)\n");
+    return kExitInput;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  if (args.headless()) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+  GLFWwindow* window = glfwCreateWindow(args.headless() ? args.width : 1600,
+                                        args.headless() ? args.height : 950, "mimetic-viewer",
+                                        nullptr, nullptr);
+  if (!window) {
+    std::fprintf(stderr, "mimetic-viewer: cannot create an OpenGL 3.3 core context\n");
+    glfwTerminate();
+    return kExitInput;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(args.headless() ? 0 : 1);
+  int rc = 0;
+  {
+    App app(unsigned(args.threads));
+    if (!app.renderer.Init(&error)) {
+      std::fprintf(stderr, "mimetic-viewer: %s\n", error.c_str());
+      rc = kExitInput;
+    } else {
+      IMGUI_CHECKVERSION();
+      ImGui::CreateContext();
+      ImGui::GetIO().IniFilename = nullptr;  // layout is not saved between runs
+      ImGui::StyleColorsDark();
+      ImGui_ImplGlfw_InitForOpenGL(window, true);
+      ImGui_ImplOpenGL3_Init("#version 330 core");
+      if (args.headless()) {
+        rc = Headless(args, &app, window);
+      } else {
+        LoadInputs(args, &app);
+        Interactive(&app, window);
+      }
+      ImGui_ImplOpenGL3_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+      ImGui::DestroyContext();
+      app.renderer.Shutdown();
+    }
+  }
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return rc;
+}
+
+}  // namespace
+}  // namespace mimetic::viewer
+
+int main(int argc, char** argv) {
+  try {
+    return mimetic::viewer::Main(argc, argv);
+  } catch (const std::exception& e) {  // the runtime throws none; the standard library may
+    std::fprintf(stderr, "mimetic-viewer: internal error: %s\n", e.what());
+    return 1;
+  }
+}

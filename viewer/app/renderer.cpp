@@ -1,0 +1,309 @@
+// viewer/app/renderer.cpp: see renderer.h. Shading: docs/model.md §12 (viewer/core/skin_shading.h
+// is the reference of the fragment shader's expression).
+//
+// Fine scale (docs/model.md §9-10) is not in the rig yet. Its hook: when EvaluateJob gains the
+// two per-vertex amplitudes, they become one more vertex attribute (location 3, beside the
+// overlay colour) and the two height/normal maps two samplers; the fragment shader then
+// perturbs `n` by the amplitude-scaled map normals before the lighting below.
+#include "viewer/app/renderer.h"
+
+#include <string>
+
+#include <GL/glcorearb.h>
+#include <glm/gtc/type_ptr.hpp>
+
+namespace mimetic::viewer {
+namespace {
+
+const char* kMeshVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec3 a_color;
+uniform mat4 u_view;
+uniform mat4 u_projection;
+out vec3 v_normal;   // camera space
+out vec3 v_position; // camera space
+out vec3 v_color;
+void main() {
+  vec4 p = u_view * vec4(a_position, 1.0);
+  v_position = p.xyz;
+  v_normal = mat3(u_view) * a_normal;
+  v_color = a_color;
+  gl_Position = u_projection * p;
+}
+)";
+
+// c: the albedo b - m a_m - h a_h (SkinAlbedo) or the overlay colour; Blinn-Phong with
+// ambient 0.3 and light 0.7 (003 §5.3), two-sided, a faint white highlight (ShadeSkin).
+const char* kMeshFragment = R"(#version 330 core
+in vec3 v_normal;
+in vec3 v_position;
+in vec3 v_color;
+uniform vec3 u_albedo;
+uniform vec3 u_light;  // unit, toward the light, camera space
+uniform float u_ambient;
+uniform float u_diffuse;
+uniform float u_specular;
+uniform float u_exponent;
+uniform int u_overlay;
+uniform int u_flat;     // 1: a plain colour (wireframe)
+uniform vec3 u_flat_color;
+out vec4 frag;
+void main() {
+  if (u_flat == 1) { frag = vec4(u_flat_color, 1.0); return; }
+  vec3 c = u_overlay == 1 ? v_color : u_albedo;
+  vec3 n = normalize(v_normal);
+  vec3 v = normalize(-v_position);
+  if (dot(n, v) < 0.0) n = -n;
+  float d = max(0.0, dot(n, u_light));
+  vec3 h = normalize(u_light + v);
+  float s = d > 0.0 ? u_specular * pow(max(0.0, dot(n, h)), u_exponent) : 0.0;
+  frag = vec4(clamp((u_ambient + u_diffuse * d) * c + vec3(s), 0.0, 1.0), 1.0);
+}
+)";
+
+const char* kLineVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_color;
+uniform mat4 u_view_projection;
+out vec3 v_color;
+void main() { v_color = a_color; gl_Position = u_view_projection * vec4(a_position, 1.0); gl_PointSize = 3.0; }
+)";
+
+const char* kLineFragment = R"(#version 330 core
+in vec3 v_color;
+out vec4 frag;
+void main() { frag = vec4(v_color, 1.0); }
+)";
+
+// True when the shader (program = false) compiled or the program linked; else `error` gets
+// `what` and the GL info log.
+bool Succeeded(unsigned object, bool program, const char* what, std::string* error) {
+  GLint ok = 0;
+  if (program) glGetProgramiv(object, GL_LINK_STATUS, &ok);
+  else glGetShaderiv(object, GL_COMPILE_STATUS, &ok);
+  if (ok) return true;
+  char log[2048] = "";
+  if (program) glGetProgramInfoLog(object, sizeof log, nullptr, log);
+  else glGetShaderInfoLog(object, sizeof log, nullptr, log);
+  *error = std::string(what) + ": " + log;
+  return false;
+}
+
+unsigned Compile(GLenum kind, const char* source, std::string* error) {
+  const unsigned shader = glCreateShader(kind);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  if (Succeeded(shader, false, "shader does not compile", error)) return shader;
+  glDeleteShader(shader);
+  return 0;
+}
+
+unsigned Link(const char* vs, const char* fs, std::string* error) {
+  const unsigned v = Compile(GL_VERTEX_SHADER, vs, error);
+  if (!v) return 0;
+  const unsigned f = Compile(GL_FRAGMENT_SHADER, fs, error);
+  if (!f) return glDeleteShader(v), 0;
+  const unsigned program = glCreateProgram();
+  glAttachShader(program, v);
+  glAttachShader(program, f);
+  glLinkProgram(program);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  if (Succeeded(program, true, "shader program does not link", error)) return program;
+  glDeleteProgram(program);
+  return 0;
+}
+
+void Attribute(unsigned vbo, unsigned location) {
+  glBindBuffer(GL_ARRAY_BUFFER, vbo);
+  glEnableVertexAttribArray(location);
+  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+}
+
+}  // namespace
+
+bool Renderer::Init(std::string* error) {
+  mesh_program_ = Link(kMeshVertex, kMeshFragment, error);
+  if (!mesh_program_) return false;
+  line_program_ = Link(kLineVertex, kLineFragment, error);
+  if (!line_program_) return false;
+  glGenVertexArrays(1, &vao_);
+  glGenBuffers(1, &position_vbo_);
+  glGenBuffers(1, &normal_vbo_);
+  glGenBuffers(1, &color_vbo_);
+  glGenBuffers(1, &index_ebo_);
+  glBindVertexArray(vao_);
+  Attribute(position_vbo_, 0);
+  Attribute(normal_vbo_, 1);
+  Attribute(color_vbo_, 2);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_ebo_);
+  glGenVertexArrays(1, &gizmo_vao_);
+  glGenBuffers(1, &gizmo_vbo_);
+  glGenBuffers(1, &gizmo_color_vbo_);
+  glBindVertexArray(gizmo_vao_);
+  Attribute(gizmo_vbo_, 0);
+  Attribute(gizmo_color_vbo_, 1);
+  glBindVertexArray(0);
+  return true;
+}
+
+void Renderer::Shutdown() {
+  const unsigned buffers[] = {position_vbo_, normal_vbo_, color_vbo_, index_ebo_, gizmo_vbo_,
+                              gizmo_color_vbo_};
+  glDeleteBuffers(6, buffers);
+  const unsigned arrays[] = {vao_, gizmo_vao_};
+  glDeleteVertexArrays(2, arrays);
+  glDeleteProgram(mesh_program_);
+  glDeleteProgram(line_program_);
+  if (fbo_) {
+    glDeleteFramebuffers(1, &fbo_);
+    glDeleteRenderbuffers(1, &color_rb_);
+    glDeleteRenderbuffers(1, &depth_rb_);
+  }
+}
+
+void Renderer::SetMesh(const std::vector<uint32_t>& indices, uint32_t vertex_count) {
+  glBindVertexArray(vao_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_ebo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * 4), indices.data(), GL_STATIC_DRAW);
+  const GLsizeiptr bytes = GLsizeiptr(vertex_count) * 12;
+  for (unsigned vbo : {position_vbo_, normal_vbo_, color_vbo_}) {
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_DYNAMIC_DRAW);
+  }
+  glBindVertexArray(0);
+  index_count_ = indices.size();
+  vertex_count_ = vertex_count;
+}
+
+void Renderer::UploadFrame(const std::vector<float3>& positions, const std::vector<float3>& normals) {
+  if (positions.size() < vertex_count_ || normals.size() < vertex_count_) return;
+  const GLsizeiptr bytes = GLsizeiptr(vertex_count_) * 12;
+  glBindBuffer(GL_ARRAY_BUFFER, position_vbo_);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, positions.data());
+  glBindBuffer(GL_ARRAY_BUFFER, normal_vbo_);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, normals.data());
+}
+
+void Renderer::UploadColors(const std::vector<float3>& colors) {
+  if (colors.size() < vertex_count_) return;
+  glBindBuffer(GL_ARRAY_BUFFER, color_vbo_);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertex_count_) * 12, colors.data());
+}
+
+void Renderer::SetGizmos(const std::vector<float3>& lines, const std::vector<float3>& line_colors,
+                         const std::vector<float3>& points, const std::vector<float3>& point_colors) {
+  std::vector<float3> all = lines, colors = line_colors;
+  all.insert(all.end(), points.begin(), points.end());
+  colors.insert(colors.end(), point_colors.begin(), point_colors.end());
+  colors.resize(all.size(), float3{1.f, 1.f, 0.f});
+  glBindBuffer(GL_ARRAY_BUFFER, gizmo_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(all.size() * 12), all.data(), GL_DYNAMIC_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, gizmo_color_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colors.size() * 12), colors.data(), GL_DYNAMIC_DRAW);
+  gizmo_lines_ = lines.size();
+  gizmo_points_ = points.size();
+}
+
+void Renderer::Draw(const DrawParams& p) {
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+  glClearColor(0.18f, 0.19f, 0.21f, 1.f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (index_count_ == 0) return;
+  glUseProgram(mesh_program_);
+  auto loc = [&](const char* name) { return glGetUniformLocation(mesh_program_, name); };
+  glUniformMatrix4fv(loc("u_view"), 1, GL_FALSE, glm::value_ptr(p.view));
+  glUniformMatrix4fv(loc("u_projection"), 1, GL_FALSE, glm::value_ptr(p.projection));
+  glUniform3f(loc("u_albedo"), p.albedo.x, p.albedo.y, p.albedo.z);
+  glUniform3f(loc("u_light"), p.light_camera.x, p.light_camera.y, p.light_camera.z);
+  glUniform1f(loc("u_ambient"), p.ambient);
+  glUniform1f(loc("u_diffuse"), p.light);
+  glUniform1f(loc("u_specular"), p.specular);
+  glUniform1f(loc("u_exponent"), p.exponent);
+  glUniform1i(loc("u_overlay"), p.overlay ? 1 : 0);
+  glBindVertexArray(vao_);
+  if (p.surface) {
+    glUniform1i(loc("u_flat"), 0);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.f, 1.f);
+    glDrawElements(GL_TRIANGLES, GLsizei(index_count_), GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  }
+  if (p.wireframe) {
+    glUniform1i(loc("u_flat"), 1);
+    glUniform3f(loc("u_flat_color"), 0.1f, 0.1f, 0.12f);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    glDrawElements(GL_TRIANGLES, GLsizei(index_count_), GL_UNSIGNED_INT, nullptr);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  }
+  if (gizmo_lines_ + gizmo_points_ > 0) {
+    glUseProgram(line_program_);
+    const glm::mat4 vp = p.projection * p.view;
+    glUniformMatrix4fv(glGetUniformLocation(line_program_, "u_view_projection"), 1, GL_FALSE,
+                       glm::value_ptr(vp));
+    glBindVertexArray(gizmo_vao_);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    // The region's points on the skin first, then the lines over everything: a muscle's
+    // attachment lies under the skin, on the bone.
+    glDepthFunc(GL_LEQUAL);
+    glDrawArrays(GL_POINTS, GLsizei(gizmo_lines_), GLsizei(gizmo_points_));
+    glDepthFunc(GL_ALWAYS);
+    glDrawArrays(GL_LINES, 0, GLsizei(gizmo_lines_));
+    glDepthFunc(GL_LESS);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+bool Renderer::BindOffscreen(int width, int height) {
+  if (!fbo_ || width != fbo_width_ || height != fbo_height_) {
+    if (fbo_) {
+      glDeleteFramebuffers(1, &fbo_);
+      glDeleteRenderbuffers(1, &color_rb_);
+      glDeleteRenderbuffers(1, &depth_rb_);
+    }
+    glGenFramebuffers(1, &fbo_);
+    glGenRenderbuffers(1, &color_rb_);
+    glGenRenderbuffers(1, &depth_rb_);
+    glBindRenderbuffer(GL_RENDERBUFFER, color_rb_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
+    fbo_width_ = width;
+    fbo_height_ = height;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, width, height);
+  return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+}
+
+void Renderer::UnbindOffscreen() { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
+
+Image Renderer::ReadPixels(int width, int height) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  std::vector<uint8_t> rgba(size_t(width) * size_t(height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  image.rgb.resize(size_t(width) * size_t(height) * 3);
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* src = rgba.data() + size_t(height - 1 - y) * size_t(width) * 4;  // GL: bottom up
+    uint8_t* dst = image.rgb.data() + size_t(y) * size_t(width) * 3;
+    for (int x = 0; x < width; ++x) {
+      dst[3 * x] = src[4 * x];
+      dst[3 * x + 1] = src[4 * x + 1];
+      dst[3 * x + 2] = src[4 * x + 2];
+    }
+  }
+  return image;
+}
+
+}  // namespace mimetic::viewer

@@ -1,0 +1,190 @@
+// viewer/core/args.cpp: see args.h.
+#include "viewer/core/args.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace mimetic::viewer {
+namespace {
+
+// The whole of `text` as a base-10 integer in [lo, hi].
+bool WholeInt(const std::string& text, long lo, long hi, int* out) {
+  if (text.empty() || (text[0] != '-' && !std::isdigit(static_cast<unsigned char>(text[0]))))
+    return false;
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return false;
+  *out = int(v);
+  return true;
+}
+
+bool EndsWithPng(const std::string& path) {
+  if (path.size() < 5) return false;
+  std::string ext = path.substr(path.size() - 4);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
+}
+
+}  // namespace
+
+const char* ViewerUsage() {
+  return "usage: mimetic-viewer [RIG] [--clip CLIP] [--library LIB]\n"
+         "                      [--time T | --set NAME=VALUE ...]\n"
+         "                      [--screenshot OUT.png [--size WxH] [--overlay NAME]\n"
+         "                       [--view front|side|three-quarter] [--ui] [--select MUSCLE]]\n"
+         "                      [--bench-frames N] [--threads N]\n\n"
+         "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
+         "overlays, a slider per muscle, expressions and clips (docs/viewer.md). A file that\n"
+         "fails to load is reported in the Messages panel; the viewer keeps what it had.\n\n"
+         "options:\n"
+         "  --clip CLIP          a clip (.clip.json or .mclip) to play\n"
+         "  --library LIB        the expression library (default: assets/expressions/\n"
+         "                       default.library.json found from the rig's folder upwards)\n"
+         "  --time T             the clip time in seconds for a screenshot (needs --clip)\n"
+         "  --set NAME=VALUE     a muscle activation in [0, 1] (repeatable; NAME sets NAME_L and\n"
+         "                       NAME_R; jaw=VALUE opens the jaw)\n"
+         "  --screenshot OUT.png render one frame into OUT.png (written atomically) and exit:\n"
+         "                       exit 0 done, 1 an input failed (messages on stderr), 2 usage\n"
+         "  --size WxH           the screenshot's size in pixels (default 1280x720)\n"
+         "  --overlay NAME       colour the skin by a field: none, area-ratio, shrinkage,\n"
+         "                       compression, wrinkle, thickness, displacement\n"
+         "  --view V             the camera preset: front (default), side, three-quarter\n"
+         "  --ui                 draw the panels into the screenshot\n"
+         "  --select MUSCLE      draw MUSCLE's gizmos (attachment, insertion, zone or sheet\n"
+         "                       outline, wrinkling region) in the screenshot\n"
+         "  --bench-frames N     evaluate, upload and draw N frames headless (playing the clip\n"
+         "                       if one is given) and print the mean and worst times\n"
+         "  --threads N          evaluation threads (default: the hardware's; 1 = serial)\n"
+         "  -h, --help           this text\n";
+}
+
+bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std::string* error) {
+  *out = ViewerArgs{};
+  bool has_size = false, has_overlay = false, has_view = false;
+  std::vector<std::string> positional;
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string a = args[i], value;
+    bool has_inline = false;
+    if (a.rfind("--", 0) == 0) {
+      const size_t eq = a.find('=');
+      if (eq != std::string::npos) {
+        value = a.substr(eq + 1);
+        a = a.substr(0, eq);
+        has_inline = true;
+      }
+    }
+    if (a == "-h" || a == "--help") {
+      out->help = true;
+      return true;
+    }
+    if (a == "--ui") {
+      out->ui = true;
+      continue;
+    }
+    static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
+                                    "--size", "--overlay", "--view", "--select", "--bench-frames",
+                                    "--threads"};
+    bool valued = false;
+    for (const char* k : kValued) valued = valued || a == k;
+    if (!valued) {
+      if (a.size() > 1 && a[0] == '-') {
+        *error = "unknown option " + args[i];
+        return false;
+      }
+      positional.push_back(a);
+      continue;
+    }
+    if (!has_inline) {
+      if (i + 1 >= args.size()) {
+        *error = a + ": missing value";
+        return false;
+      }
+      value = args[++i];
+    }
+    if (a == "--clip") {
+      out->clip = value;
+    } else if (a == "--library") {
+      out->library = value;
+    } else if (a == "--select") {
+      out->select = value;
+    } else if (a == "--set") {
+      out->sets.push_back(value);
+    } else if (a == "--screenshot") {
+      if (!EndsWithPng(value)) {
+        *error = "--screenshot " + value + ": expected a .png file name";
+        return false;
+      }
+      out->screenshot = value;
+    } else if (a == "--time") {
+      char* end = nullptr;
+      errno = 0;
+      const double t = value.empty() ? NAN : std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(t) || t < 0.0) {
+        *error = "--time " + value + ": expected a number of seconds >= 0";
+        return false;
+      }
+      out->has_time = true;
+      out->time = float(t);
+    } else if (a == "--size") {
+      const size_t x = value.find('x');
+      if (x == std::string::npos || !WholeInt(value.substr(0, x), 16, 8192, &out->width) ||
+          !WholeInt(value.substr(x + 1), 16, 8192, &out->height)) {
+        *error = "--size " + value + ": expected WIDTHxHEIGHT, each in [16, 8192] (e.g. 1280x720)";
+        return false;
+      }
+      has_size = true;
+    } else if (a == "--overlay") {
+      if (!ParseOverlay(value, &out->overlay)) {
+        *error = "--overlay " + value + ": expected one of " + OverlayNames();
+        return false;
+      }
+      has_overlay = true;
+    } else if (a == "--view") {
+      if (!ParseViewPreset(value, &out->view)) {
+        *error = "--view " + value + ": expected front, side or three-quarter";
+        return false;
+      }
+      has_view = true;
+    } else if (a == "--bench-frames") {
+      if (!WholeInt(value, 1, 1000000, &out->bench_frames)) {
+        *error = "--bench-frames " + value + ": expected a whole number of frames >= 1";
+        return false;
+      }
+    } else if (a == "--threads") {
+      if (!WholeInt(value, 1, 256, &out->threads)) {
+        *error = "--threads " + value + ": expected a whole number in [1, 256]";
+        return false;
+      }
+    }
+  }
+  if (positional.size() > 1) {
+    *error = "expected at most one RIG, got " + std::to_string(positional.size()) +
+             " (" + positional[0] + ", " + positional[1] + (positional.size() > 2 ? ", ..." : "") + ")";
+    return false;
+  }
+  if (!positional.empty()) out->rig = positional[0];
+  if (out->has_time && out->clip.empty()) {
+    *error = "--time needs --clip CLIP (the time is a time in the clip)";
+    return false;
+  }
+  if (!out->sets.empty() && !out->clip.empty()) {
+    *error = "--set and --clip exclude each other (the clip sets the activations)";
+    return false;
+  }
+  if ((has_size || has_overlay || has_view || out->ui || !out->select.empty()) &&
+      out->screenshot.empty() &&
+      out->bench_frames == 0) {
+    *error = "--size, --overlay, --view, --ui and --select need --screenshot OUT.png (or "
+             "--bench-frames)";
+    return false;
+  }
+  if (out->headless() && out->rig.empty()) {
+    *error = "--screenshot and --bench-frames need RIG";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace mimetic::viewer

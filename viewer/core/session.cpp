@@ -1,0 +1,309 @@
+// viewer/core/session.cpp: see session.h.
+#include "viewer/core/session.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "expressions/offline/activation_binding.h"
+#include "expressions/runtime/clip_binary.h"
+#include "expressions/runtime/clip_sample_job.h"
+#include "io/clip_file.h"
+#include "io/expression_library.h"
+#include "rig/offline/jaw_setting.h"
+#include "rig/offline/rig_builder.h"
+#include "wrinkles/runtime/strain_jobs.h"
+
+namespace mimetic::viewer {
+namespace {
+
+span<float> Floats(std::vector<float3>& v) { return {reinterpret_cast<float*>(v.data()), 3 * v.size()}; }
+
+}  // namespace
+
+std::string DefaultLibraryPath(const std::string& rig_path) {
+  std::error_code ec;
+  std::filesystem::path dir = std::filesystem::absolute(rig_path, ec).parent_path();
+  for (int i = 0; i < 5 && !dir.empty(); ++i, dir = dir.parent_path()) {
+    for (const char* rel : {"expressions/default.library.json",
+                            "assets/expressions/default.library.json"}) {
+      const std::filesystem::path p = dir / rel;
+      if (std::filesystem::is_regular_file(p, ec)) return p.string();
+    }
+    if (dir == dir.parent_path()) break;
+  }
+  return "";
+}
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+Session::Session(unsigned threads)
+    : pool_(threads ? threads : std::max(1u, std::thread::hardware_concurrency())) {}
+
+void Session::AddMessages(const Diagnostics& diag, const std::string& closing) {
+  for (const Diagnostic& d : diag.items())
+    messages_.push_back({d.severity == Severity::kError,
+                         d.where.empty() ? d.what : d.where + ": " + d.what});
+  if (!closing.empty()) messages_.push_back({diag.HasErrors(), closing});
+}
+
+bool Session::LoadRigFile(const std::string& path) {
+  auto loaded = std::make_unique<LoadedRig>();
+  Diagnostics diag;
+  if (!LoadRig(path, loaded.get(), &diag)) {
+    AddMessages(diag, path + ": " + std::to_string(diag.ErrorCount()) +
+                          " error(s); the rig was not loaded" +
+                          (rig_ ? " (still showing " + rig_path_ + ")" : ""));
+    return false;
+  }
+  AddMessages(diag, "");
+  rig_ = std::move(loaded);
+  rig_path_ = path;
+  clip_.reset();
+  clip_path_.clear();
+  timeline_.clear();
+  const Rig& rig = rig_->rig;
+  context_.Resize(rig);
+  aux_context_.Resize(rig);
+  const MeshData rest = RestMesh(rig);
+  rest_positions_ = rest.positions;
+  positions_ = rest_positions_;
+  normals_.assign(rig.vertex_count(), float3{0.f, 0.f, 1.f});
+  lo_ = hi_ = rest_positions_.empty() ? float3{} : rest_positions_[0];
+  for (const float3& p : rest_positions_) {
+    lo_ = {std::min(lo_.x, p.x), std::min(lo_.y, p.y), std::min(lo_.z, p.z)};
+    hi_ = {std::max(hi_.x, p.x), std::max(hi_.y, p.y), std::max(hi_.z, p.z)};
+  }
+  ResetPose();
+  CheckLibrary();
+  return true;
+}
+
+void Session::CheckLibrary() {
+  if (!rig_ || library_.empty()) return;
+  Diagnostics diag;
+  std::vector<std::string> names = rig().muscle_names();
+  names.push_back(kJawInputName);
+  if (!CheckLibraryMuscles(library_, names, library_path_, &diag)) {
+    Diagnostics warnings;  // not fatal here: the blend skips unknown muscles
+    for (const Diagnostic& d : diag.items()) warnings.Warning(d.where, d.what);
+    AddMessages(warnings, "");
+  }
+}
+
+bool Session::LoadLibraryFile(const std::string& path) {
+  std::vector<Expression> library;
+  Diagnostics diag;
+  if (!LoadExpressionLibrary(path, &library, &diag)) {
+    AddMessages(diag, path + ": " + std::to_string(diag.ErrorCount()) +
+                          " error(s); the expression library was not loaded");
+    return false;
+  }
+  AddMessages(diag, "");
+  library_ = std::move(library);
+  library_path_ = path;
+  expression_weights.assign(library_.size(), 0.f);
+  CheckLibrary();
+  return true;
+}
+
+bool Session::LoadClipFile(const std::string& path) {
+  if (!rig_) {
+    messages_.push_back({true, path + ": no rig is loaded; open a rig before its clips"});
+    return false;
+  }
+  auto clip = std::make_unique<CompiledClip>();
+  ClipSpec spec;
+  Diagnostics diag;
+  bool ok = false;
+  if (IsCompiledClipPath(path)) {
+    std::string why;
+    ok = LoadClipBinaryFile(path, clip.get(), &why);
+    if (!ok) diag.Error("", why);
+    if (ok && clip->muscle_count() != rig().muscle_count()) {
+      diag.Error(path, "compiled for " + std::to_string(clip->muscle_count()) +
+                           " muscles, but the rig " + rig_path_ + " has " +
+                           std::to_string(rig().muscle_count()) +
+                           " (mimetic build CLIP.clip.json --rig RIG --out FILE.mclip)");
+      ok = false;
+    }
+  } else if (LoadClip(path, &spec, &diag)) {
+    Diagnostics build;
+    ok = BuildClip(spec, rig().muscle_names(), library_, clip.get(), &build);
+    diag.Append(build, path);
+    if (!ok && library_.empty())
+      diag.Error(path, "no expression library is loaded (--library LIB, or the Expressions "
+                       "panel), so its expression channels have nothing to name");
+  }
+  if (!ok) {
+    AddMessages(diag, path + ": " + std::to_string(diag.ErrorCount()) +
+                          " error(s); the clip was not loaded");
+    return false;
+  }
+  if (clip->animates_jaw() && rig().jaw().empty())
+    diag.Warning(path, "animates the jaw, but the rig has none (the jaw values do nothing)");
+  AddMessages(diag, "");
+  clip_ = std::move(clip);
+  clip_spec_ = std::move(spec);
+  clip_path_ = path;
+  timeline_ = ListTimeline(*clip_, rig().muscle_names(),
+                           IsCompiledClipPath(path) ? nullptr : &clip_spec_);
+  return true;
+}
+
+bool Session::ApplySettings(const std::vector<std::string>& sets) {
+  if (!rig_) return false;
+  std::vector<std::string> rest = sets;
+  Diagnostics diag;
+  float new_jaw = 0.f;
+  std::vector<float> values;
+  const bool jaw_ok = TakeJawSetting(rig(), &rest, &new_jaw, &diag);
+  const bool bind_ok = BindActivations(rig().muscle_names(), rest, &values, &diag);
+  if (!jaw_ok || !bind_ok) {
+    AddMessages(diag, "--set: " + std::to_string(diag.ErrorCount()) + " error(s); the pose was not changed");
+    return false;
+  }
+  activations = std::move(values);
+  jaw = new_jaw;
+  return true;
+}
+
+void Session::ResetPose() {
+  activations.assign(rig_ ? rig().muscle_count() : 0, 0.f);
+  jaw = 0.f;
+  std::fill(expression_weights.begin(), expression_weights.end(), 0.f);
+}
+
+void Session::ApplyExpressionBlend() {
+  if (!rig_) return;
+  activations.assign(rig().muscle_count(), 0.f);
+  jaw = 0.f;
+  for (size_t e = 0; e < library_.size() && e < expression_weights.size(); ++e) {
+    const float w = expression_weights[e];
+    if (w == 0.f) continue;
+    for (const auto& [name, value] : library_[e].activations) {
+      if (name == kJawInputName && rig().FindMuscle(name) < 0) {
+        jaw = std::min(1.f, jaw + w * value);
+      } else if (const int m = rig().FindMuscle(name); m >= 0) {
+        activations[size_t(m)] = std::min(1.f, activations[size_t(m)] + w * value);
+      }
+    }
+  }
+}
+
+bool Session::SampleClip(float time) {
+  if (!rig_ || !clip_) return false;
+  activations.resize(rig().muscle_count());
+  float sampled_jaw = 0.f;
+  ClipSampleJob job;
+  job.clip = clip_.get();
+  job.time = time;
+  job.out_activations = activations;
+  job.out_jaw = span<float>(&sampled_jaw, 1);
+  if (!job.Run()) return false;
+  if (clip_->animates_jaw()) jaw = sampled_jaw;
+  return true;
+}
+
+bool Session::RunJob(const SkinLayers& run_layers, std::vector<float3>* positions,
+                     std::vector<float3>* normals, std::vector<float>* tension,
+                     EvaluateContext* ctx) {
+  EvaluateJob job;
+  job.rig = &rig();
+  job.context = ctx;
+  zeros_.assign(activations.size(), 0.f);
+  job.activations = muscles_enabled ? activations : zeros_;
+  job.jaw = jaw_enabled ? jaw : 0.f;
+  job.out_positions = Floats(*positions);
+  if (normals) job.out_normals = Floats(*normals);
+  if (tension) job.out_tension = *tension;
+  job.layers = run_layers;
+  job.limit_folds = limit_folds;
+  if (pool_.threads() > 1) {
+    job.parallel_for = &ThreadPool::ParallelFor;
+    job.parallel_for_user = &pool_;
+  }
+  return job.Run();
+}
+
+bool Session::Evaluate(Overlay overlay) {
+  if (!rig_) return false;
+  const Rig& r = rig();
+  const uint32_t nv = r.vertex_count();
+  activations.resize(r.muscle_count(), 0.f);
+  positions_.resize(nv);
+  normals_.resize(nv);
+  const bool wants_tension = overlay == Overlay::kAreaRatio || overlay == Overlay::kCompression;
+  if (wants_tension) tension_.resize(2 * size_t(nv));
+  auto start = std::chrono::steady_clock::now();
+  if (!RunJob(layers, &positions_, &normals_, wants_tension ? &tension_ : nullptr, &context_))
+    return false;
+  evaluate_ms_ = MillisecondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  OverlayInputs in;
+  in.vertex_points = r.vertex_points();
+  in.rest_positions = rest_positions_;
+  in.positions = positions_;
+  in.normals = normals_;
+  in.tension = tension_;
+  in.point_thickness = r.point_thickness();
+  if (overlay == Overlay::kWrinkle) {
+    SkinLayers unwrinkled = layers;
+    unwrinkled.muscle_wrinkles = unwrinkled.curve_wrinkles = false;
+    aux_positions_.resize(nv);
+    if (!RunJob(unwrinkled, &aux_positions_, nullptr, nullptr, &aux_context_)) return false;
+    in.unwrinkled = aux_positions_;
+  } else if (overlay == Overlay::kShrinkage) {
+    // s is measured on X1 (docs/model.md §5, §7): the points of a frame without skin layers.
+    aux_positions_.resize(nv);
+    if (!RunJob(SkinLayers{false, false, false}, &aux_positions_, nullptr, nullptr, &aux_context_))
+      return false;
+    const RigCurveWrinkles& cw = r.curve_wrinkles();
+    shrinkage_.assign(cw.probes.size(), 0.f);
+    if (!cw.probes.empty()) {
+      DirectionalShrinkageJob job;
+      job.positions = aux_context_.points();
+      job.probes = cw.probes;
+      job.end = cw.probes.size();
+      job.out_shrinkage = shrinkage_;
+      if (!job.Run()) return false;
+    }
+    PointShrinkage(r.point_count(), cw.points, cw.offsets, shrinkage_, &point_shrinkage_);
+    in.point_shrinkage = point_shrinkage_;
+  }
+  if (overlay == Overlay::kNone) {
+    field_ = OverlayField{};
+  } else if (!ComputeOverlayValues(overlay, in, &field_)) {
+    return false;
+  }
+  overlay_ms_ = MillisecondsSince(start);
+  return true;
+}
+
+std::vector<std::string> Session::RigLayerNames() const {
+  std::vector<std::string> names;
+  if (!rig_) return names;
+  const Rig& r = rig();
+  names.push_back("muscles");
+  if (!r.jaw().empty()) names.push_back("jaw");
+  if (r.layers().thickness) names.push_back("thickness");
+  if (r.layers().muscle_wrinkles) names.push_back("muscle wrinkles");
+  if (r.layers().curve_wrinkles) names.push_back("curve wrinkles");
+  return names;
+}
+
+std::vector<std::string> Session::ActiveLayerNames() const {
+  std::vector<std::string> names;
+  if (!rig_) return names;
+  const Rig& r = rig();
+  if (muscles_enabled) names.push_back("muscles");
+  if (!r.jaw().empty() && jaw_enabled && jaw > 0.f) names.push_back("jaw");
+  if (r.layers().thickness && layers.thickness) names.push_back("thickness");
+  if (r.layers().muscle_wrinkles && layers.muscle_wrinkles) names.push_back("muscle wrinkles");
+  if (r.layers().curve_wrinkles && layers.curve_wrinkles) names.push_back("curve wrinkles");
+  return names;
+}
+
+}  // namespace mimetic::viewer
