@@ -44,7 +44,7 @@ struct TensionRegionSpec {
   // vertices[k]'s (ascending, below the mesh's vertex count) and every other vertex has 0;
   // BuildRig makes it dense first.
   bool sparse = false;
-  std::vector<uint32_t> vertices;
+  std::vector<uint32_t> vertices{};
 };
 
 struct NamedCurveWrinkle {
