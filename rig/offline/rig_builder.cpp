@@ -731,18 +731,7 @@ bool CompileFineScale(const FineScaleSpec& spec, size_t file_vertex_count, RigDa
     return false;
   const CsrTable pt = BuildPointTriangles(m.triangles, data->point_count());
   std::vector<float3> fields[2];
-  for (int f = 0; f < 2; ++f) {
-    std::vector<float3> vectors;
-    std::vector<float> weights;
-    for (const DirectionAnchor& a : spec.fields[f].anchors) {
-      vectors.push_back(a.vector);
-      weights.push_back(a.weight);
-    }
-    if (!InterpolateDirectionField(m.view(), m.anchor_points[f], vectors, weights,
-                                   spec.interpolation, "fine_scale.fields[" + std::to_string(f) + "]",
-                                   &fields[f], diag))
-      return false;
-  }
+  if (!InterpolateSpecFields(spec, m.view(), m.anchor_points, fields, diag)) return false;
   const uint32_t rows = data->active.normal_points;
   RigFineScale& out = data->fine_scale;
   out.rest_amplitude = spec.rest_amplitude;

@@ -130,6 +130,35 @@ TEST(FineScale, HarmonicFieldIsLinearAcrossAStripAndInverseDistanceIsEquationThr
   EXPECT_FLOAT_EQ(field[0].x, 1.f);
 }
 
+TEST(FineScale, TwoFieldsWithOneFactorisationEqualTwoSeparateSolves) {
+  // A bumpy grid (cotangent weights differ everywhere); field A anchored at three points,
+  // field B at two others: the joint solve treats each field's points that anchor only the
+  // other field as unknowns.
+  Grid g = MakeGrid(11);
+  for (size_t p = 0; p < g.points.size(); ++p)
+    g.points[p].z = 0.1f * std::sin(3.f * g.points[p].x) * std::cos(2.f * g.points[p].y);
+  const std::vector<uint32_t> pa = {0, 60, 120}, pb = {10, 110};
+  const std::vector<float3> va = {{1, 0, 0}, {0, 1, 0}, {0.5f, 0.5f, 0}}, vb = {{0, 0.3f, 0}, {0.6f, 0, 0}};
+  const FieldAnchors both[2] = {{pa, va, {}}, {pb, vb, {}}};
+  std::vector<float3> joint[2], a, b;
+  Diagnostics diag;
+  ASSERT_TRUE(InterpolateDirectionFields(g.mesh(), both, FieldInterpolation::kHarmonic, "f", joint, &diag))
+      << diag.Format();
+  ASSERT_TRUE(InterpolateDirectionField(g.mesh(), pa, va, {}, FieldInterpolation::kHarmonic, "f", &a, &diag));
+  ASSERT_TRUE(InterpolateDirectionField(g.mesh(), pb, vb, {}, FieldInterpolation::kHarmonic, "f", &b, &diag));
+  for (size_t p = 0; p < g.points.size(); ++p) {
+    EXPECT_NEAR(joint[0][p].x, a[p].x, 1e-5f) << p;
+    EXPECT_NEAR(joint[0][p].y, a[p].y, 1e-5f) << p;
+    EXPECT_NEAR(joint[1][p].x, b[p].x, 1e-5f) << p;
+    EXPECT_NEAR(joint[1][p].y, b[p].y, 1e-5f) << p;
+  }
+  // Each field keeps its own anchors and is harmonic at the other field's anchors: the value
+  // at point 60 (an anchor of A) in field B is not B's anchor value but interpolated.
+  EXPECT_GT(joint[0][60].y, 0.95f);  // (0, 1, 0) projected onto the bumpy tangent plane
+  EXPECT_GT(joint[1][60].x, 0.f);
+  EXPECT_LT(joint[1][60].x, 0.6f);
+}
+
 TEST(FineScale, FieldVectorsLieInTheTangentPlane) {
   Grid g = MakeGrid(5);
   const std::vector<uint32_t> a = {12};

@@ -1,6 +1,7 @@
 #include "wrinkles/offline/fine_scale.h"
 
 #include <Eigen/Sparse>
+#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -119,6 +120,91 @@ bool HarmonicSolve(const FineScaleMesh& m, const std::vector<int>& fixed,
   if (solver.info() != Eigen::Success || !x.allFinite()) return false;
   for (size_t p = 0; p < n; ++p)
     if (free_index[p] >= 0) out->row(Eigen::Index(p)) = x.row(free_index[p]);
+  return true;
+}
+
+// Harmonic interpolation of several fields on one mesh with ONE factorization: L is
+// factored over F, the points that are no field's anchor (U = the union of the anchors); the
+// harmonic extensions H = -L_FF^-1 L_FU of the |U| unit values give every field's free
+// points from its values on U, x_F = H x_U. For field k, the points of U that are not its
+// anchors (Z) are unknowns that must be harmonic too: (L x)_z = 0, i.e.
+// (L_ZU + L_ZF H) x_U = 0, a |Z| x |Z| dense solve. The same solution as one solve per field.
+bool HarmonicFields(const FineScaleMesh& m, const std::vector<std::vector<uint32_t>>& anchors,
+                    const std::vector<Eigen::MatrixXd>& values, std::vector<Eigen::MatrixXd>* out) {
+  const size_t n = m.points.size();
+  const EdgeWeights w = CotangentWeights(m);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> L{Eigen::Index(n), Eigen::Index(n)};
+  {
+    std::vector<Eigen::Triplet<double>> t = w.triplets;
+    for (size_t p = 0; p < n; ++p)
+      t.emplace_back(Eigen::Index(p), Eigen::Index(p), w.diagonal[p] > 0.0 ? w.diagonal[p] : 1.0);
+    L.setFromTriplets(t.begin(), t.end());
+  }
+  std::vector<int> u_index(n, -1), f_index(n, -1);
+  std::vector<uint32_t> U;
+  for (const auto& a : anchors)
+    for (uint32_t p : a)
+      if (u_index[p] < 0) u_index[p] = int(U.size()), U.push_back(p);
+  int nf = 0;
+  std::vector<uint32_t> F;
+  for (size_t p = 0; p < n; ++p)
+    if (u_index[p] < 0) f_index[p] = nf++, F.push_back(uint32_t(p));
+  const int nu = int(U.size());
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nf, nu);
+  if (nf > 0) {
+    std::vector<Eigen::Triplet<double>> a;
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nf, nu);
+    for (int r = 0; r < nf; ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(L, F[size_t(r)]); it; ++it) {
+        const int c = int(it.col());
+        if (f_index[size_t(c)] >= 0)
+          a.emplace_back(r, f_index[size_t(c)], it.value() + (c == int(F[size_t(r)]) ? 1e-9 * (it.value() + 1.0) : 0.0));
+        else
+          B(r, u_index[size_t(c)]) -= it.value();
+      }
+    Eigen::SparseMatrix<double> A(nf, nf);
+    A.setFromTriplets(a.begin(), a.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+    if (solver.info() != Eigen::Success) return false;
+    H = solver.solve(B);
+    if (solver.info() != Eigen::Success || !H.allFinite()) return false;
+  }
+  out->assign(anchors.size(), Eigen::MatrixXd());
+  for (size_t k = 0; k < anchors.size(); ++k) {
+    const Eigen::Index cols = values[k].cols();
+    Eigen::MatrixXd xu = Eigen::MatrixXd::Zero(nu, cols);
+    std::vector<uint8_t> known(size_t(nu), 0);
+    for (size_t i = 0; i < anchors[k].size(); ++i) {  // a repeated point: the last value wins
+      xu.row(u_index[anchors[k][i]]) = values[k].row(Eigen::Index(i));
+      known[size_t(u_index[anchors[k][i]])] = 1;
+    }
+    std::vector<int> Z;
+    for (int j = 0; j < nu; ++j)
+      if (!known[size_t(j)]) Z.push_back(j);
+    if (!Z.empty()) {
+      // M = L_ZU + L_ZF H, row by row.
+      Eigen::MatrixXd M = Eigen::MatrixXd::Zero(Eigen::Index(Z.size()), nu);
+      for (size_t zi = 0; zi < Z.size(); ++zi)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(L, U[size_t(Z[zi])]); it; ++it) {
+          const size_t c = size_t(it.col());
+          if (f_index[c] >= 0)
+            M.row(Eigen::Index(zi)) += it.value() * H.row(f_index[c]);
+          else
+            M(Eigen::Index(zi), u_index[c]) += it.value();
+        }
+      Eigen::MatrixXd Mz(Eigen::Index(Z.size()), Eigen::Index(Z.size()));
+      for (size_t j = 0; j < Z.size(); ++j) Mz.col(Eigen::Index(j)) = M.col(Z[j]);
+      const Eigen::MatrixXd rhs = -(M * xu);  // the unknown rows of xu are 0 here
+      const Eigen::MatrixXd xz = Mz.fullPivLu().solve(rhs);
+      if (!xz.allFinite()) return false;
+      for (size_t j = 0; j < Z.size(); ++j) xu.row(Z[j]) = xz.row(Eigen::Index(j));
+    }
+    Eigen::MatrixXd& x = (*out)[k];
+    x.setZero(Eigen::Index(n), cols);
+    const Eigen::MatrixXd xf = H * xu;
+    for (int r = 0; r < nf; ++r) x.row(F[size_t(r)]) = xf.row(r);
+    for (int j = 0; j < nu; ++j) x.row(U[size_t(j)]) = xu.row(j);
+  }
   return true;
 }
 
@@ -246,23 +332,63 @@ bool InterpolateDirectionField(const FineScaleMesh& mesh, span<const uint32_t> a
       if (!exact) (*out)[p] = float3{float(sx / sw), float(sy / sw), float(sz / sw)};
     }
   } else {  // 000 §5.1: spring energy with the anchors fixed
-    std::vector<int> fixed(n, -1);
-    Eigen::MatrixXd values(Eigen::Index(anchor_points.size()), 3);
-    for (size_t i = 0; i < anchor_points.size(); ++i) {
-      fixed[anchor_points[i]] = int(i);  // a repeated point: the last vector wins
-      values(Eigen::Index(i), 0) = anchor_vectors[i].x;
-      values(Eigen::Index(i), 1) = anchor_vectors[i].y;
-      values(Eigen::Index(i), 2) = anchor_vectors[i].z;
-    }
-    Eigen::MatrixXd x;
-    if (!HarmonicSolve(mesh, fixed, values, &x)) {
-      diag->Error(where, "the harmonic interpolation's sparse solve failed");
+    const FieldAnchors one{anchor_points, anchor_vectors, anchor_weights};
+    std::vector<float3> fields[1];
+    if (!InterpolateDirectionFields(mesh, span<const FieldAnchors>(&one, 1), method, where, fields,
+                                    diag))
       return false;
-    }
-    for (uint32_t p = 0; p < n; ++p)
-      (*out)[p] = float3{float(x(p, 0)), float(x(p, 1)), float(x(p, 2))};
+    *out = std::move(fields[0]);
+    return true;
   }
   for (uint32_t p = 0; p < n; ++p) (*out)[p] = tangent(p, (*out)[p]);
+  return true;
+}
+
+bool InterpolateDirectionFields(const FineScaleMesh& mesh, span<const FieldAnchors> fields,
+                                FieldInterpolation method, const std::string& where,
+                                std::vector<float3>* out, Diagnostics* diag) {
+  if (method == FieldInterpolation::kInverseDistance) {
+    for (size_t k = 0; k < fields.size(); ++k)
+      if (!InterpolateDirectionField(mesh, fields[k].points, fields[k].vectors, fields[k].weights,
+                                     method, where, &out[k], diag))
+        return false;
+    return true;
+  }
+  const size_t n = mesh.points.size();
+  std::vector<std::vector<uint32_t>> anchors(fields.size());
+  std::vector<Eigen::MatrixXd> values(fields.size());
+  for (size_t k = 0; k < fields.size(); ++k) {
+    const FieldAnchors& f = fields[k];
+    const std::string fw = fields.size() > 1 ? where + ".fields[" + std::to_string(k) + "]" : where;
+    if (f.points.empty() || f.points.size() != f.vectors.size()) {
+      diag->Error(fw, "a direction field needs at least one vector");
+      return false;
+    }
+    values[k].resize(Eigen::Index(f.points.size()), 3);
+    for (size_t i = 0; i < f.points.size(); ++i) {
+      if (f.points[i] >= n || !Finite(f.vectors[i])) {
+        diag->Error(fw + ".anchors[" + std::to_string(i) + "]", "is out of range or not finite");
+        return false;
+      }
+      anchors[k].push_back(f.points[i]);
+      values[k](Eigen::Index(i), 0) = f.vectors[i].x;
+      values[k](Eigen::Index(i), 1) = f.vectors[i].y;
+      values[k](Eigen::Index(i), 2) = f.vectors[i].z;
+    }
+  }
+  std::vector<Eigen::MatrixXd> x;
+  if (!HarmonicFields(mesh, anchors, values, &x)) {
+    diag->Error(where, "the harmonic interpolation's sparse solve failed");
+    return false;
+  }
+  const std::vector<float3> normals = PointNormals(mesh);
+  for (size_t k = 0; k < fields.size(); ++k) {
+    out[k].resize(n);
+    for (uint32_t p = 0; p < n; ++p) {
+      const float3 v{float(x[k](p, 0)), float(x[k](p, 1)), float(x[k](p, 2))};
+      out[k][p] = v - Dot(v, normals[p]) * normals[p];
+    }
+  }
   return true;
 }
 
@@ -497,16 +623,6 @@ float Crossing(float2 p, float2 q, float2 a, float2 b) {
   return t >= 0.f && t <= 1.f && u >= 0.f && u <= 1.f ? t : -1.f;
 }
 
-// Distance from c to segment pq.
-float SegmentDistance(float2 c, float2 p, float2 q) {
-  const float2 d = Sub2(q, p), cp = Sub2(c, p);
-  const float l2 = Dot2(d, d);
-  float t = l2 > 0.f ? Dot2(cp, d) / l2 : 0.f;
-  t = std::clamp(t, 0.f, 1.f);
-  const float2 e{cp.x - t * d.x, cp.y - t * d.y};
-  return std::sqrt(Dot2(e, e));
-}
-
 struct Carver {
   const FieldImage& field;
   const CarveOptions& options;
@@ -536,29 +652,66 @@ struct Carver {
     return std::clamp(std::min(d + 0.5f, h) - std::max(d - 0.5f, -h), 0.f, 1.f);
   }
 
-  void Draw(float2 p, float2 q, const FurrowParams& fp) {
-    // Height: width W_h, intensity I. Occupancy: everything within W_o of the centre line.
-    const float reach = std::max(0.5f * fp.width + 0.5f, fp.spacing) + 1.f;
-    const int x0 = std::max(0, int(std::floor(std::min(p.x, q.x) - reach)));
-    const int x1 = std::min(size - 1, int(std::ceil(std::max(p.x, q.x) + reach)));
-    const int y0 = std::max(0, int(std::floor(std::min(p.y, q.y) - reach)));
-    const int y1 = std::min(size - 1, int(std::ceil(std::max(p.y, q.y) + reach)));
+  // Draws segment PQ: occupancy at every pixel centre within W_o of it, height with width
+  // W_h. Squared distances first (the square root only inside the height band), over each
+  // row's slice of the rectangle {a in [a_lo, L + R], |b| <= R} around PQ (a along PQ from P,
+  // b across, R the larger reach), which holds the capsule. With `prev` (the segment that
+  // ended at P, of this furrow) no larger in W_o, W_h and depth, everything within reach of P
+  // is already drawn at least as strongly (min / or of smaller values leaves it), so a_lo = 0;
+  // else a_lo = -R. The same image either way.
+  void Draw(float2 p, float2 q, const FurrowParams& fp, const FurrowParams* prev) {
+    const float band = 0.5f * fp.width + 0.5f, band2 = band * band;
+    const float occ2 = fp.spacing * fp.spacing;
+    const float reach = std::max(band, fp.spacing);
     const float depth = 1.f - fp.intensity;
     float* h = out->height.data();
-    for (int y = y0; y <= y1; ++y)
+    const float2 dq = Sub2(q, p);
+    const float l2 = Dot2(dq, dq), len = std::sqrt(l2), inv = l2 > 0.f ? 1.f / l2 : 0.f;
+    const bool covered = prev && fp.spacing <= prev->spacing && fp.width <= prev->width &&
+                         depth <= 1.f - prev->intensity;
+    const float2 u = len > 1e-6f ? float2{dq.x / len, dq.y / len} : float2{1.f, 0.f};
+    const float2 n{-u.y, u.x};
+    const float a_lo = (covered && len > 1e-6f ? 0.f : -reach) - 1e-3f, a_hi = len + reach + 1e-3f;
+    const float b_hi = reach + 1e-3f;
+    const int y0 = std::max(0, int(std::floor(std::min(p.y, q.y) - reach - 0.5f)));
+    const int y1 = std::min(size - 1, int(std::ceil(std::max(p.y, q.y) + reach)));
+    for (int y = y0; y <= y1; ++y) {
+      const float cy = y + 0.5f - p.y;
+      // x - p.x in [lo, hi] from both slabs (a coefficient near 0 leaves its slab a test on cy).
+      float lo = -1e30f, hi = 1e30f;
+      auto slab = [&](float cx, float cyc, float mn, float mx) {
+        const float k = cy * cyc;
+        if (std::fabs(cx) > 1e-6f) {
+          float e0 = (mn - k) / cx, e1 = (mx - k) / cx;
+          if (e0 > e1) std::swap(e0, e1);
+          lo = std::max(lo, e0);
+          hi = std::min(hi, e1);
+        } else if (k < mn || k > mx) {
+          hi = -1e30f;
+        }
+      };
+      slab(u.x, u.y, a_lo, a_hi);
+      slab(n.x, n.y, -b_hi, b_hi);
+      if (!(hi >= lo)) continue;
+      const int x0 = std::max(0, int(std::ceil(p.x + lo - 0.5f)));
+      const int x1 = std::min(size - 1, int(std::floor(p.x + hi - 0.5f)));
+      uint8_t* occ = &occupied[size_t(y) * size_t(size)];
+      float* hr = h + size_t(y) * size_t(size);
       for (int x = x0; x <= x1; ++x) {
-        const float d = SegmentDistance(float2{x + 0.5f, y + 0.5f}, p, q);
-        const size_t i = size_t(y) * size_t(size) + size_t(x);
-        if (d <= fp.spacing) occupied[i] = 1;
-        if (depth > 0.f) {
-          const float cov = Coverage(d, fp.width);
-          if (cov > 0.f) h[i] = std::min(h[i], 1.f - depth * cov);
+        const float cx = x + 0.5f - p.x;
+        const float t = std::clamp((cx * dq.x + cy * dq.y) * inv, 0.f, 1.f);
+        const float ex = cx - t * dq.x, ey = cy - t * dq.y, d2 = ex * ex + ey * ey;
+        if (d2 <= occ2) occ[x] = 1;
+        if (depth > 0.f && d2 < band2) {
+          const float cov = Coverage(std::sqrt(d2), fp.width);
+          if (cov > 0.f) hr[x] = std::min(hr[x], 1.f - depth * cov);
         }
       }
+    }
   }
 
   // One side of a furrow from `start` along sign * d (000 §5.2 steps 1-7).
-  FurrowSide Grow(uint32_t id, float2 start, float sign) {
+  FurrowSide Grow(uint32_t id, float2 start, float sign, FurrowParams* last) {
     FurrowSide side;
     float2 p = start, prev{0.f, 0.f};
     long n = std::numeric_limits<long>::max();
@@ -576,8 +729,8 @@ struct Carver {
       d = float2{cs * d.x - sn * d.y, sn * d.x + cs * d.y};
       float2 q{p.x + fp.length * d.x, p.y + fp.length * d.y};  // step 4
       FurrowEnd end = FurrowEnd::kBudget;
-      // The border: the last sample inside the mapped area, 1/8 pixel steps.
-      const int steps = std::max(1, int(std::ceil(fp.length * 8.f)));
+      // The border: the last sample inside the mapped area, 1/4 pixel steps.
+      const int steps = std::max(1, int(std::ceil(fp.length * 4.f)));
       for (int k = 1; k <= steps; ++k) {
         const float t = float(k) / float(steps);
         const float2 s{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
@@ -590,9 +743,15 @@ struct Carver {
       }
       // The nearest crossing of another furrow's centre line.
       float best = 2.f;
+      const float bx0 = std::min(p.x, q.x), bx1 = std::max(p.x, q.x);
+      const float by0 = std::min(p.y, q.y), by1 = std::max(p.y, q.y);
       grid.Visit(p, q, [&](uint32_t s) {
         const FurrowSegment& g = segments[s];
         if (g.furrow == id) return;
+        // Bounding boxes first (most candidates in a cell are nowhere near PQ).
+        if (std::max(g.p.x, g.q.x) < bx0 || std::min(g.p.x, g.q.x) > bx1 ||
+            std::max(g.p.y, g.q.y) < by0 || std::min(g.p.y, g.q.y) > by1)
+          return;
         const float t = Crossing(p, q, g.p, g.q);
         if (t >= 0.f && t < best) best = t;
       });
@@ -601,7 +760,9 @@ struct Carver {
         end = FurrowEnd::kCrossing;
       }
       if (end != FurrowEnd::kBudget) n = 0;
-      Draw(p, q, fp);  // steps 5-6
+      Draw(p, q, fp, side.segments ? last : start_params_);  // steps 5-6
+      *last = fp;
+      if (side.segments == 0 && sign > 0.f) first_params_ = fp;
       grid.Add(uint32_t(segments.size()), p, q);
       segments.push_back({p, q, id});
       ++side.segments;
@@ -622,13 +783,20 @@ struct Carver {
     f.start = start;
     f.start_magnitude = field.magnitude[Pixel(start)];
     f.first_segment = uint32_t(segments.size());
-    f.sides[0] = Grow(id, start, 1.f);
-    f.sides[1] = Grow(id, start, -1.f);
+    FurrowParams last;
+    start_params_ = nullptr;  // nothing drawn around the start yet
+    f.sides[0] = Grow(id, start, 1.f, &last);
+    // The -d side starts where the +d side's first segment started (its parameters, when it
+    // drew one, cover the start).
+    start_params_ = f.sides[0].segments ? &first_params_ : nullptr;
+    f.sides[1] = Grow(id, start, -1.f, &last);
     f.segment_count = uint32_t(segments.size()) - f.first_segment;
     if (options.record) out->furrows.push_back(f);
     else ++furrow_count_;
   }
   size_t furrow_count_ = 0;
+  const FurrowParams* start_params_ = nullptr;
+  FurrowParams first_params_;
 
   void Run() {
     const size_t pixels = size_t(size) * size_t(size);
@@ -670,6 +838,22 @@ void CarveFurrows(const FieldImage& field, const CarveOptions& options, CarveRes
   if (field.size <= 0) return;
   Carver c(field, options, out);
   c.Run();
+}
+
+bool InterpolateSpecFields(const FineScaleSpec& spec, const FineScaleMesh& mesh,
+                           const std::vector<uint32_t> anchor_points[2], std::vector<float3> out[2],
+                           Diagnostics* diag) {
+  std::vector<float3> vectors[2];
+  std::vector<float> weights[2];
+  FieldAnchors anchors[2];
+  for (int f = 0; f < 2; ++f) {
+    for (const DirectionAnchor& a : spec.fields[f].anchors) {
+      vectors[f].push_back(a.vector);
+      weights[f].push_back(a.weight);
+    }
+    anchors[f] = {anchor_points[f], vectors[f], weights[f]};
+  }
+  return InterpolateDirectionFields(mesh, anchors, spec.interpolation, "fine_scale", out, diag);
 }
 
 void AddHeightNoise(float k_noise, uint64_t seed, std::vector<float>* height) {
@@ -720,20 +904,10 @@ bool MakeFineScaleMaps(const FineScaleSpec& spec, const FineScaleMesh& mesh,
   std::vector<float2> uvs;
   if (!MakeTextureSpace(mesh, spec.projection, spec.minimize_distortion, "fine_scale", &uvs, diag))
     return false;
+  std::vector<float3> fields[2];
+  if (!InterpolateSpecFields(spec, mesh, anchor_points, fields, diag)) return false;
   FieldImage images[2];
-  for (int f = 0; f < 2; ++f) {
-    std::vector<float3> vectors;
-    std::vector<float> weights;
-    for (const DirectionAnchor& a : spec.fields[f].anchors) {
-      vectors.push_back(a.vector);
-      weights.push_back(a.weight);
-    }
-    std::vector<float3> field;
-    if (!InterpolateDirectionField(mesh, anchor_points[f], vectors, weights, spec.interpolation,
-                                   "fine_scale.fields[" + std::to_string(f) + "]", &field, diag))
-      return false;
-    images[f] = RasterizeField(mesh, uvs, field, options.size);
-  }
+  for (int f = 0; f < 2; ++f) images[f] = RasterizeField(mesh, uvs, fields[f], options.size);
   out->size = options.size;
   CarveResult results[2];
   float done[2] = {0.f, 0.f};

@@ -97,6 +97,24 @@ bool InterpolateDirectionField(const FineScaleMesh& mesh, span<const uint32_t> a
                                const std::string& where, std::vector<float3>* out,
                                Diagnostics* diag);
 
+// Both (or any number of) fields at once: the same result as one InterpolateDirectionField per
+// field; the harmonic method factors the mesh's Laplacian once for all of them (over the
+// points that are no field's anchor; each field's other anchors are solved as a small dense
+// system on the harmonic extensions). `out` holds fields.size() vectors. Errors name
+// `where`.fields[k].
+struct FieldAnchors {
+  span<const uint32_t> points;
+  span<const float3> vectors;
+  span<const float> weights;
+};
+bool InterpolateDirectionFields(const FineScaleMesh& mesh, span<const FieldAnchors> fields,
+                                FieldInterpolation method, const std::string& where,
+                                std::vector<float3>* out, Diagnostics* diag);
+// The two fields of `spec` (anchors as points), InterpolateDirectionFields.
+bool InterpolateSpecFields(const FineScaleSpec& spec, const FineScaleMesh& mesh,
+                           const std::vector<uint32_t> anchor_points[2], std::vector<float3> out[2],
+                           Diagnostics* diag);
+
 // Texture coordinates of every triangle corner (3 per triangle) for `projection` (kAuto
 // resolved by the caller's corner_uvs), with the optional 000 §4 harmonic distortion
 // minimisation (boundary points fixed, interior points at the cotangent-weighted harmonic
