@@ -15,6 +15,9 @@
 //   BM_EvaluateHeadNoLimiter/<vertices>, BM_ReferenceHead/<vertices>
 //                                      (the blendshapes move balls of 15% of the head's
 //                                      points centred on the face)
+//   BM_PairedHeadFine/<vertices>     every layer without and with out_fine_amplitudes (the two
+//                                      fine-scale amplitudes per vertex), frame by frame;
+//                                      `ratio` = with / without
 //   BM_EvaluateHeadHardPose/<vertices>/<pose>, BM_EvaluateHeadHardPoseFullScan/<vertices>/<pose>
 //                                      every layer at one fixed pose where the fold limiter
 //                                      is busy (0 Smile, 1 Fear of
@@ -249,6 +252,40 @@ void RunPaired(benchmark::State& state, bool head) {
   state.counters["context_bytes"] = double(setup.context.ByteSize());
 }
 
+// docs/model.md §23: EvaluateJob with every layer, frame by frame without and with the two
+// fine-scale amplitudes per vertex (out_fine_amplitudes), each timed on its own; `ratio` =
+// with / without (the budget: at most 1.10).
+void RunPairedFine(benchmark::State& state) {
+  const Rig& rig = GetFixture(true, int(state.range(0))).rig;
+  if (rig.fine_scale().empty()) state.SkipWithError("the head rig has no fine-scale probes");
+  EvaluateSetup plain(rig, SkinLayers{}), fine(rig, SkinLayers{});
+  std::vector<float> amplitudes(2 * rig.vertex_count());
+  fine.job.out_fine_amplitudes = amplitudes;
+  using Clock = std::chrono::steady_clock;
+  Clock::duration without{}, with{};
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    FillWeights(&plain.activations, frame);
+    FillWeights(&fine.activations, frame);
+    const Clock::time_point t0 = Clock::now();
+    if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(plain.positions.data());
+    const Clock::time_point t1 = Clock::now();
+    if (!fine.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(fine.positions.data());
+    benchmark::DoNotOptimize(amplitudes.data());
+    const Clock::time_point t2 = Clock::now();
+    without += t1 - t0;
+    with += t2 - t1;
+    ++frame;
+  }
+  const double n = double(frame) * double(rig.vertex_count());
+  state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(without).count() / n;
+  state.counters["fine_ns_per_vertex"] = std::chrono::duration<double, std::nano>(with).count() / n;
+  state.counters["ratio"] = double(with.count()) / double(without.count());
+  state.counters["fine_points"] = double(rig.fine_scale().point_count());
+}
+
 // Activations of hard pose `pose` (0 Smile, 1 Fear, 2 every muscle at 1) on `rig`.
 std::vector<float> HardPose(const Rig& rig, int pose) {
   std::vector<float> a(rig.muscle_count(), pose == 2 ? 1.f : 0.f);
@@ -304,6 +341,7 @@ void BM_EvaluateHeadNoLimiter(benchmark::State& s) { RunEvaluate(s, true, SkinLa
 void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
+void BM_PairedHeadFine(benchmark::State& s) { RunPairedFine(s); }
 void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
 void BM_EvaluateHeadHardPoseFullScan(benchmark::State& s) { RunHardPose(s, true); }
 
@@ -324,6 +362,7 @@ BENCHMARK(BM_EvaluateHeadNoLimiter) MIMETIC_SIZES;
 BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
+BENCHMARK(BM_PairedHeadFine) MIMETIC_SIZES;
 #define MIMETIC_HARD_POSES                                                     \
   ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
       ->ComputeStatistics("min", Fastest)
