@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "bench/evaluate_setup.h"
+#include "bench/head_fixture.h"
 #include "bench/reference_blendshapes.h"
 #include "content/procedural.h"
 #include "content/sample_head.h"
@@ -107,21 +108,10 @@ std::unique_ptr<Fixture> MakeSheet(int vertices) {
 // The procedural head at ~`vertices` vertices with the default template fitted to it.
 std::unique_ptr<Fixture> MakeHead(int vertices) {
   auto f = std::make_unique<Fixture>();
-  SampleHeadOptions options;
-  const double k = std::sqrt(double(vertices) / 33741.0);  // defaults: 240 x 140 -> 33,741
-  options.columns = 2 * int(std::lround(120.0 * k));
-  options.rows = int(std::lround(140.0 * k));
-  const SampleHead head = MakeSampleHead(options);
-  MuscleTemplate tmpl;
+  const bench::FittedHead fitted = bench::FitSampleHead(vertices);
+  const SampleHead& head = fitted.head;
+  const RigSpec& spec = fitted.spec;
   Diagnostics diag;
-  if (!LoadMuscleTemplate(std::string(MIMETIC_SOURCE_DIR) + "/assets/head/default.template.json",
-                          &tmpl, &diag))
-    Die(diag, "cannot load the default template");
-  Landmarks landmarks;
-  landmarks.points = head.landmarks;
-  RigSpec spec;
-  if (!FitTemplate(tmpl, head.mesh, landmarks, "mm", &spec, &diag)) Die(diag, "cannot fit");
-  spec.refinement.enabled = false;
   if (!BuildRig(spec, head.mesh, {}, &f->rig, &diag)) Die(diag, "cannot build the head rig");
   // Blendshape regions centred on the face: points in front of the ears, between chin and brows.
   std::vector<uint32_t> face;

@@ -14,11 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "content/sample_head.h"
-#include "fitting/fit.h"
-#include "fitting/landmarks.h"
-#include "fitting/muscle_template.h"
-#include "io/template_file.h"
+#include "bench/head_fixture.h"
 #include "rig/offline/rig_builder.h"
 #include "wrinkles/offline/fine_scale.h"
 
@@ -41,18 +37,11 @@ struct HeadFine {
 const HeadFine& Head() {
   static std::unique_ptr<HeadFine> h = [] {
     auto f = std::make_unique<HeadFine>();
-    const SampleHead head = MakeSampleHead(SampleHeadOptions{});
-    MuscleTemplate tmpl;
+    const bench::FittedHead fitted = bench::FitSampleHead(33741);
+    const SampleHead& head = fitted.head;
+    const RigSpec& spec = fitted.spec;
     Diagnostics diag;
-    if (!LoadMuscleTemplate(std::string(MIMETIC_SOURCE_DIR) + "/assets/head/default.template.json",
-                            &tmpl, &diag))
-      Die(diag, "cannot load the default template");
-    Landmarks landmarks;
-    landmarks.points = head.landmarks;
-    RigSpec spec;
-    if (!FitTemplate(tmpl, head.mesh, landmarks, "mm", &spec, &diag)) Die(diag, "cannot fit");
     if (!spec.fine_scale) Die(diag, "the default template has no fine_scale block");
-    spec.refinement.enabled = false;
     if (!BuildRig(spec, head.mesh, {}, &f->rig, &diag)) Die(diag, "cannot build the head rig");
     f->spec = *spec.fine_scale;
     f->file_vertices = uint32_t(head.mesh.vertex_count());

@@ -17,6 +17,7 @@
 #include "wrinkles/runtime/profiles.h"
 
 #include "alloc_counter.h"
+#include "rig/frame_helpers.h"
 
 namespace mimetic {
 namespace {
@@ -132,18 +133,8 @@ Surface FineSurface(uint32_t side, uint32_t muscles) {
   return s;
 }
 
-std::vector<float> SomeActivations(const Rig& rig) {
-  std::vector<float> a(rig.muscle_count());
-  for (size_t m = 0; m < a.size(); ++m) a[m] = 0.3f + 0.12f * float(m % 6);
-  return a;
-}
-
-void TwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
-  const uint32_t mid = count / 2 + 5 < count ? count / 2 + 5 : count / 2;
-  std::thread t([&] { task(data, 0, mid); });
-  task(data, mid, count);
-  t.join();
-}
+using test::SomeActivations;
+using test::TwoThreads;
 
 TEST(EvaluateJobFine, BuilderProbesGiveThePublicShrinkageJobsAmplitudes) {
   const Surface s = FineSurface(30, 6);

@@ -14,6 +14,7 @@
 #include "rig/runtime/evaluate_job.h"
 
 #include "alloc_counter.h"
+#include "rig/frame_helpers.h"
 
 namespace mimetic {
 namespace {
@@ -188,18 +189,8 @@ Surface MakeSurfaceWithRegions(uint32_t side, uint32_t muscles) {
   return s;
 }
 
-std::vector<float> SomeActivations(const Rig& rig) {
-  std::vector<float> a(rig.muscle_count());
-  for (size_t m = 0; m < a.size(); ++m) a[m] = 0.3f + 0.12f * float(m % 6);
-  return a;
-}
-
-void TwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
-  const uint32_t mid = count / 2 + 5 < count ? count / 2 + 5 : count / 2;
-  std::thread t([&] { task(data, 0, mid); });
-  task(data, mid, count);
-  t.join();
-}
+using test::SomeActivations;
+using test::TwoThreads;
 
 TEST(EvaluateJobTension, RegionsComeThroughTheBuilderAndCompressionIsTheLargestEpsRow) {
   const Surface s = MakeSurfaceWithRegions(40, 6);
