@@ -149,14 +149,7 @@ TEST(EvaluateJobFine, BuilderProbesGiveThePublicShrinkageJobsAmplitudes) {
   // Second method: X1 from a frame with the skin layers off, DirectionalShrinkageJob over the
   // probes, DirectionalModulation.
   EvaluateContext ctx1(s.rig);
-  std::vector<float> x1(3 * s.rig.vertex_count());
-  EvaluateJob plain;
-  plain.rig = &s.rig;
-  plain.context = &ctx1;
-  plain.activations = act;
-  plain.out_positions = x1;
-  plain.layers = {false, false, false};
-  ASSERT_TRUE(plain.Run());
+  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &ctx1));
   std::vector<float> sh(fs.probes.size());
   const DirectionalShrinkageJob job{.positions = ctx1.points(),
                                     .probes = fs.probes,

@@ -210,14 +210,7 @@ TEST(EvaluateJobTension, RegionsComeThroughTheBuilderAndCompressionIsTheLargestE
   // eps by a second method: EdgeCompressionJob over each wrinkled muscle's rows on X1 (the
   // pose before the skin layers: the same rig with the layers off gives X1 as its output).
   EvaluateContext ctx1(s.rig);
-  std::vector<float> x1(3 * s.rig.vertex_count());
-  EvaluateJob plain;
-  plain.rig = &s.rig;
-  plain.context = &ctx1;
-  plain.activations = act;
-  plain.out_positions = x1;
-  plain.layers = {false, false, false};
-  ASSERT_TRUE(plain.Run());
+  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &ctx1));
   const span<const float3> points = ctx1.points();
   std::vector<float> best(s.rig.point_count(), 0.f);
   std::vector<uint8_t> seen(s.rig.point_count(), 0);

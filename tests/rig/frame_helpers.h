@@ -6,6 +6,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/span.h"
+#include "rig/runtime/evaluate_job.h"
 #include "rig/runtime/rig.h"
 
 namespace mimetic::test {
@@ -24,6 +26,19 @@ inline void TwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t, uint
   std::thread t([&] { task(data, 0, mid); });
   task(data, mid, count);
   t.join();
+}
+
+// X1, the pose before the skin layers (muscles and jaw only), left in ctx->points(): a frame
+// with every layer off. False when the job does not run.
+inline bool RunPoseBeforeSkin(const Rig& rig, span<const float> activations, EvaluateContext* ctx) {
+  std::vector<float> x1(3 * size_t(rig.vertex_count()));
+  EvaluateJob plain;
+  plain.rig = &rig;
+  plain.context = ctx;
+  plain.activations = activations;
+  plain.out_positions = x1;
+  plain.layers = {false, false, false};
+  return plain.Run();
 }
 
 }  // namespace mimetic::test
