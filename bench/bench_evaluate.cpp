@@ -18,6 +18,9 @@
 //   BM_EvaluateHeadJaw/<vertices>, BM_EvaluateHeadJawNoLimiter/<vertices>,
 //   BM_PairedHeadJaw/<vertices>        BM_EvaluateHead(NoLimiter) and BM_PairedHead with the
 //                                      fitted jaw moving too (jaw = 0.5 + 0.5 sin(0.1 (frame + 3)))
+//   BM_PairedHeadFine/<vertices>     every layer without and with out_fine_amplitudes (the two
+//                                      fine-scale amplitudes per vertex), frame by frame;
+//                                      `ratio` = with / without
 //   BM_EvaluateHeadHardPose/<vertices>/<pose>, BM_EvaluateHeadHardPoseFullScan/<vertices>/<pose>
 //                                      every layer at one fixed pose where the fold limiter
 //                                      is busy (0 Smile, 1 Fear of
@@ -38,6 +41,7 @@
 #include <vector>
 
 #include "bench/evaluate_setup.h"
+#include "bench/head_fixture.h"
 #include "bench/reference_blendshapes.h"
 #include "content/procedural.h"
 #include "content/sample_head.h"
@@ -107,21 +111,10 @@ std::unique_ptr<Fixture> MakeSheet(int vertices) {
 // The procedural head at ~`vertices` vertices with the default template fitted to it.
 std::unique_ptr<Fixture> MakeHead(int vertices) {
   auto f = std::make_unique<Fixture>();
-  SampleHeadOptions options;
-  const double k = std::sqrt(double(vertices) / 33741.0);  // defaults: 240 x 140 -> 33,741
-  options.columns = 2 * int(std::lround(120.0 * k));
-  options.rows = int(std::lround(140.0 * k));
-  const SampleHead head = MakeSampleHead(options);
-  MuscleTemplate tmpl;
+  const bench::FittedHead fitted = bench::FitSampleHead(vertices);
+  const SampleHead& head = fitted.head;
+  const RigSpec& spec = fitted.spec;
   Diagnostics diag;
-  if (!LoadMuscleTemplate(std::string(MIMETIC_SOURCE_DIR) + "/assets/head/default.template.json",
-                          &tmpl, &diag))
-    Die(diag, "cannot load the default template");
-  Landmarks landmarks;
-  landmarks.points = head.landmarks;
-  RigSpec spec;
-  if (!FitTemplate(tmpl, head.mesh, landmarks, "mm", &spec, &diag)) Die(diag, "cannot fit");
-  spec.refinement.enabled = false;
   if (!BuildRig(spec, head.mesh, {}, &f->rig, &diag)) Die(diag, "cannot build the head rig");
   // Blendshape regions centred on the face: points in front of the ears, between chin and brows.
   std::vector<uint32_t> face;
@@ -269,6 +262,40 @@ void RunPaired(benchmark::State& state, bool head, bool jaw = false) {
   state.counters["context_bytes"] = double(setup.context.ByteSize());
 }
 
+// docs/model.md §23: EvaluateJob with every layer, frame by frame without and with the two
+// fine-scale amplitudes per vertex (out_fine_amplitudes), each timed on its own; `ratio` =
+// with / without (the budget: at most 1.10).
+void RunPairedFine(benchmark::State& state) {
+  const Rig& rig = GetFixture(true, int(state.range(0))).rig;
+  if (rig.fine_scale().empty()) state.SkipWithError("the head rig has no fine-scale probes");
+  EvaluateSetup plain(rig, SkinLayers{}), fine(rig, SkinLayers{});
+  std::vector<float> amplitudes(2 * rig.vertex_count());
+  fine.job.out_fine_amplitudes = amplitudes;
+  using Clock = std::chrono::steady_clock;
+  Clock::duration without{}, with{};
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    FillWeights(&plain.activations, frame);
+    FillWeights(&fine.activations, frame);
+    const Clock::time_point t0 = Clock::now();
+    if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(plain.positions.data());
+    const Clock::time_point t1 = Clock::now();
+    if (!fine.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(fine.positions.data());
+    benchmark::DoNotOptimize(amplitudes.data());
+    const Clock::time_point t2 = Clock::now();
+    without += t1 - t0;
+    with += t2 - t1;
+    ++frame;
+  }
+  const double n = double(frame) * double(rig.vertex_count());
+  state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(without).count() / n;
+  state.counters["fine_ns_per_vertex"] = std::chrono::duration<double, std::nano>(with).count() / n;
+  state.counters["ratio"] = double(with.count()) / double(without.count());
+  state.counters["fine_points"] = double(rig.fine_scale().point_count());
+}
+
 // Activations of hard pose `pose` (0 Smile, 1 Fear, 2 every muscle at 1) on `rig`.
 std::vector<float> HardPose(const Rig& rig, int pose) {
   std::vector<float> a(rig.muscle_count(), pose == 2 ? 1.f : 0.f);
@@ -329,6 +356,7 @@ void BM_ReferenceHead(benchmark::State& s) { RunReference(s, true); }
 void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
 void BM_PairedHeadJaw(benchmark::State& s) { RunPaired(s, true, true); }
+void BM_PairedHeadFine(benchmark::State& s) { RunPairedFine(s); }
 void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
 void BM_EvaluateHeadHardPoseFullScan(benchmark::State& s) { RunHardPose(s, true); }
 
@@ -352,6 +380,7 @@ BENCHMARK(BM_ReferenceHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHeadJaw) MIMETIC_SIZES;
+BENCHMARK(BM_PairedHeadFine) MIMETIC_SIZES;
 #define MIMETIC_HARD_POSES                                                     \
   ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
       ->ComputeStatistics("min", Fastest)

@@ -13,6 +13,13 @@ struct Image {
 };
 
 // 8-bit grey levels, rows top to bottom (width * height bytes).
+// 16-bit grey levels (the fine-scale height maps, docs/model.md §22): 0 black, 65535 white.
+struct Gray16Image {
+  int width = 0, height = 0;
+  std::vector<uint16_t> pixels;
+  bool empty() const { return pixels.empty(); }
+};
+
 struct GrayImage {
   int width = 0, height = 0;
   std::vector<uint8_t> pixels;

@@ -523,6 +523,39 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
           EvaluateTensionRegion(g, tmpl.thickness.front, frame.ToLocal(head.positions[v]));
     spec.tension_regions.push_back(std::move(region));
   }
+  // Fine-scale direction fields (docs/model.md §20): each template vector on the forward-facing
+  // head vertex nearest to its face-frame (x, y), its direction turned into mesh axes.
+  if (tmpl.fine_scale) {
+    FineScaleSpec fs;
+    fs.rest_amplitude = tmpl.fine_scale->rest_amplitude;
+    std::vector<float3> local(head.vertex_count());
+    for (size_t v = 0; v < head.vertex_count(); ++v) local[v] = frame.ToLocal(head.positions[v]);
+    for (int i = 0; i < 2; ++i) {
+      fs.fields[i].name = tmpl.fine_scale->field_names[i];
+      for (const TemplateDirectionAnchor& a : tmpl.fine_scale->fields[i]) {
+        size_t best = head.vertex_count();
+        float best_d = 0.f;
+        for (size_t v = 0; v < head.vertex_count(); ++v) {
+          const float* front = tmpl.thickness.front;
+          const float u = (local[v].z - front[0]) / (front[1] - front[0]);
+          if (!(u >= 0.5f)) continue;  // the front fade's smoothstep is 1/2 at u = 1/2
+          const float dx = local[v].x - a.at.x, dy = local[v].y - a.at.y, d = dx * dx + dy * dy;
+          if (best == head.vertex_count() || d < best_d) best = v, best_d = d;
+        }
+        if (best == head.vertex_count()) {
+          diag->Error("fine_scale." + fs.fields[i].name + "." + a.name,
+                      "no forward-facing head vertex to place the direction vector on");
+          ok = false;
+          continue;
+        }
+        DirectionAnchor anchor;
+        anchor.vertex = uint32_t(best);
+        anchor.vector = NormalizeOr(frame.DirectionToWorld(a.direction), float3{}) * a.magnitude;
+        fs.fields[i].anchors.push_back(anchor);
+      }
+    }
+    spec.fine_scale = std::move(fs);
+  }
   // The jaw (docs/model.md §18): condyles from the landmarks (the right one as the template
   // says, the left one mirrored), the mouth point on the inner lip midline (62, 66), the mouth
   // width between the outer corners (48, 54); the region parameters as they are.

@@ -122,6 +122,23 @@ struct TemplateTensionRegion {
 };
 inline constexpr float kTensionRegionCut = 0.01f;
 
+// A default fine-scale direction vector (docs/model.md §20, docs/template-format.md): placed by
+// the fit on the head vertex nearest to face-frame (x, y) = `at` among those facing forward
+// (the thickness map's front fade above 1/2); its direction is a face-frame vector, its length
+// `magnitude` (000 eq. 1's m).
+struct TemplateDirectionAnchor {
+  std::string name;       // unique within its field (after mirroring)
+  float2 at;              // face-frame (x, y), units of s
+  float3 direction;       // face frame, non-zero (normalised by the fit)
+  float magnitude = 0.5f; // (0, 1]
+  bool mirrored_copy = false;  // x of `at` and of `direction` negated
+};
+struct TemplateFineScale {
+  std::string field_names[2];
+  std::vector<TemplateDirectionAnchor> fields[2];  // `mirror` expanded, file order
+  float rest_amplitude = 0.5f;
+};
+
 struct MuscleTemplate {
   std::string file;  // where it was loaded from ("" when parsed from text)
   std::string description;
@@ -130,6 +147,7 @@ struct MuscleTemplate {
   std::vector<TemplateCurveWrinkle> curve_wrinkles;  // likewise
   std::optional<TemplateJaw> jaw;  // absent = the fitted rig has no jaw
   std::vector<TemplateTensionRegion> tension_regions;  // `mirror` expanded, file order
+  std::optional<TemplateFineScale> fine_scale;  // absent = the fitted rig has none
 };
 
 // The weight of tension region `r` at face-frame position `p` (units of s), in [0, 1]; `front`

@@ -1,5 +1,10 @@
-// io/image.cpp: image files through stb.
+// io/image.cpp: image files through stb, 16-bit greyscale PNG through libspng.
 #include "io/image.h"
+
+#include <spng.h>
+
+#include <cmath>
+#include <cstdlib>
 
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>  // Debian's libstb.so holds the implementation (-lstb)
@@ -109,6 +114,94 @@ bool SavePng(const std::string& path, const Image& image, Diagnostics* diag) {
     return false;
   }
   return WriteFileAtomic(path, bytes, d);
+}
+
+bool SavePng16(const std::string& path, const Gray16Image& image, Diagnostics* diag) {
+  Diagnostics local;
+  Diagnostics* d = diag ? diag : &local;
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != static_cast<size_t>(image.width) * size_t(image.height)) {
+    d->Error(path, "16-bit image is " + std::to_string(image.width) + "x" +
+                       std::to_string(image.height) + " with " +
+                       std::to_string(image.pixels.size()) +
+                       " pixels; expected positive size and width*height pixels");
+    return false;
+  }
+  spng_ctx* ctx = spng_ctx_new(SPNG_CTX_ENCODER);
+  if (!ctx) {
+    d->Error(path, "PNG encoding failed (libspng: out of memory)");
+    return false;
+  }
+  spng_set_option(ctx, SPNG_ENCODE_TO_BUFFER, 1);
+  spng_ihdr ihdr{};
+  ihdr.width = uint32_t(image.width);
+  ihdr.height = uint32_t(image.height);
+  ihdr.bit_depth = 16;
+  ihdr.color_type = SPNG_COLOR_TYPE_GRAYSCALE;
+  int err = spng_set_ihdr(ctx, &ihdr);
+  // SPNG_FMT_PNG: the PNG's own layout with host-endian 16-bit samples (libspng swaps).
+  if (!err)
+    err = spng_encode_image(ctx, image.pixels.data(), image.pixels.size() * 2, SPNG_FMT_PNG,
+                            SPNG_ENCODE_FINALIZE);
+  size_t len = 0;
+  void* buffer = err ? nullptr : spng_get_png_buffer(ctx, &len, &err);
+  spng_ctx_free(ctx);
+  if (err || !buffer) {
+    d->Error(path, std::string("PNG encoding failed (libspng: ") + spng_strerror(err) + ")");
+    free(buffer);
+    return false;
+  }
+  std::string bytes(static_cast<const char*>(buffer), len);
+  free(buffer);
+  return WriteFileAtomic(path, bytes, d);
+}
+
+bool DecodeGray16Png(const std::string& bytes, Gray16Image* out, std::string* reason) {
+  spng_ctx* ctx = spng_ctx_new(0);
+  if (!ctx) {
+    *reason = "out of memory (libspng)";
+    return false;
+  }
+  spng_set_png_buffer(ctx, bytes.data(), bytes.size());
+  spng_set_image_limits(ctx, 1u << 16, 1u << 16);
+  spng_ihdr ihdr{};
+  int err = spng_get_ihdr(ctx, &ihdr);
+  size_t size = 0;
+  if (!err && uint64_t(ihdr.width) * ihdr.height > (uint64_t(1) << 28)) err = SPNG_EWIDTH;
+  if (!err) err = spng_decoded_image_size(ctx, SPNG_FMT_RGBA16, &size);
+  std::vector<uint16_t> rgba;
+  if (!err) {
+    rgba.resize(size / 2);
+    err = spng_decode_image(ctx, rgba.data(), size, SPNG_FMT_RGBA16, SPNG_DECODE_TRNS);
+  }
+  spng_ctx_free(ctx);
+  if (err) {
+    *reason = std::string(spng_strerror(err)) + " (libspng)";
+    return false;
+  }
+  out->width = int(ihdr.width);
+  out->height = int(ihdr.height);
+  out->pixels.resize(size_t(ihdr.width) * ihdr.height);
+  for (size_t i = 0; i < out->pixels.size(); ++i) {
+    const uint16_t* p = &rgba[4 * i];
+    // Grey PNGs come out with r = g = b; colour ones get their Rec. 709 luminance.
+    out->pixels[i] = p[0] == p[1] && p[1] == p[2]
+                         ? p[0]
+                         : uint16_t(std::lround(0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]));
+  }
+  return true;
+}
+
+bool LoadGray16Png(const std::string& path, const std::string& where, const std::string& what,
+                   Gray16Image* out, Diagnostics* diag) {
+  std::string bytes;
+  if (!ReadFile(path, &bytes, diag, size_t(256) << 20, what)) return false;
+  std::string reason;
+  if (!DecodeGray16Png(bytes, out, &reason)) {
+    diag->Error(where, "cannot read " + what + " '" + path + "': " + reason + " (expected a PNG image)");
+    return false;
+  }
+  return true;
 }
 
 }  // namespace mimetic

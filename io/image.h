@@ -1,5 +1,5 @@
 // io/image.h: image files through stb (Debian's libstb: stb_image reads, stb_image_write
-// writes).
+// writes) and libspng (16-bit greyscale PNG).
 #pragma once
 
 #include <string>
@@ -23,5 +23,14 @@ bool DecodeGrayImage(const std::string& bytes, GrayImage* out, std::string* reas
 
 // Writes `image` as PNG atomically (stb_image_write into memory, then WriteFileAtomic).
 bool SavePng(const std::string& path, const Image& image, Diagnostics* diag);
+
+// Writes a 16-bit greyscale PNG atomically (libspng: stb_image_write has no 16-bit PNG).
+bool SavePng16(const std::string& path, const Gray16Image& image, Diagnostics* diag);
+// Reads a PNG as 16-bit grey levels (libspng; an 8-bit or colour PNG is converted: its
+// luminance, 8 bits scaled by 257). Errors as LoadGrayImage's.
+bool LoadGray16Png(const std::string& path, const std::string& where, const std::string& what,
+                   Gray16Image* out, Diagnostics* diag);
+// The decoding part of LoadGray16Png on bytes in memory.
+bool DecodeGray16Png(const std::string& bytes, Gray16Image* out, std::string* reason);
 
 }  // namespace mimetic

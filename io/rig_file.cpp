@@ -228,6 +228,54 @@ const Object kTensionRegion = {
     .description = "A tension region (docs/tension.md); names unique among the regions (reader "
                    "check)."};
 
+// docs/model.md §20-23: fine-scale wrinkle textures.
+const Object kDirectionVector = {
+    .owner = "a direction vector",
+    .fields = {
+        Integer("vertex", "an integer >= 0 (a vertex of the mesh file)").Min(0).Required(),
+        Numbers("vector", 3, "array of 3 numbers [x, y, z] (mesh axes; length = magnitude)")
+            .Required()
+            .About("direction (projected onto the vertex's tangent plane) and magnitude (its "
+                   "length: (0, 1] for bando2002, (0, 2] for bando2001)"),
+        Number("weight", "a number > 0").Above(0)
+            .About("lambda of 003 eq. 3.1 (inverse_distance only); default 1")},
+    .description = "A user direction vector at a vertex (docs/model.md §20)."};
+const Object kDirectionField = {
+    .owner = "a direction field",
+    .fields = {
+        String("name").NonEmpty().Required(),
+        Array("vectors", ObjectOf("", kDirectionVector, "object {\"vertex\": ..., \"vector\": [...]}"),
+              "array of direction vectors").NonEmpty().Required()},
+    .description = "One of the two direction fields (docs/model.md §20)."};
+const Object kFineScaleMaps = {
+    .owner = "fine_scale.maps",
+    .fields = {
+        Array("height", String("", "non-empty string (16-bit PNG, relative to the rig file)").NonEmpty(),
+              "array of 2 paths (one height map per field)").Count(2),
+        String("normal", "non-empty string (8-bit PNG, relative to the rig file)").NonEmpty()},
+    .description = "The maps `mimetic texture` wrote (docs/model.md §22)."};
+const Object kFineScale = {
+    .owner = "fine_scale",
+    .fields = {
+        Array("fields", ObjectOf("", kDirectionField, "object (a direction field)"),
+              "array of 2 direction fields").Count(2).Required(),
+        Enum("interpolation", {"harmonic", "inverse_distance"})
+            .About("000 §5.1 spring energy or 003 eq. 3.1; default \"harmonic\""),
+        Enum("texture_space", {"auto", "uv", "planar", "cylindrical"})
+            .About("the mesh's uvs or a projection (003 §3.2); default \"auto\" (uvs when the "
+                   "mesh has them, else cylindrical)"),
+        Bool("minimize_distortion").About("000 §4 harmonic smoothing of a projection; default false"),
+        Enum("parameters", {"bando2002", "bando2001"})
+            .About("000 eq. 1 or 003 eq. 5.1-5.6; default \"bando2002\""),
+        Number("k_scale", "a number in (0, 16]").Above(0).Max(16)
+            .About("003 length scale (bando2001 only); default 1"),
+        Number("k_noise", "a number in [0, 1]").Min(0).Max(1).About("003 step 9; default 0"),
+        Number("k_bump", "a number in [0, 64]").Min(0).Max(64).About("003 §4.1; default 1"),
+        Number("rest_amplitude", "a number in [0, 1]").Min(0).Max(1)
+            .About("r of M(s) (000 eq. 5) at rest; default 0.5"),
+        ObjectOf("maps", kFineScaleMaps, "object {\"height\": [...], \"normal\": ...}")},
+    .description = "Fine-scale wrinkle textures along two direction fields (docs/model.md "
+                   "§20-23); vertices in range, vectors non-zero (reader check)."};
 const std::string kReserved =
     "(reserved for a later version of the format; this build reads version 1)";
 const Object kRig = {
@@ -253,9 +301,10 @@ const Object kRig = {
         Array("tension_regions", ObjectOf("", kTensionRegion, "object (a tension region)"),
               "array of tension regions")
             .About("named masks whose per-frame weight engines blend wrinkle maps with "
-                   "(docs/tension.md); absent = none")},
-    .notes = {{"fine_scale", kReserved},
-              {"expressions", kReserved},
+                   "(docs/tension.md); absent = none"),
+        ObjectOf("fine_scale", kFineScale, "object {\"fields\": [...], ...}")
+            .About("fine-scale wrinkle textures (docs/model.md §20-23); absent = none")},
+    .notes = {{"expressions", kReserved},
               {"wrinkles", "(muscle-derived wrinkles go inside each muscle: muscles[i].wrinkles)"}},
     .description = "A mimetic rig: mesh, units, skin thickness, Waters muscles with their "
                    "optional wrinkles, curve wrinkles, layer switches and refinement "
@@ -288,6 +337,7 @@ class RigRules {
   }
   void Thickness(const View& t, ThicknessSpec* out);
   void Jaw(const View& j, RigSpec* spec);
+  void FineScale(const View& f, RigSpec* spec);
   void Fingerprint(const View& f, MeshFingerprint* out);
   bool Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkleSpec>* wrinkles);
   bool Linear(const View& m, LinearMuscleSpec* out);
@@ -369,6 +419,64 @@ void RigRules::Root(const View& top, RigSpec* spec) {
                &region_names);
     if (g.ok()) spec->tension_regions.push_back(std::move(region));
   }
+  if (top.Has("fine_scale")) FineScale(top.Member("fine_scale"), spec);
+}
+
+void RigRules::FineScale(const View& f, RigSpec* spec) {
+  if (!f.present() || !f.value()->is_object()) return;
+  FineScaleSpec fs;
+  bool ok = f.ok();
+  for (size_t i = 0; i < f.Size("fields") && i < 2; ++i) {
+    const View field = f.Element("fields", i);
+    field.Read("name", &fs.fields[i].name);
+    for (size_t k = 0; k < field.Size("vectors"); ++k) {
+      const View v = field.Element("vectors", k);
+      DirectionAnchor a;
+      int64_t vertex = 0;
+      if (v.Read("vertex", &vertex)) a.vertex = uint32_t(std::min<int64_t>(vertex, UINT32_MAX));
+      v.Read("vector", &a.vector);
+      v.Read("weight", &a.weight);
+      if (v.ok() && !(Length(a.vector) > 1e-6f))
+        ok = Fail(v.Path("vector"), "has zero length; expected a direction (its length is the "
+                                    "magnitude, > 0)");
+      ok = ok && v.ok();
+      fs.fields[i].anchors.push_back(a);
+    }
+    ok = ok && field.ok();
+  }
+  std::string e;
+  if (f.Read("interpolation", &e))
+    fs.interpolation = e == "inverse_distance" ? FieldInterpolation::kInverseDistance
+                                               : FieldInterpolation::kHarmonic;
+  if (f.Read("texture_space", &e))
+    fs.projection = e == "uv" ? TextureProjection::kUv
+                  : e == "planar" ? TextureProjection::kPlanar
+                  : e == "cylindrical" ? TextureProjection::kCylindrical
+                                       : TextureProjection::kAuto;
+  f.Read("minimize_distortion", &fs.minimize_distortion);
+  if (f.Read("parameters", &e))
+    fs.parameters = e == "bando2001" ? FurrowParameterSet::kBando2001 : FurrowParameterSet::kBando2002;
+  f.Read("k_scale", &fs.k_scale);
+  f.Read("k_noise", &fs.k_noise);
+  f.Read("k_bump", &fs.k_bump);
+  f.Read("rest_amplitude", &fs.rest_amplitude);
+  const float top = MaxMagnitude(fs.parameters);
+  for (size_t i = 0; i < 2; ++i)
+    for (size_t k = 0; k < fs.fields[i].anchors.size(); ++k) {
+      const float m = Length(fs.fields[i].anchors[k].vector);
+      if (m > top * 1.0001f)
+        ok = Fail(f.Element("fields", i).Element("vectors", k).Path("vector"),
+                  "has magnitude " + FormatFloat(m) + "; expected at most " + FormatFloat(top) +
+                      " for parameters " + (top > 1.f ? "\"bando2001\"" : "\"bando2002\""));
+    }
+  const View maps = f.Member("maps");
+  if (const json* height = maps.Get("height"))
+    for (size_t i = 0; i < height->size() && i < 2; ++i)
+      if ((*height)[i].is_string())
+        fs.height_maps[i] = JoinPath(base_dir_, (*height)[i].get<std::string>());
+  std::string s;
+  if (maps.Read("normal", &s)) fs.normal_map = JoinPath(base_dir_, s);
+  if (ok) spec->fine_scale = std::move(fs);
 }
 
 void RigRules::Jaw(const View& j, RigSpec* spec) {
@@ -798,6 +906,48 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       regions.push_back(std::move(j));
     }
     root["tension_regions"] = std::move(regions);
+  }
+
+  if (spec.fine_scale) {
+    const FineScaleSpec& fs = *spec.fine_scale;
+    const FineScaleSpec d;
+    ordered_json j;
+    ordered_json fields = ordered_json::array();
+    for (const DirectionFieldSpec& field : fs.fields) {
+      ordered_json fj;
+      fj["name"] = field.name;
+      ordered_json vectors = ordered_json::array();
+      for (const DirectionAnchor& a : field.anchors) {
+        ordered_json v;
+        v["vertex"] = a.vertex;
+        v["vector"] = Vec3Json(a.vector);
+        if (!(a.weight == 1.f)) v["weight"] = ShortestDecimal(a.weight);
+        vectors.push_back(std::move(v));
+      }
+      fj["vectors"] = std::move(vectors);
+      fields.push_back(std::move(fj));
+    }
+    j["fields"] = std::move(fields);
+    if (fs.interpolation != d.interpolation) j["interpolation"] = "inverse_distance";
+    if (fs.projection != d.projection)
+      j["texture_space"] = fs.projection == TextureProjection::kUv       ? "uv"
+                           : fs.projection == TextureProjection::kPlanar ? "planar"
+                                                                         : "cylindrical";
+    if (fs.minimize_distortion) j["minimize_distortion"] = true;
+    if (fs.parameters != d.parameters) j["parameters"] = "bando2001";
+    if (!(fs.k_scale == d.k_scale)) j["k_scale"] = ShortestDecimal(fs.k_scale);
+    if (!(fs.k_noise == d.k_noise)) j["k_noise"] = ShortestDecimal(fs.k_noise);
+    if (!(fs.k_bump == d.k_bump)) j["k_bump"] = ShortestDecimal(fs.k_bump);
+    if (!(fs.rest_amplitude == d.rest_amplitude)) j["rest_amplitude"] = ShortestDecimal(fs.rest_amplitude);
+    if (!fs.height_maps[0].empty() || !fs.normal_map.empty()) {
+      ordered_json maps;
+      if (!fs.height_maps[0].empty())
+        maps["height"] = ordered_json::array(
+            {PathForFile(fs.height_maps[0], dir), PathForFile(fs.height_maps[1], dir)});
+      if (!fs.normal_map.empty()) maps["normal"] = PathForFile(fs.normal_map, dir);
+      j["maps"] = std::move(maps);
+    }
+    root["fine_scale"] = std::move(j);
   }
 
   const RefinementSpec default_refinement;

@@ -70,6 +70,25 @@ const Object kTensionRegion = {"a tension region", {
     Number("reference", "a number > 0 (a mean area compression)").Above(0)
         .About("c0 of the region's weight (docs/model.md §19); default 0.1"),
     Bool("mirror").About("also the copy mirrored across the midline, _L <-> _R")}};
+const Object kDirectionAnchor = {"a fine-scale direction vector", {
+    String("name").NonEmpty().Required().About("such as \"forehead\" or \"crows_feet_L\""),
+    Numbers("at", 2, "[x, y], two finite numbers (units of s)").Required()
+        .About("face frame; the fit takes the nearest forward-facing vertex"),
+    Numbers("direction", 3, "[dx, dy, dz], three finite numbers, not all 0 (face frame)")
+        .Required(),
+    Number("magnitude", "a number in (0, 1]").Above(0).Max(1).Required()
+        .About("000 eq. 1's m"),
+    Bool("mirror").About("also the copy mirrored across the midline, _L <-> _R")}};
+const Object kFineField = {"a fine-scale field", {
+    String("name").NonEmpty().Required(),
+    Array("vectors", ObjectOf("", kDirectionAnchor, "a direction vector object {\"name\", \"at\", "
+                                                    "\"direction\", \"magnitude\"}"),
+          "a non-empty array of direction vectors").NonEmpty().Required()}};
+const Object kFineScale = {"fine_scale", {
+    Array("fields", ObjectOf("", kFineField, "a field object {\"name\", \"vectors\"}"),
+          "an array of 2 fields").Count(2).Required(),
+    Number("rest_amplitude", "a number in [0, 1]").Min(0).Max(1)
+        .About("r of M(s) (docs/model.md §23); default 0.5")}};
 const Object kThickness = {"thickness", {
     Number("base").Min(0).Required().About("units of s"),
     Numbers("front", 2, "[z0, z1], two numbers with z0 < z1 (units of s)"),
@@ -161,7 +180,9 @@ const Object kTemplate = {"a muscle template", {
     ObjectOf("jaw", kJaw, "a jaw object {\"condyle\": ..., \"range_deg\": ..., ...}"),
     Array("tension_regions", ObjectOf("", kTensionRegion, "a tension region object {\"name\", "
                                                           "\"center\", \"radius\", ...}"),
-          "an array of tension regions")}};
+          "an array of tension regions"),
+    ObjectOf("fine_scale", kFineScale, "a fine_scale object {\"fields\": [...]}")
+        .About("default fine-scale direction fields (docs/model.md §20)")}};
 
 const Format kTemplateFormat = {
     .name = kFormatName,
@@ -233,6 +254,51 @@ void TemplateRules::Root(const View& top, MuscleTemplate* out) {
   }
   for (const TemplateTensionRegion& g : out->tension_regions) names.push_back(g.name);
   UniqueNames(names, origins, "tension region");
+  if (top.Has("fine_scale")) {
+    const View f = top.Member("fine_scale");
+    if (!f.ok()) return;
+    TemplateFineScale fs;
+    f.Read("rest_amplitude", &fs.rest_amplitude);
+    for (size_t i = 0; i < 2 && i < f.Size("fields"); ++i) {
+      const View field = f.Element("fields", i);
+      field.Read("name", &fs.field_names[i]);
+      origins.clear();
+      names.clear();
+      for (size_t k = 0; k < field.Size("vectors"); ++k) {
+        const View e = field.Element("vectors", k);
+        if (!e.ok()) continue;
+        TemplateDirectionAnchor a;
+        e.Read("name", &a.name);
+        e.Read("at", &a.at);
+        e.Read("direction", &a.direction);
+        e.Read("magnitude", &a.magnitude);
+        if (!(Length(a.direction) > 0.f)) {
+          r_.Error(e.Path("direction"), "is [0, 0, 0]; expected a direction (not all 0)");
+          continue;
+        }
+        std::string copy;
+        const bool mirror = Mirror(e, a.name, "fine-scale direction vector", &copy);
+        fs.fields[i].push_back(a);
+        origins.push_back(e.path());
+        if (mirror) {
+          a.name = copy;
+          a.at.x = -a.at.x;
+          // The mirrored line (-dx, dy, dz), written with dx's sign kept when x dominates
+          // (the same line), so that a pair does not cancel across the midline when the
+          // fit interpolates the vectors.
+          a.direction.x = -a.direction.x;
+          if (std::fabs(a.direction.x) >= std::fmax(std::fabs(a.direction.y), std::fabs(a.direction.z)))
+            a.direction = float3{-a.direction.x, -a.direction.y, -a.direction.z};
+          a.mirrored_copy = true;
+          fs.fields[i].push_back(a);
+          origins.push_back(e.path() + " (mirrored as " + copy + ")");
+        }
+      }
+      for (const TemplateDirectionAnchor& a : fs.fields[i]) names.push_back(a.name);
+      UniqueNames(names, origins, "fine-scale direction vector");
+    }
+    out->fine_scale = std::move(fs);
+  }
 }
 
 void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
@@ -663,6 +729,32 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     j["jaw"] = e;
   }
   if (!tension.empty()) j["tension_regions"] = tension;
+  if (t.fine_scale) {
+    ordered_json fields = ordered_json::array();
+    for (int i = 0; i < 2; ++i) {  // (mirrored copies are not written: `mirror` makes them)
+      const std::vector<TemplateDirectionAnchor>& v = t.fine_scale->fields[i];
+      ordered_json vectors = ordered_json::array();
+      for (size_t k = 0; k < v.size(); ++k) {
+        if (v[k].mirrored_copy) continue;
+        ordered_json e;
+        e["name"] = v[k].name;
+        e["at"] = ordered_json::array({Short(v[k].at.x), Short(v[k].at.y)});
+        e["direction"] = ordered_json::array(
+            {Short(v[k].direction.x), Short(v[k].direction.y), Short(v[k].direction.z)});
+        e["magnitude"] = Short(v[k].magnitude);
+        if (k + 1 < v.size() && v[k + 1].mirrored_copy) e["mirror"] = true;
+        vectors.push_back(e);
+      }
+      ordered_json f;
+      f["name"] = t.fine_scale->field_names[i];
+      f["vectors"] = vectors;
+      fields.push_back(f);
+    }
+    ordered_json fs;
+    fs["fields"] = fields;
+    if (!(t.fine_scale->rest_amplitude == 0.5f)) fs["rest_amplitude"] = Short(t.fine_scale->rest_amplitude);
+    j["fine_scale"] = fs;
+  }
   std::string out;
   Pretty(j, 0, &out);
   return out + "\n";

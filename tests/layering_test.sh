@@ -4,7 +4,7 @@
 #     rig/runtime, capi) include only the C++ standard library (and, for the C ABI's header,
 #     <stddef.h> and <stdint.h>), SIMD intrinsics, a few POSIX headers of core's file writer,
 #     and runtime modules;
-#   - no module below io includes a third-party parser (nlohmann, tinygltf, stb) or io/ (io,
+#   - no module below io includes a third-party parser (nlohmann, tinygltf, stb, libspng) or io/ (io,
 #     tools, bench, tests, viewer and fuzz sit above it);
 #   - only io includes OpenMesh's file reader; only tools include tools/.
 # Prints every offending line as FILE:LINE: TEXT and exits 1 when there is any.
@@ -32,7 +32,7 @@ while IFS= read -r f; do
       io/*|tools/*|bench/*|tests/*|viewer/*|fuzz/*) ;;
       *)
         case $inc in
-          nlohmann/*|tiny_gltf.h|stb/*) report "$f:$n" "includes <$inc>: third-party parsers belong to io/" ;;
+          nlohmann/*|tiny_gltf.h|stb/*|spng.h) report "$f:$n" "includes <$inc>: third-party parsers belong to io/" ;;
           OpenMesh/Core/IO/*) report "$f:$n" "includes <$inc>: file reading belongs to io/" ;;
           io/*) report "$f:$n" "includes \"$inc\": modules below io do not include it" ;;
         esac ;;

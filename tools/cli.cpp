@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace mimetic::tools {
 
@@ -116,6 +118,22 @@ std::string DefaultArkitMap(const std::string& rig_path) {
     if (dir == dir.parent_path()) break;
   }
   return "assets/arkit/default.arkit.json";
+}
+
+Progress::Progress(long long total, bool enabled, const char* unit)
+    : total_(total), on_(enabled && isatty(fileno(stderr)) != 0), unit_(unit) {}
+
+void Progress::Update(long long done) {
+  if (!on_) return;
+  const int width = 40, filled = int(width * done / (total_ > 0 ? total_ : 1));
+  std::fprintf(stderr, "\r[%s%s] %lld/%lld %s", std::string(size_t(filled), '#').c_str(),
+               std::string(size_t(width - filled), ' ').c_str(), done, total_, unit_);
+  if (done == total_) std::fputc('\n', stderr);
+  std::fflush(stderr);
+}
+
+void Progress::Abort() {
+  if (on_) std::fputc('\n', stderr);
 }
 
 }  // namespace mimetic::tools

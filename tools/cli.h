@@ -55,4 +55,18 @@ int UsageError(const std::string& command, const std::string& error, const char*
 // directory.
 std::string DefaultArkitMap(const std::string& rig_path);
 
+// A progress bar on stderr, drawn only when stderr is a terminal and `enabled` (not --quiet):
+// "[####    ] done/total <unit>", ending the line at done == total.
+class Progress {
+ public:
+  Progress(long long total, bool enabled, const char* unit = "frames");
+  void Update(long long done);
+  void Abort();  // ends the line early (an error follows)
+
+ private:
+  long long total_;
+  bool on_;
+  const char* unit_;
+};
+
 }  // namespace mimetic::tools

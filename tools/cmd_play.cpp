@@ -210,27 +210,6 @@ FramePattern ParsePattern(const std::string& text) {
   return p;
 }
 
-// A progress bar on stderr, drawn only when stderr is a terminal.
-class Progress {
- public:
-  Progress(long long total, bool enabled)
-      : total_(total), on_(enabled && isatty(fileno(stderr)) != 0) {}
-  void Update(long long done) {
-    if (!on_) return;
-    const int width = 40, filled = int(width * done / (total_ > 0 ? total_ : 1));
-    std::fprintf(stderr, "\r[%s%s] %lld/%lld frames", std::string(size_t(filled), '#').c_str(),
-                 std::string(size_t(width - filled), ' ').c_str(), done, total_);
-    if (done == total_) std::fputc('\n', stderr);
-    std::fflush(stderr);
-  }
-  void Abort() {
-    if (on_) std::fputc('\n', stderr);
-  }
-
- private:
-  long long total_;
-  bool on_;
-};
 
 }  // namespace
 

@@ -8,6 +8,9 @@
 #include "geometry/mesh.h"
 #include "io/image.h"
 #include "io/mesh_io.h"
+#include "io/rig_loader.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/render/close_up.h"
@@ -16,15 +19,22 @@
 namespace mimetic::tools {
 
 static const char* kRenderUsage =
-    "usage: mimetic render MESH --out IMAGE.png [--yaw DEG] [--pitch DEG] [--size N]\n"
-    "                      [--zoom Z] [--focus X,Y] [--wireframe]\n\n"
+    "usage: mimetic render MESH|RIG --out IMAGE.png [--yaw DEG] [--pitch DEG] [--size N]\n"
+    "                      [--zoom Z] [--focus X,Y] [--wireframe]\n"
+    "                      [--fine DIR [--fine-depth D]] [--activate MUSCLE=A ...]\n\n"
     "Renders MESH (.obj, .gltf, .glb) with skin shading (docs/model.md §12) on grey,\n"
     "seen from +Z turned by --yaw about +Y (toward +X) and --pitch (from above), fitted to\n"
     "the bounding box. --size N gives an N x N image (default 800, at most 8192).\n"
     "--zoom Z (1 to 8, default 1) shows a close-up: the full view is rendered Z times larger\n"
     "(at most 8192 pixels) and the N x N window centred on --focus X,Y is kept, X and Y\n"
     "being fractions of the full view's width and height (0,0 = top left; default 0.5,0.5;\n"
-    "the window is moved inside the view where it would cross an edge).\n";
+    "the window is moved inside the view where it would cross an edge).\n"
+    "A RIG (.rig.json or .mrig) is posed first: --activate MUSCLE=A (repeatable) sets a\n"
+    "muscle's activation in [0, 1] (the others are 0).\n"
+    "--fine DIR bump-maps DIR/fine_height_1.png and fine_height_2.png (`mimetic texture`)\n"
+    "over the shading, each scaled by its per-vertex amplitude (EvaluateJob\n"
+    "out_fine_amplitudes, docs/model.md §23; 1 for a plain MESH); --fine-depth D is a full\n"
+    "furrow's depth at amplitude 1 in mesh units (default 0.15).\n";
 
 // Parses "X,Y" with both in [0, 1].
 static bool ParseFocus(const std::string& text, double* x, double* y) {
@@ -44,7 +54,8 @@ static bool ParseFocus(const std::string& text, double* x, double* y) {
 
 int CmdRender(const Args& args) {
   const ParsedArgs parsed =
-      ParseArgs(args, {"out", "yaw", "pitch", "size", "zoom", "focus"}, {"wireframe"});
+      ParseArgs(args, {"out", "yaw", "pitch", "size", "zoom", "focus", "fine", "fine-depth", "activate"},
+                {"wireframe"});
   if (parsed.help) return std::fputs(kRenderUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("render", parsed.error, kRenderUsage);
   if (parsed.positional.size() != 1)
@@ -83,19 +94,86 @@ int CmdRender(const Args& args) {
   const int n = static_cast<int>(size);
   const int full = static_cast<int>(std::lround(std::min(8192.0, size * zoom)));
 
+  double fine_depth = 0.15;
+  if (parsed.Has("fine-depth") && !ParseNumber(parsed.Get("fine-depth"), 0, 1e6, &fine_depth))
+    return UsageError("render", "--fine-depth '" + parsed.Get("fine-depth") +
+                                    "': expected a depth >= 0 in mesh units", kRenderUsage);
+  const std::string& input = parsed.positional[0];
+  const bool is_rig = IsCompiledRigPath(input) ||
+                      (input.size() > 5 && input.compare(input.size() - 5, 5, ".json") == 0);
+  if (parsed.Has("activate") && !is_rig)
+    return UsageError("render", "--activate poses a rig; " + input + " is a mesh", kRenderUsage);
+
   Diagnostics diag, local;
   MeshData mesh;
-  const bool mesh_ok = ImportMesh(parsed.positional[0], "", &mesh, &local);
-  diag.Append(local, parsed.positional[0]);
-  if (!mesh_ok) {
-    std::fputs(diag.Format().c_str(), stderr);
-    return 1;
+  std::vector<float> amplitudes;
+  if (is_rig) {
+    LoadedRig loaded;
+    if (!LoadRig(input, &loaded, &diag)) {
+      std::fputs(diag.Format().c_str(), stderr);
+      return 1;
+    }
+    const Rig& rig = loaded.rig;
+    std::vector<float> act(rig.muscle_count(), 0.f);
+    if (const auto it = parsed.values.find("activate"); it != parsed.values.end())
+      for (const std::string& a : it->second) {
+        const size_t eq = a.find('=');
+        double v = 0;
+        const int m = eq == std::string::npos ? -1 : rig.FindMuscle(a.substr(0, eq));
+        if (m < 0 || !ParseNumber(a.substr(eq + 1), 0, 1, &v))
+          return UsageError("render", "--activate '" + a + "': expected MUSCLE=A with a muscle "
+                                      "of the rig and A in [0, 1]", kRenderUsage);
+        act[size_t(m)] = float(v);
+      }
+    if (!PosedMesh(rig, act, SkinLayers{}, &mesh)) {
+      std::fprintf(stderr, "mimetic render: %s: the rig did not evaluate\n", input.c_str());
+      return 1;
+    }
+    EvaluateContext ctx(rig);
+    std::vector<float> positions(3 * rig.vertex_count());
+    amplitudes.assign(2 * rig.vertex_count(), 1.f);
+    EvaluateJob job;
+    job.rig = &rig;
+    job.context = &ctx;
+    job.activations = act;
+    job.out_positions = positions;
+    if (!rig.fine_scale().empty()) job.out_fine_amplitudes = amplitudes;
+    job.Run();
+  } else {
+    const bool mesh_ok = ImportMesh(input, "", &mesh, &local);
+    diag.Append(local, input);
+    if (!mesh_ok) {
+      std::fputs(diag.Format().c_str(), stderr);
+      return 1;
+    }
+  }
+  Gray16Image heights[2];
+  FineScaleShading fine;
+  if (parsed.Has("fine")) {
+    const std::string dir = parsed.Get("fine");
+    for (int k = 0; k < 2; ++k) {
+      const std::string path = dir + "/fine_height_" + std::to_string(k + 1) + ".png";
+      if (!LoadGray16Png(path, path, "fine-scale height map", &heights[k], &diag)) {
+        std::fputs(diag.Format().c_str(), stderr);
+        return 1;
+      }
+      fine.height[k] = &heights[k];
+    }
+    if (mesh.uvs.size() != mesh.vertex_count()) {
+      std::fprintf(stderr, "mimetic render: --fine: %s has no texture coordinates to map the "
+                           "height maps with\n", input.c_str());
+      return 1;
+    }
+    fine.amplitudes = amplitudes.empty() ? nullptr : &amplitudes;
+    fine.depth = float(fine_depth);
   }
   RenderOptions options;
+  if (parsed.Has("fine")) options.fine = &fine;
   options.yaw_deg = static_cast<float>(yaw);
   options.pitch_deg = static_cast<float>(pitch);
   options.wireframe = parsed.flags.count("wireframe") > 0;
   const Image image = RenderCloseUp(mesh, options, n, zoom, focus_x, focus_y);
+  if (diag.HasErrors()) std::fputs(diag.Format().c_str(), stderr);
   if (!SavePng(out, image, &diag)) {
     std::fputs(diag.Format().c_str(), stderr);
     return 1;

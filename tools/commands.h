@@ -15,6 +15,7 @@ int CmdEval(const Args& args);
 int CmdBuild(const Args& args);       // the compiled rig .mrig (tools/cmd_build.cpp)
 int CmdMakeSurface(const Args& args);  // the procedural test surface
 int CmdMakeHead(const Args& args);     // the sample head (tools/cmd_head.cpp)
+int CmdTexture(const Args& args);      // fine-scale wrinkle maps (tools/cmd_texture.cpp)
 int CmdRender(const Args& args);       // software render to PNG (tools/cmd_render.cpp)
 int CmdFit(const Args& args);          // place a muscle template on a head (tools/cmd_fit.cpp)
 int CmdCompare(const Args& args);      // how close a mesh is to another (tools/cmd_compare.cpp)

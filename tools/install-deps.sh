@@ -9,14 +9,15 @@ set -euo pipefail
 
 # Why each is here (README "Dependencies"): the toolchain; nlohmann-json (the JSON reader),
 # tinygltf (glTF), OpenMesh (OBJ reading, offline geometry), stb (images) for the offline io
-# module; Eigen (bounded least squares, offline fitting); GoogleTest and Google Benchmark for
-# tests/ and bench/; python3-jsonschema checks the rig schema in a test; GLFW, Dear ImGui
-# 1.86, OpenGL and GLM for the viewer (built by default when they are found, docs/viewer.md),
-# Xvfb and xauth (xvfb-run) for its headless screenshots, and Mesa's software OpenGL under
-# it. The runtime libraries need none of them.
+# module; libspng (16-bit PNG height maps of `mimetic texture`: stb writes 8 bits only);
+# Eigen (bounded least squares, offline fitting, fine-scale harmonic fields); GoogleTest and
+# Google Benchmark for tests/ and bench/; python3-jsonschema checks the rig schema in a test;
+# GLFW, Dear ImGui 1.86, OpenGL and GLM for the viewer (built by default when they are found,
+# docs/viewer.md), Xvfb and xauth (xvfb-run) for its headless screenshots, and Mesa's software
+# OpenGL under it. The runtime libraries need none of them.
 packages=(
   build-essential cmake pkg-config git
-  nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libstb-dev libeigen3-dev
+  nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libstb-dev libspng-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
   libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth libgl1-mesa-dri

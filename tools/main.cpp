@@ -20,6 +20,7 @@ const Command kCommands[] = {
     {"build", mimetic::tools::CmdBuild, "compile a rig into a .mrig the runtime loads alone"},
     {"make-surface", mimetic::tools::CmdMakeSurface, "write the procedural test surface mesh"},
     {"make-head", mimetic::tools::CmdMakeHead, "write the procedural sample head and its landmarks"},
+    {"texture", mimetic::tools::CmdTexture, "carve the fine-scale wrinkle height and normal maps"},
     {"render", mimetic::tools::CmdRender, "render a mesh to a PNG image (software, no GPU)"},
     {"fit", mimetic::tools::CmdFit, "place a muscle template on a head from its landmarks"},
     {"compare", mimetic::tools::CmdCompare, "how close a mesh is to another (surface distance, motion)"},

@@ -696,6 +696,61 @@ RigActiveRanges ActiveOrder(const RigData& rig, const WeldedMesh& welded, Welded
 
 }  // namespace
 
+bool MakeFineScaleRigMesh(const FineScaleSpec& spec, const RigData& rig,
+                          size_t file_vertex_count, FineScaleRigMesh* out, Diagnostics* diag) {
+  if (!ValidateFineScaleSpec(spec, file_vertex_count, "fine_scale", diag)) return false;
+  out->points = rig.rest_points;
+  out->triangles.resize(rig.vertex_indices.size());
+  for (size_t i = 0; i < rig.vertex_indices.size(); ++i)
+    out->triangles[i] = rig.vertex_points[rig.vertex_indices[i]];
+  out->corner_uvs.clear();
+  if (rig.vertex_uvs.size() == rig.vertex_points.size() && !rig.vertex_uvs.empty()) {
+    out->corner_uvs.resize(rig.vertex_indices.size());
+    for (size_t i = 0; i < rig.vertex_indices.size(); ++i)
+      out->corner_uvs[i] = rig.vertex_uvs[rig.vertex_indices[i]];
+  }
+  for (int f = 0; f < 2; ++f) {
+    out->anchor_points[f].clear();
+    for (const DirectionAnchor& a : spec.fields[f].anchors)
+      out->anchor_points[f].push_back(rig.vertex_points[a.vertex]);
+  }
+  return true;
+}
+
+namespace {
+
+// docs/model.md §23: the fine-scale probes of the points that can see a moving point
+// ([0, normal_points)): per field, the shrinkage probe across the field's texture direction.
+bool CompileFineScale(const FineScaleSpec& spec, size_t file_vertex_count, RigData* data,
+                      Diagnostics* diag) {
+  FineScaleRigMesh m;
+  if (!MakeFineScaleRigMesh(spec, *data, file_vertex_count, &m, diag)) return false;
+  std::vector<float2> uvs;
+  if (!MakeTextureSpace(m.view(), spec.projection, spec.minimize_distortion, "fine_scale", &uvs,
+                        diag))
+    return false;
+  const CsrTable pt = BuildPointTriangles(m.triangles, data->point_count());
+  std::vector<float3> fields[2];
+  if (!InterpolateSpecFields(spec, m.view(), m.anchor_points, fields, diag)) return false;
+  const uint32_t rows = data->active.normal_points;
+  RigFineScale& out = data->fine_scale;
+  out.rest_amplitude = spec.rest_amplitude;
+  out.probes.assign(2 * size_t(rows), ShrinkageProbe{});
+  for (uint32_t p = 0; p < rows; ++p)
+    for (int f = 0; f < 2; ++f) {
+      const float2 d = TextureDirectionAt(m.view(), uvs, pt.offsets, pt.items, fields[f], p);
+      ShrinkageProbe& probe = out.probes[2 * size_t(p) + f];
+      if (d.x == 0.f && d.y == 0.f) {  // no field here: s = 0
+        probe.point = p;
+        continue;
+      }
+      probe = BuildShrinkageProbe(p, float2{-d.y, d.x}, data->rest_points, m.triangles, uvs, pt);
+    }
+  return true;
+}
+
+}  // namespace
+
 // The sparse tension regions of `spec` (TensionRegionSpec::vertices) made dense for a mesh of
 // `vertex_count` vertices into *out (a copy of spec); false, with a message, for a bad index list.
 bool DenseTensionRegions(const RigSpec& spec, size_t vertex_count, RigSpec* out,
@@ -747,12 +802,14 @@ bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
     const bool per_vertex = spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex;
     const bool image = spec_in.thickness.kind == ThicknessSpec::Kind::kImage;
     const bool curves = !spec_in.curve_wrinkles.empty();
-    if (!spec_in.mesh_fingerprint.empty() && (per_vertex || image || curves)) {
+    const bool fine = spec_in.fine_scale.has_value();
+    if (!spec_in.mesh_fingerprint.empty() && (per_vertex || image || curves || fine)) {
       const std::string why =
-          FingerprintMismatch(spec_in.mesh_fingerprint, file_mesh_in, image || curves);
+          FingerprintMismatch(spec_in.mesh_fingerprint, file_mesh_in, image || curves || fine);
       if (!why.empty()) {
         std::string data = per_vertex ? "per-vertex thickness" : (image ? "thickness image" : "");
         if (curves) data += std::string(data.empty() ? "" : " and ") + "curve wrinkles";
+        if (fine) data += std::string(data.empty() ? "" : " and ") + "fine-scale fields";
         const std::string mesh_name = file_mesh_in.source.empty() ? "the mesh" : file_mesh_in.source;
         diag->Error("mesh.fingerprint",
                     "'" + mesh_name + "' is not the mesh this rig's " + data + " (" +
@@ -852,6 +909,8 @@ bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
     return false;
   }
   data.active = active;
+  if (spec.fine_scale && !CompileFineScale(*spec.fine_scale, file_mesh.vertex_count(), &data, diag))
+    return false;
   // The runtime derives its tables and checks everything once (rig/runtime/rig_tables.h).
   Rig rig;
   if (!Rig::Build(std::move(data), &rig)) {

@@ -46,6 +46,21 @@ struct BuildOptions {
 bool BuildRig(const RigSpec& spec, const MeshData& mesh, const BuildOptions& options, Rig* out,
               Diagnostics* diag);
 
+// The fine-scale geometry of a rig (docs/model.md §20): its welded points with the triangles
+// of the file's index buffer (RigData::vertex_indices through vertex_points), their corner
+// uvs (empty when the mesh has none) and each field's anchors as points (file vertex ->
+// point). `view()` is what wrinkles/offline/fine_scale.h reads. Anchors are checked against
+// `file_vertex_count` (errors under "fine_scale").
+struct FineScaleRigMesh {
+  span<const float3> points;
+  std::vector<uint32_t> triangles;
+  std::vector<float2> corner_uvs;
+  std::vector<uint32_t> anchor_points[2];
+  FineScaleMesh view() const { return {points, triangles, corner_uvs}; }
+};
+bool MakeFineScaleRigMesh(const FineScaleSpec& spec, const RigData& rig,
+                          size_t file_vertex_count, FineScaleRigMesh* out, Diagnostics* diag);
+
 // The rig's rest mesh in its output layout (refined where wrinkles act): positions, uvs and
 // triangles per output vertex. Tools use it to write posed meshes and measure displacements.
 MeshData RestMesh(const Rig& rig);

@@ -12,6 +12,7 @@
 #include "muscles/offline/muscle_spec.h"
 #include "rig/runtime/rig.h"
 #include "rig/runtime/skin_layers.h"
+#include "wrinkles/offline/fine_scale.h"
 #include "wrinkles/offline/wrinkle_spec.h"
 
 namespace mimetic {
@@ -122,6 +123,9 @@ struct RigSpec {
   RefinementSpec refinement;
   std::optional<JawSpec> jaw;  // docs/model.md §18; absent = no jaw
   std::vector<TensionRegionSpec> tension_regions;  // docs/tension.md
+  // Fine-scale wrinkle textures (docs/model.md §20-23, docs/rig-format.md `fine_scale`);
+  // absent = none.
+  std::optional<FineScaleSpec> fine_scale;
 };
 
 // The muscle geometry a wrinkle region needs (docs/model.md §6), from a muscle spec: linear R is

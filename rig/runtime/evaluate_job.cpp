@@ -27,6 +27,8 @@ void EvaluateContext::Resize(const Rig& rig) {
   faces_.assign(triangle_count_, float4{});
   point_ratios_.assign(point_count_, 1.f);
   point_compressions_.assign(point_count_, 0.f);
+  point_fine_.assign(2 * size_t(point_count_),
+                     rig.fine_scale().empty() ? 0.f : rig.fine_scale().rest_amplitude);
   point_sums_.assign(point_count_, float4{});
   edge_lengths_.assign(t.edge_count(), 0.f);
   wrinkle_offsets_.assign(point_count_, 0.f);
@@ -69,7 +71,7 @@ static size_t Bytes(const std::vector<T>& v) {
 
 size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
-         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
+         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
@@ -98,6 +100,11 @@ bool EvaluateJob::Validate() const {
   }
   if (!out_region_weights.empty() && out_region_weights.size() < rig->tension_region_count())
     return false;
+  if (!out_fine_amplitudes.empty()) {
+    if (out_fine_amplitudes_stride < 8 || out_fine_amplitudes_stride % 4 != 0) return false;
+    if (out_fine_amplitudes.size() < RequiredFloats(rig->vertex_count(), out_fine_amplitudes_stride, 2))
+      return false;
+  }
   return true;
 }
 
@@ -208,6 +215,7 @@ struct FrameState {
   bool tension_eps;                // out_tension requested and the rig has muscle-wrinkle rows
   bool edges;                      // StageStrain measures the edge lengths
   float* compressions;             // #P compression eps (context), StageTension
+  float* fine;                     // 2 #P fine-scale amplitudes (context), StageFineScale
   const float* activations;        // #muscles, sanitised
   const float3* base;              // #P: the pose the muscles add to (the rest pose)
   float3* points;                  // #P + pad: X1, then X3 (context)
@@ -815,6 +823,28 @@ void StageTension(const FrameState& f) {
   }
 }
 
+// docs/model.md §23: per point with probes, s across each fine-scale field on X1 (the same
+// ProbeShrinkage as the curve wrinkles' probes, lengths from the points directly) and
+// M(s) = DirectionalModulation(s, r). Each point writes its own two values.
+void StageFineScale(const FrameState& f) {
+  const RigFineScale& fs = f.rig.fine_scale();
+  const ShrinkageProbe* probes = fs.probes.data();
+  const float r = fs.rest_amplitude;
+  const float3* x = f.points;
+  float* out = f.fine;
+  ParallelFor(f.job, fs.point_count(), [&](uint32_t b, uint32_t e) {
+    for (uint32_t i = 2 * b; i < 2 * e; ++i) {
+      const ShrinkageProbe& probe = probes[i];
+      const float3 x1 = x[probe.point];
+      const float s = ProbeShrinkage(probe, [&](uint32_t k, int which) {
+        const ShrinkageSide& side = probe.sides[k];
+        return Length(x[which == 0 ? side.v2 : side.v3] - x1);
+      });
+      out[i] = DirectionalModulation(s, r);  // 000 eq. 5
+    }
+  });
+}
+
 // Face normals of the final points (the per-point gather happens in StageOutputs).
 void StageNormals(const FrameState& f) { FaceNormalsOfActive(f, false); }
 
@@ -837,6 +867,15 @@ void StageOutputs(const FrameState& f) {
         float* o = job.out_tension.data() + v * stride;
         o[0] = f.ratios[p];
         o[1] = f.compressions[p];
+      }
+    }
+    if (!job.out_fine_amplitudes.empty()) {
+      const size_t stride = job.out_fine_amplitudes_stride / 4;
+      for (uint32_t v = b; v < e; ++v) {
+        const uint32_t p = r.vertex_points()[v];
+        float* o = job.out_fine_amplitudes.data() + v * stride;
+        o[0] = f.fine[2 * size_t(p)];
+        o[1] = f.fine[2 * size_t(p) + 1];
       }
     }
     if (!f.normals) return;
@@ -878,6 +917,7 @@ bool EvaluateJob::Run() const {
       .tension_eps = !out_tension.empty() && !t.row_profiles.empty(),
       .edges = false,
       .compressions = ctx.point_compressions_.data(),
+      .fine = ctx.point_fine_.data(),
       .activations = ctx.activations_.data(),
       .base = r.rest_points().data(),
       .points = ctx.points_.data(),  // padded (face_kernels.h)
@@ -914,6 +954,7 @@ bool EvaluateJob::Run() const {
   ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
   if (ctx.jaw_ > 0.f && !r.jaw().empty()) StageJaw(f, ctx.jaw_);
+  if (!out_fine_amplitudes.empty() && !r.fine_scale().empty()) StageFineScale(f);  // on X1
   bool faces_current = false;
   if (f.skin()) {
     StageStrain(f);

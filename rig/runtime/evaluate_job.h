@@ -36,12 +36,15 @@
 //                  compression eps of its wrinkled-muscle rows (their largest) from the edge
 //                  lengths of X1; per tension region its weight from the area ratios r of X1
 //                                                                        docs/model.md §19
+//   StageFineScale (only when out_fine_amplitudes is requested and the rig has fine-scale
+//                  probes) per point the shrinkage s across each fine-scale field (000 eq. 4)
+//                  on X1 and its amplitude M(s) (000 eq. 5)              docs/model.md §23
 // With a tension output requested and no skin layer running, StageStrain still measures r (and
 // the edge lengths) on X1 when the rig kept its rest areas; nothing moves for it.
 // Where the next features go (each a local change):
-//   - per-vertex outputs (e.g. two fine-scale amplitudes): an optional strided span on the job,
-//     its per-point values kept by StageDisplace in a context buffer named in FrameState, and
-//     one more write in StageOutputs' per-vertex loop (out_tension is one).
+//   - per-vertex outputs: an optional strided span on the job, its per-point values kept in a
+//     context buffer named in FrameState, and one more write in StageOutputs' per-vertex loop
+//     (out_tension and out_fine_amplitudes are two).
 // The public stage jobs (FaceNormalsJob, PointNormalsJob, EdgeCompressionJob,
 // DirectionalShrinkageJob, ThicknessJob, MuscleWrinkleJob, CurveWrinkleJob) compute the same
 // quantities for engines that run the stages themselves; EvaluateJob fuses them (kernels in
@@ -84,6 +87,10 @@ class EvaluateContext {
   // Per-point compression eps of the last frame that requested out_tension (docs/tension.md):
   // the largest eps of the point's wrinkled-muscle rows, 0 for a point without any.
   span<const float> compressions() const { return point_compressions_; }
+  // Per-point fine-scale amplitudes of the last frame that requested out_fine_amplitudes
+  // (docs/model.md §23), two per point (field 1, field 2); r where nothing was measured, 0 on
+  // a rig without fine-scale probes.
+  span<const float> fine_amplitudes() const { return point_fine_; }
   // Points whose skin-layer offset the fold limiter reduced in the last frame (docs/model.md
   // §16), and the limiter's passes (0 when it did not run).
   uint32_t limited_point_count() const { return limited_points_; }
@@ -104,6 +111,7 @@ class EvaluateContext {
                                        // (w); rest normals where nothing moves
   std::vector<float> point_ratios_;    // #P: area ratio r, >= 0
   std::vector<float> point_compressions_;  // #P: eps of StageTension, 0 without rows
+  std::vector<float> point_fine_;      // 2 #P: fine-scale amplitudes (StageFineScale)
   std::vector<float4> point_sums_;     // #P: gathered face slots (StageDisplace)
   std::vector<float> edge_lengths_;    // RigTables::edge_count(): this frame's, mesh units
   std::vector<float> wrinkle_offsets_; // #P: summed wrinkle displacement of the points in
@@ -142,7 +150,8 @@ struct EvaluateJob {
   // activations.size() < rig->muscle_count(); out_positions is too small for
   // rig->vertex_count() vertices at out_positions_stride; out_normals is non-empty and too
   // small; out_tension is non-empty and too small for #V vertices at out_tension_stride (or
-  // its stride is below 8 bytes or not a multiple of 4); out_region_weights is non-empty and
+  // its stride is below 8 bytes or not a multiple of 4); out_fine_amplitudes likewise;
+  // out_region_weights is non-empty and
   // holds fewer than rig->tension_region_count() floats; a stride is below 12 bytes or not a
   // multiple of 4.
   bool Validate() const;
@@ -173,6 +182,14 @@ struct EvaluateJob {
   span<float> out_tension;            // >= (#V - 1) * stride/4 + 2 floats
   size_t out_tension_stride = 8;      // bytes, >= 8, multiple of 4
   span<float> out_region_weights;     // >= rig->tension_region_count() floats
+
+  // Fine-scale amplitudes (docs/model.md §23), optional (empty = not computed, no cost): per
+  // vertex v two floats at [v * stride/4, v * stride/4 + 2), M(s1) and M(s2) of 000 eq. 5 with
+  // s_k the shrinkage of X1 across fine-scale field k (> r compressed across it: the furrows
+  // deepen; < r stretched: they fade; r = the rig's rest amplitude at rest). A renderer scales
+  // height map k by amplitude k. 0 on a rig without fine-scale maps.
+  span<float> out_fine_amplitudes;    // >= (#V - 1) * stride/4 + 2 floats
+  size_t out_fine_amplitudes_stride = 8;  // bytes, >= 8, multiple of 4
 
   SkinLayers layers;                  // which skin layers run (default: all the rig has)
   // The fold limiter (docs/model.md §16): reduce the skin layers' offset where it would turn

@@ -52,6 +52,7 @@ size_t Rig::ByteSize() const {
   const RigTensionRegions& g = d.tension_regions;
   n += Bytes(g.names) + Bytes(g.references) + Bytes(g.offsets) + Bytes(g.points) +
        Bytes(g.weights);
+  n += Bytes(d.fine_scale.probes);
   const RigTables& t = tables_;
   n += Bytes(t.rest_faces) + Bytes(t.rest_point_normals) + Bytes(t.edge_pairs) +
        Bytes(t.row_offsets) + Bytes(t.entry_edges) + Bytes(t.entry_rest) +

@@ -93,6 +93,22 @@ struct RigTensionRegions {
   bool empty() const { return names.empty(); }
 };
 
+// A fine-scale amplitude's default rest value r (docs/model.md §23, 000 eq. 5): the fine
+// furrows show at half their full depth at rest.
+inline constexpr float kDefaultFineScaleRestAmplitude = 0.5f;
+
+// Fine-scale amplitudes (docs/model.md §23): for each point p of [0, point_count()) two
+// directional shrinkage probes (000 eq. 4), probes[2p] across field 1's texture direction and
+// probes[2p + 1] across field 2's, fixed on the rest pose. EvaluateJob's out_fine_amplitudes
+// reports M(s) (000 eq. 5, r = rest_amplitude) of each; points past point_count() (they and
+// their triangles never move) have s = 0, M = r. Empty = the rig has no fine-scale maps.
+struct RigFineScale {
+  float rest_amplitude = kDefaultFineScaleRestAmplitude;  // r in [0, 1]
+  std::vector<ShrinkageProbe> probes;                     // 2 per point, probe.point = p
+  uint32_t point_count() const { return uint32_t(probes.size() / 2); }
+  bool empty() const { return probes.empty(); }
+};
+
 // The leading ranges a frame touches (points and triangles are ordered so, see rig_builder
 // MovingPoints / ActiveOrder, the one place that decides what can move): [0, points) can move;
 // [0, normal_points) can change normal; the rest stay at their rest position and normal.
@@ -138,6 +154,9 @@ struct RigData {
   // Tension regions (empty = none). A rig with any keeps rest_triangle_areas, skin layers or
   // not, so that EvaluateJob's tension outputs can measure r.
   RigTensionRegions tension_regions;
+
+  // Fine-scale amplitudes (empty = none): probes for the points [0, active.normal_points).
+  RigFineScale fine_scale;
 
   uint32_t point_count() const { return uint32_t(rest_points.size()); }
   uint32_t triangle_count() const { return uint32_t(triangles.size() / 3); }
@@ -232,6 +251,8 @@ class Rig {
   // Tension regions (empty when the rig has none).
   const RigTensionRegions& tension_regions() const { return data_.tension_regions; }
   uint32_t tension_region_count() const { return data_.tension_regions.region_count(); }
+  // Fine-scale amplitude probes (empty when the rig has no fine-scale maps).
+  const RigFineScale& fine_scale() const { return data_.fine_scale; }
 
   uint32_t point_count() const { return data_.point_count(); }
   uint32_t triangle_count() const { return data_.triangle_count(); }

@@ -62,6 +62,9 @@ enum SectionId : uint32_t {
   kTensionOffsets = 37,
   kTensionPoints = 38,
   kTensionWeights = 39,
+  // 1.2: fine-scale amplitude probes (optional; absent = none).
+  kFineScaleParams = 40,
+  kFineScaleProbes = 41,
   kInfoUnits = 64,
   kInfoSourceVertexCount = 65,
 };
@@ -111,6 +114,8 @@ constexpr SectionDesc kSections[] = {
     {kTensionOffsets, "tension_region_offsets", 4, 0, false},
     {kTensionPoints, "tension_region_points", 4, 0, false},
     {kTensionWeights, "tension_region_weights", 4, 0, false},
+    {kFineScaleParams, "fine_scale_params", 4, 1, false},
+    {kFineScaleProbes, "fine_scale_probes", 48, 0, false},
     {kInfoUnits, "info_units", 0, 1, false},
     {kInfoSourceVertexCount, "info_source_vertex_count", 4, 1, false},
 };
@@ -166,6 +171,30 @@ class Reader : public binary::SectionReader {
     }
   }
 };
+
+// Shrinkage probes (curve wrinkles, fine-scale): 48 bytes each, point, side count, then two
+// sides of v2, v3, beta, rest_length2, rest_length3.
+void WriteProbes(SectionWriter* w, uint32_t id, const std::vector<ShrinkageProbe>& probes) {
+  Payload p(&w->Begin(id, probes.size()));
+  for (const ShrinkageProbe& q : probes) {
+    p.U32(q.point), p.U32(q.side_count);
+    for (const ShrinkageSide& s : q.sides)
+      p.U32(s.v2), p.U32(s.v3), p.F32(s.beta), p.F32(s.rest_length2), p.F32(s.rest_length3);
+  }
+}
+void ReadProbes(const InSection& s, std::vector<ShrinkageProbe>* out) {
+  out->resize(size_t(s.count));
+  for (uint64_t i = 0; i < s.count; ++i) {
+    const uint8_t* p = s.data + 48 * i;
+    ShrinkageProbe& q = (*out)[size_t(i)];
+    q.point = LoadU32(p);
+    q.side_count = LoadU32(p + 4);
+    for (int k = 0; k < 2; ++k) {
+      const uint8_t* e = p + 8 + 20 * k;
+      q.sides[k] = {LoadU32(e), LoadU32(e + 4), LoadF32(e + 8), LoadF32(e + 12), LoadF32(e + 16)};
+    }
+  }
+}
 
 }  // namespace
 
@@ -256,14 +285,7 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
     for (const CurveWrinkleEntry& e : c.entries)
       p.U32(e.wrinkle), p.F32(e.distance), p.F32(e.profile), p.U32(e.has_profile);
   }
-  {
-    Payload p(&w.Begin(kCwProbes, c.probes.size()));
-    for (const ShrinkageProbe& q : c.probes) {
-      p.U32(q.point), p.U32(q.side_count);
-      for (const ShrinkageSide& s : q.sides)
-        p.U32(s.v2), p.U32(s.v3), p.F32(s.beta), p.F32(s.rest_length2), p.F32(s.rest_length3);
-    }
-  }
+  WriteProbes(&w, kCwProbes, c.probes);
   const RigJaw& jaw = d.jaw;
   w.F32s(kJawParams, {jaw.pivot.x, jaw.pivot.y, jaw.pivot.z, jaw.axis.x, jaw.axis.y, jaw.axis.z,
                       jaw.range, jaw.translation.x, jaw.translation.y, jaw.translation.z});
@@ -276,6 +298,10 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
     w.U32s(kTensionOffsets, g.offsets);
     w.U32s(kTensionPoints, g.points);
     w.F32s(kTensionWeights, g.weights);
+  }
+  if (!d.fine_scale.empty()) {
+    w.F32s(kFineScaleParams, {d.fine_scale.rest_amplitude});
+    WriteProbes(&w, kFineScaleProbes, d.fine_scale.probes);
   }
   if (info) {
     w.Strings(kInfoUnits, {info->units});
@@ -428,20 +454,7 @@ bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
       c.entries[size_t(i)] = {LoadU32(p), LoadF32(p + 4), LoadF32(p + 8), LoadU32(p + 12)};
     }
   }
-  {
-    const InSection& s = r.Of(kCwProbes);
-    c.probes.resize(size_t(s.count));
-    for (uint64_t i = 0; i < s.count; ++i) {
-      const uint8_t* p = s.data + 48 * i;
-      ShrinkageProbe& q = c.probes[size_t(i)];
-      q.point = LoadU32(p);
-      q.side_count = LoadU32(p + 4);
-      for (int k = 0; k < 2; ++k) {
-        const uint8_t* e = p + 8 + 20 * k;
-        q.sides[k] = {LoadU32(e), LoadU32(e + 4), LoadF32(e + 8), LoadF32(e + 12), LoadF32(e + 16)};
-      }
-    }
-  }
+  ReadProbes(r.Of(kCwProbes), &c.probes);
   {
     std::vector<float> j;
     r.F32s(kJawParams, &j);
@@ -479,6 +492,21 @@ bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
                              std::to_string(g.offsets.size()) + " offsets, " +
                              std::to_string(g.points.size()) + " points, " +
                              std::to_string(g.weights.size()) + " weights");
+    }
+  }
+  {  // 1.2's fine-scale probes: both sections or none (Rig::Build checks the rest)
+    const bool params = r.Of(kFineScaleParams).data != nullptr;
+    const bool probes = r.Of(kFineScaleProbes).data != nullptr;
+    if (params != probes) {
+      *error = "sections 'fine_scale_*' (ids 40-41): the fine-scale amplitudes need both "
+               "sections; one is present";
+      return false;
+    }
+    if (params) {
+      std::vector<float> v;
+      r.F32s(kFineScaleParams, &v);
+      d.fine_scale.rest_amplitude = v[0];
+      ReadProbes(r.Of(kFineScaleProbes), &d.fine_scale.probes);
     }
   }
   RigBinaryInfo file_info;

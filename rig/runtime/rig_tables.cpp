@@ -96,6 +96,24 @@ bool CheckRigData(const RigData& r) {
       }
     }
   }
+  {  // fine-scale probes: two per point of a leading range, each of its point, sides in
+     // range (DirectionalShrinkageJob's own check), r in [0, 1]
+    const RigFineScale& f = r.fine_scale;
+    if (f.probes.size() % 2 != 0 || f.point_count() > points) return false;
+    if (!f.empty() && !(f.rest_amplitude >= 0.f && f.rest_amplitude <= 1.f)) return false;
+    for (size_t k = 0; k < f.probes.size(); ++k)
+      if (f.probes[k].point != k / 2) return false;
+    if (!f.empty()) {
+      std::vector<float> s(f.probes.size());
+      const DirectionalShrinkageJob job{.positions = r.rest_points,
+                                        .probes = f.probes,
+                                        .end = f.probes.size(),
+                                        .out_shrinkage = s};
+      if (!job.Validate()) return false;
+      // Points past the probes never see a moving point (their s stays 0).
+      if (f.point_count() < n_normal) return false;
+    }
+  }
   {
     const std::vector<float> activations(r.muscle_count(), 0.f);
     std::vector<float3> moved(size_t(points) + 1);  // EvaluateContext's padded point buffer

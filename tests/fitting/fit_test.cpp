@@ -995,8 +995,8 @@ TEST(FitCli, WritesARigThatLoadsAndReportsBadInput) {
     r = test::RunTool({"validate", dir + "/flipped.rig.json"});
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("mesh.fingerprint: '" + dir + "/flipped.glb' is not the mesh this "
-                            "rig's thickness image and curve wrinkles (texture space) was made "
-                            "for: vertex 0 has texture coordinates"),
+                            "rig's thickness image and curve wrinkles and fine-scale fields "
+                            "(texture space) was made for: vertex 0 has texture coordinates"),
               std::string::npos)
         << r.output;
     EXPECT_NE(r.output.find("(v flipped: v -> 1 - v); refit the rig on this mesh (mimetic fit "

@@ -165,8 +165,18 @@ std::vector<BadCase> BadCases() {
        {"colour: unknown key \"colour\"",
         "allowed keys: format, version, mesh, units, thickness, muscles, curve_wrinkles, layers, "
         "refinement"}},
-      {"reserved top-level key", Doc("[" + kLinear + "]", R"(, "fine_scale": [])"),
-       {"fine_scale: unknown key \"fine_scale\" (reserved for a later version of the format"}},
+      {"fine_scale not an object", Doc("[" + kLinear + "]", R"(, "fine_scale": [])"),
+       {R"(fine_scale: expected object {"fields": [...], ...}, got array)"}},
+      {"fine_scale with one field", Extra(R"("fine_scale": {"fields": [{"name": "a", "vectors": [{"vertex": 0, "vector": [1, 0, 0]}]}]})"),
+       {"fine_scale.fields: expected array of 2 direction fields, got array of 1 elements"}},
+      {"fine_scale zero vector", Extra(R"("fine_scale": {"fields": [{"name": "a", "vectors": [{"vertex": 0, "vector": [0, 0, 0]}]}, {"name": "b", "vectors": [{"vertex": 1, "vector": [0, 1, 0]}]}]})"),
+       {"fine_scale.fields[0].vectors[0].vector: has zero length"}},
+      {"fine_scale magnitude", Extra(R"("fine_scale": {"fields": [{"name": "a", "vectors": [{"vertex": 0, "vector": [1.5, 0, 0]}]}, {"name": "b", "vectors": [{"vertex": 1, "vector": [0, 1, 0]}]}]})"),
+       {"fine_scale.fields[0].vectors[0].vector: has magnitude 1.5; expected at most 1"}},
+      {"fine_scale negative vertex", Extra(R"("fine_scale": {"fields": [{"name": "a", "vectors": [{"vertex": -1, "vector": [1, 0, 0]}]}, {"name": "b", "vectors": [{"vertex": 1, "vector": [0, 1, 0]}]}]})"),
+       {"fine_scale.fields[0].vectors[0].vertex"}},
+      {"fine_scale bad interpolation", Extra(R"("fine_scale": {"fields": [{"name": "a", "vectors": [{"vertex": 0, "vector": [1, 0, 0]}]}, {"name": "b", "vectors": [{"vertex": 1, "vector": [0, 1, 0]}]}], "interpolation": "spline"})"),
+       {"fine_scale.interpolation"}},
       {"reserved top-level key expressions", Extra(R"("expressions": {})"),
        {"expressions: unknown key \"expressions\" (reserved for a later version"}},
       {"top-level wrinkles", Doc("[" + kLinear + "]", R"(, "wrinkles": [])"),
@@ -1002,6 +1012,60 @@ TEST(RigJsonTest, SaveLoadRoundTripForEveryThicknessKind) {
   // The image path inside the rig's directory is written relative to it.
   EXPECT_NE(ReadText(dir + "/rig2.rig.json").find(R"("path": "maps/thickness.png")"),
             std::string::npos);
+}
+
+TEST(RigJsonTest, FineScaleParsesToTheNumbersWrittenAndRoundTrips) {
+  const std::string dir = test::TempDir();
+  const std::string text = Extra(R"("fine_scale": {
+      "fields": [{"name": "across", "vectors": [{"vertex": 3, "vector": [0.5, 0, 0]},
+                                                 {"vertex": 7, "vector": [0, 0.25, 0], "weight": 2}]},
+                 {"name": "along", "vectors": [{"vertex": 1, "vector": [0, 1.5, 0]}]}],
+      "interpolation": "inverse_distance", "texture_space": "planar",
+      "minimize_distortion": true, "parameters": "bando2001", "k_scale": 2, "k_noise": 0.1,
+      "k_bump": 4, "rest_amplitude": 0.25,
+      "maps": {"height": ["maps/h1.png", "maps/h2.png"], "normal": "maps/n.png"}})");
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseRigSpec(text, dir, &spec, &diag)) << diag.Format();
+  ASSERT_TRUE(spec.fine_scale.has_value());
+  const FineScaleSpec& f = *spec.fine_scale;
+  EXPECT_EQ(f.fields[0].name, "across");
+  ASSERT_EQ(f.fields[0].anchors.size(), 2u);
+  EXPECT_EQ(f.fields[0].anchors[1].vertex, 7u);
+  EXPECT_FLOAT_EQ(f.fields[0].anchors[1].vector.y, 0.25f);
+  EXPECT_FLOAT_EQ(f.fields[0].anchors[1].weight, 2.f);
+  EXPECT_FLOAT_EQ(f.fields[1].anchors[0].vector.y, 1.5f);  // bando2001 allows up to 2
+  EXPECT_EQ(f.interpolation, FieldInterpolation::kInverseDistance);
+  EXPECT_EQ(f.projection, TextureProjection::kPlanar);
+  EXPECT_TRUE(f.minimize_distortion);
+  EXPECT_EQ(f.parameters, FurrowParameterSet::kBando2001);
+  EXPECT_FLOAT_EQ(f.k_scale, 2.f);
+  EXPECT_FLOAT_EQ(f.k_noise, 0.1f);
+  EXPECT_FLOAT_EQ(f.k_bump, 4.f);
+  EXPECT_FLOAT_EQ(f.rest_amplitude, 0.25f);
+  EXPECT_EQ(f.height_maps[1], (fs::path(dir) / "maps/h2.png").lexically_normal().string());
+  EXPECT_EQ(f.normal_map, (fs::path(dir) / "maps/n.png").lexically_normal().string());
+  // Save, load, save: the same text; the map paths stay relative.
+  spec.mesh_path = dir + "/surface.obj";
+  const std::string path = dir + "/fine.rig.json", path2 = dir + "/fine2.rig.json";
+  ASSERT_TRUE(SaveRigSpec(path, spec, &diag)) << diag.Format();
+  RigSpec loaded;
+  ASSERT_TRUE(LoadRigSpec(path, &loaded, &diag)) << diag.Format();
+  ASSERT_TRUE(loaded.fine_scale.has_value());
+  EXPECT_EQ(loaded.fine_scale->normal_map, f.normal_map);
+  ASSERT_TRUE(SaveRigSpec(path2, loaded, &diag)) << diag.Format();
+  EXPECT_EQ(ReadText(path), ReadText(path2));
+  EXPECT_NE(ReadText(path).find(R"("normal": "maps/n.png")"), std::string::npos) << ReadText(path);
+  // Defaults.
+  RigSpec plain;
+  ASSERT_TRUE(ParseRigSpec(Extra(R"("fine_scale": {"fields": [{"name": "a", "vectors": [{"vertex": 0, "vector": [1, 0, 0]}]}, {"name": "b", "vectors": [{"vertex": 1, "vector": [0, 1, 0]}]}]})"),
+                           dir, &plain, &diag)) << diag.Format();
+  EXPECT_EQ(plain.fine_scale->interpolation, FieldInterpolation::kHarmonic);
+  EXPECT_EQ(plain.fine_scale->projection, TextureProjection::kAuto);
+  EXPECT_EQ(plain.fine_scale->parameters, FurrowParameterSet::kBando2002);
+  EXPECT_FLOAT_EQ(plain.fine_scale->rest_amplitude, 0.5f);
+  EXPECT_FLOAT_EQ(plain.fine_scale->k_bump, 1.f);
+  EXPECT_TRUE(plain.fine_scale->normal_map.empty());
 }
 
 TEST(RigJsonTest, SaveLoadRoundTripWithWrinklesLayersAndRefinement) {

@@ -14,6 +14,7 @@
 #include "rig/runtime/evaluate_job.h"
 
 #include "alloc_counter.h"
+#include "rig/frame_helpers.h"
 
 namespace mimetic {
 namespace {
@@ -188,18 +189,8 @@ Surface MakeSurfaceWithRegions(uint32_t side, uint32_t muscles) {
   return s;
 }
 
-std::vector<float> SomeActivations(const Rig& rig) {
-  std::vector<float> a(rig.muscle_count());
-  for (size_t m = 0; m < a.size(); ++m) a[m] = 0.3f + 0.12f * float(m % 6);
-  return a;
-}
-
-void TwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
-  const uint32_t mid = count / 2 + 5 < count ? count / 2 + 5 : count / 2;
-  std::thread t([&] { task(data, 0, mid); });
-  task(data, mid, count);
-  t.join();
-}
+using test::SomeActivations;
+using test::TwoThreads;
 
 TEST(EvaluateJobTension, RegionsComeThroughTheBuilderAndCompressionIsTheLargestEpsRow) {
   const Surface s = MakeSurfaceWithRegions(40, 6);
@@ -219,14 +210,7 @@ TEST(EvaluateJobTension, RegionsComeThroughTheBuilderAndCompressionIsTheLargestE
   // eps by a second method: EdgeCompressionJob over each wrinkled muscle's rows on X1 (the
   // pose before the skin layers: the same rig with the layers off gives X1 as its output).
   EvaluateContext ctx1(s.rig);
-  std::vector<float> x1(3 * s.rig.vertex_count());
-  EvaluateJob plain;
-  plain.rig = &s.rig;
-  plain.context = &ctx1;
-  plain.activations = act;
-  plain.out_positions = x1;
-  plain.layers = {false, false, false};
-  ASSERT_TRUE(plain.Run());
+  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &ctx1));
   const span<const float3> points = ctx1.points();
   std::vector<float> best(s.rig.point_count(), 0.f);
   std::vector<uint8_t> seen(s.rig.point_count(), 0);

@@ -384,6 +384,7 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const RigCurveWrinkles& c = d.curve_wrinkles;
   expect += VectorBytes(c.names) + VectorBytes(c.wrinkles) + VectorBytes(c.points) +
             VectorBytes(c.offsets) + VectorBytes(c.entries) + VectorBytes(c.probes);
+  expect += VectorBytes(d.fine_scale.probes);
   const RigTables& t = rig.tables();
   expect += VectorBytes(t.rest_faces) + VectorBytes(t.rest_point_normals) +
             VectorBytes(t.edge_pairs) + VectorBytes(t.row_offsets) + VectorBytes(t.entry_edges) +
@@ -411,14 +412,15 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const EvaluateContext ctx(rig);
   const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
   const size_t E = t.edge_count();
-  // activations, points (+1 pad), faces, ratios, compressions, sums, edge lengths, wrinkle offsets; the fold
+  // activations, points (+1 pad), faces, ratios, compressions, fine-scale amplitudes (2 per
+  // point), sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
   // flags, the slope bound per neighbour slot; its worklists over the active points (three
   // lists, marks) and triangles (list, marks, verdicts)
   const size_t N = t.point_neighbors.size();
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
-                                16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
+                                8 * P + 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
                                 4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT + AT);
 }
 

@@ -31,6 +31,12 @@ Rig SurfaceRig() {
     right.weights.push_back(u);
   }
   spec.tension_regions = {left, right};
+  // Fine-scale fields (format 1.2's optional sections 40-41).
+  FineScaleSpec fine;
+  fine.fields[0].anchors = {{0, {0.6f, 0.f, 0.f}}, {960, {0.3f, 0.3f, 0.f}}};
+  fine.fields[1].anchors = {{480, {0.f, 0.5f, 0.f}}};
+  fine.rest_amplitude = 0.35f;
+  spec.fine_scale = fine;
   Rig rig;
   Diagnostics diag;
   EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
@@ -115,8 +121,11 @@ std::vector<float> Evaluate(const Rig& rig, span<const float> act, float jaw = 0
   job.out_positions = pos;
   job.out_normals = nrm;
   job.jaw = jaw;
+  std::vector<float> fine(2 * rig.vertex_count());
+  job.out_fine_amplitudes = fine;
   EXPECT_TRUE(job.Run());
   pos.insert(pos.end(), nrm.begin(), nrm.end());
+  pos.insert(pos.end(), fine.begin(), fine.end());  // the fine-scale amplitudes too
   return pos;
 }
 
@@ -144,6 +153,9 @@ TEST(RigBinary, RoundTripEvaluatesBitIdentically) {
   ASSERT_EQ(loaded.vertex_count(), rig.vertex_count());
   EXPECT_EQ(loaded.muscle_names(), rig.muscle_names());
   EXPECT_EQ(loaded.curve_wrinkles().names, rig.curve_wrinkles().names);
+  ASSERT_FALSE(rig.fine_scale().empty());
+  EXPECT_EQ(loaded.fine_scale().probes.size(), rig.fine_scale().probes.size());
+  EXPECT_EQ(loaded.fine_scale().rest_amplitude, 0.35f);
   for (float level : {0.f, 0.35f, 1.f}) {
     std::vector<float> act(rig.muscle_count());
     for (size_t m = 0; m < act.size(); ++m) act[m] = level * (m % 2 ? 1.f : 0.6f);
@@ -154,6 +166,29 @@ TEST(RigBinary, RoundTripEvaluatesBitIdentically) {
   }
   // Writing the loaded rig again gives the same bytes.
   EXPECT_EQ(WriteRigBinary(loaded.data(), &loaded_info), bytes);
+}
+
+TEST(RigBinary, FineScaleSectionsComeTogetherAndOldFilesHaveNone) {
+  // A rig without fine-scale fields writes neither section and reads back empty.
+  RigData plain = Surface().data();
+  plain.fine_scale = RigFineScale();
+  const std::string none = WriteRigBinary(plain, nullptr);
+  Rig loaded;
+  std::string error;
+  ASSERT_TRUE(ReadRigBinary(Bytes(none), &loaded, nullptr, &error)) << error;
+  EXPECT_TRUE(loaded.fine_scale().empty());
+  // One of the two sections alone is refused, naming them: rename section 41's id in the
+  // table (entries of 32 bytes from byte 40, id first) to an unknown one.
+  const std::string bytes = WriteRigBinary(Surface().data(), nullptr);
+  std::string edited = bytes;
+  const uint32_t count = U32At(bytes, 12);
+  bool found = false;
+  for (uint32_t i = 0; i < count; ++i)
+    if (U32At(bytes, 40 + 32 * i) == 41) PutU32(&edited, 40 + 32 * i, 63), found = true;
+  ASSERT_TRUE(found);
+  Rechecksum(&edited);
+  EXPECT_NE(ReadError(edited).find("sections 'fine_scale_*' (ids 40-41)"), std::string::npos)
+      << ReadError(edited);
 }
 
 TEST(RigBinary, TheJawRoundTrips) {

@@ -240,5 +240,44 @@ TEST(RenderCli, ZoomKeepsTheFocusWindowOfALargerRender) {
   EXPECT_EQ(r.exit_code, 2);
 }
 
+
+TEST(Render, FineScaleHeightRampTiltsTheNormalByItsSlope) {
+  // A 2 x 2 quad facing +Z with uv = ((x + 1) / 2, (1 - y) / 2) (v down, glTF); height map
+  // 1 h = u (16-bit ramp), map 2 flat white; amplitudes (a1, 1). H = depth a1 (u - 1), so
+  // dH/dx = depth a1 / 2 and the normal is normalize(-depth a1 / 2, 0, 1) (Blinn, 003 eq. 4.2).
+  MeshData m;
+  AddQuad(&m, 2.f, 0.f);
+  for (const float3& p : m.positions) m.uvs.push_back({(p.x + 1.f) / 2.f, (1.f - p.y) / 2.f});
+  Gray16Image ramp, flat;
+  ramp.width = ramp.height = flat.width = flat.height = 256;
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 256; ++x) {
+      ramp.pixels.push_back(uint16_t(std::lround(65535.0 * (x + 0.5) / 256.0)));
+      flat.pixels.push_back(65535);
+    }
+  const float a1 = 0.5f, depth = 1.2f;
+  std::vector<float> amps;
+  for (size_t v = 0; v < m.positions.size(); ++v) amps.insert(amps.end(), {a1, 1.f});
+  FineScaleShading fine;
+  fine.height[0] = &ramp;
+  fine.height[1] = &flat;
+  fine.amplitudes = &amps;
+  fine.depth = depth;
+  RenderOptions o = Plain(64);
+  o.light_dir = {-0.6f, 0.f, 0.8f};  // from the left: a normal tilted left is brighter
+  o.fine = &fine;
+  const Image img = RenderMesh(m, o);
+  const float3 n = NormalizeOr(float3{-depth * a1 / 2.f, 0.f, 1.f}, {});
+  const float3 c = ShadeColor(n, o.base_color, o);
+  const uint8_t* px = Pixel(img, 32, 32);
+  EXPECT_NEAR(px[0], c.x * 255.f, 2.f);
+  EXPECT_NEAR(px[1], c.y * 255.f, 2.f);
+  // Without the maps: the flat normal's colour (darker under this light).
+  o.fine = nullptr;
+  const float3 c0 = ShadeColor({0.f, 0.f, 1.f}, o.base_color, o);
+  EXPECT_NEAR(Pixel(RenderMesh(m, o), 32, 32)[0], c0.x * 255.f, 1.5f);
+  EXPECT_GT(c.x, c0.x + 0.02f);
+}
+
 }  // namespace
 }  // namespace mimetic

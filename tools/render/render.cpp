@@ -58,6 +58,21 @@ uint8_t ToByte(float v) {
   return static_cast<uint8_t>(std::lround(c * 255.f));
 }
 
+// Bilinear sample of a 16-bit map at uv (pixel centres at (x + 0.5) / w), in [0, 1] (1 white);
+// clamped at the border.
+float SampleHeight(const Gray16Image& m, float u, float v) {
+  const float x = u * m.width - 0.5f, y = v * m.height - 0.5f;
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  const float fx = x - x0, fy = y - y0;
+  auto at = [&](int xx, int yy) {
+    xx = std::clamp(xx, 0, m.width - 1);
+    yy = std::clamp(yy, 0, m.height - 1);
+    return m.pixels[size_t(yy) * size_t(m.width) + size_t(xx)] * (1.f / 65535.f);
+  };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+         fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
+
 }  // namespace
 
 float3 ShadeColor(float3 n, float3 albedo, const RenderOptions& o) {
@@ -85,6 +100,12 @@ Image RenderMesh(const MeshData& mesh, const RenderOptions& o) {
   const std::vector<float3> normals =
       mesh.normals.size() == nv ? mesh.normals : ComputeVertexNormals(mesh);  // fallback +z
   const bool use_colors = o.vertex_colors && o.vertex_colors->size() == nv;
+  const FineScaleShading* fine = o.fine;
+  if (fine && (mesh.uvs.size() != nv || (fine->amplitudes && fine->amplitudes->size() != 2 * nv)))
+    fine = nullptr;
+  if (fine)
+    for (const Gray16Image* m : fine->height)
+      if (m && (m->width <= 0 || m->pixels.size() != size_t(m->width) * size_t(m->height))) fine = nullptr;
 
   // Project every vertex once: screen x, y in supersampled pixels, view depth, camera-space
   // normal.
@@ -130,6 +151,25 @@ Image RenderMesh(const MeshData& mesh, const RenderOptions& o) {
     const float3 alb_a = use_colors ? (*o.vertex_colors)[ia] : o.base_color;
     const float3 alb_b = use_colors ? (*o.vertex_colors)[ib] : o.base_color;
     const float3 alb_c = use_colors ? (*o.vertex_colors)[ic] : o.base_color;
+    // Fine-scale bump: the triangle's uv derivatives P_u, P_v in camera space (e = P_u du +
+    // P_v dv for its two edges) and a per-texel step for the height differences.
+    float3 pu{}, pv_{};
+    bool bump = false;
+    if (fine) {
+      auto cam3 = [&](uint32_t i) {
+        const float3 d = mesh.positions[i] - cam.eye;
+        return float3{Dot(d, cam.right), Dot(d, cam.up), Dot(d, cam.back)};
+      };
+      const float3 e1 = cam3(ib) - cam3(ia), e2 = cam3(ic) - cam3(ia);
+      const float2 ua = mesh.uvs[ia], ub = mesh.uvs[ib], uc = mesh.uvs[ic];
+      const float du1 = ub.x - ua.x, dv1 = ub.y - ua.y, du2 = uc.x - ua.x, dv2 = uc.y - ua.y;
+      const float det = du1 * dv2 - du2 * dv1;
+      if (std::fabs(det) > 1e-12f) {
+        pu = (e1 * dv2 - e2 * dv1) * (1.f / det);
+        pv_ = (e2 * du1 - e1 * du2) * (1.f / det);
+        bump = true;
+      }
+    }
     for (int y = y0; y <= y1; ++y) {
       const float py = y + 0.5f;
       for (int x = x0; x <= x1; ++x) {
@@ -147,6 +187,34 @@ Image RenderMesh(const MeshData& mesh, const RenderOptions& o) {
         if (!(z < depth[k])) continue;
         depth[k] = z;
         float3 n = Normalized((a.n * qa + b.n * qb + c.n * qc) * z);
+        if (bump) {
+          // H(u, v) = depth sum_k a_k (h_k - 1), bump-mapped as 003 eq. 4.2.
+          const float2 uv{(mesh.uvs[ia].x * qa + mesh.uvs[ib].x * qb + mesh.uvs[ic].x * qc) * z,
+                          (mesh.uvs[ia].y * qa + mesh.uvs[ib].y * qb + mesh.uvs[ic].y * qc) * z};
+          float amp[2] = {1.f, 1.f};
+          if (fine->amplitudes) {
+            const std::vector<float>& A = *fine->amplitudes;
+            for (int k = 0; k < 2; ++k)
+              amp[k] = (A[2 * ia + k] * qa + A[2 * ib + k] * qb + A[2 * ic + k] * qc) * z;
+          }
+          float hu = 0.f, hv = 0.f;
+          for (int k = 0; k < 2; ++k) {
+            const Gray16Image* m = fine->height[k];
+            if (!m) continue;
+            const float su = 1.f / float(m->width), sv = 1.f / float(m->height);
+            hu += amp[k] * (SampleHeight(*m, uv.x + su, uv.y) - SampleHeight(*m, uv.x - su, uv.y)) / (2.f * su);
+            hv += amp[k] * (SampleHeight(*m, uv.x, uv.y + sv) - SampleHeight(*m, uv.x, uv.y - sv)) / (2.f * sv);
+          }
+          hu *= fine->depth;
+          hv *= fine->depth;
+          // The displaced surface P + H n (n the outward shading normal): to first order
+          // (P_u + H_u n) x (P_v + H_v n) = P_u x P_v + H_u (n x P_v) + H_v (P_u x n), turned
+          // outward (the uv parameterisation may run against the winding: v points down).
+          // The smooth normal keeps its length |P_u x P_v| (not the face's direction).
+          const float3 base = Cross(pu, pv_);
+          const float sign = Dot(base, n) < 0.f ? -1.f : 1.f;
+          n = Normalized(n * Length(base) + (Cross(n, pv_) * hu + Cross(pu, n) * hv) * sign);
+        }
         if (back_facing) n = -n;
         const float3 albedo = (alb_a * qa + alb_b * qb + alb_c * qc) * z;
         float3 col = ShadeColor(n, albedo, o);

@@ -17,6 +17,16 @@
 
 namespace mimetic {
 
+// Fine-scale wrinkle maps bump-mapped over the shading (docs/model.md §22-23): height map k
+// (16-bit, white = no furrow) scaled per vertex by amplitude k, H = sum_k a_k (h_k - 1) depth,
+// and the normal perturbed by Blinn's bump mapping (003 eq. 4.2) along the triangle's uv
+// derivatives. Needs the mesh's uvs; ignored where the sizes do not match.
+struct FineScaleShading {
+  const Gray16Image* height[2] = {nullptr, nullptr};
+  const std::vector<float>* amplitudes = nullptr;  // 2 per vertex (a1, a2), or null: 1, 1
+  float depth = 0.1f;  // mesh units of a full furrow (h = 0) at amplitude 1
+};
+
 struct RenderOptions {
   int width = 800, height = 800;  // pixels, each clamped to [1, 8192]
   // The camera looks at the centre of the mesh's bounding box from +Z, rotated by `yaw_deg`
@@ -43,6 +53,7 @@ struct RenderOptions {
   float3 background{0.5f, 0.5f, 0.5f};  // neutral grey
   float3 wire_color{0.15f, 0.15f, 0.15f};
   bool two_sided = true;  // shade back faces with the flipped normal
+  const FineScaleShading* fine = nullptr;  // optional fine-scale bump maps
 };
 
 // Renders `mesh` (uses its normals when it has #V of them, else area-weighted vertex normals).

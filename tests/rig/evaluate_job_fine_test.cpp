@@ -1,0 +1,263 @@
+// EvaluateJob's fine-scale amplitudes (docs/model.md §23): M(s) of 000 eq. 5 at hand-computed
+// points, a sheet compressed across field 1 and stretched across field 2, the builder's probes
+// against the public DirectionalShrinkageJob, bit-identical splits, zero allocation and the
+// job's checks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include "content/procedural.h"
+#include "geometry/topology.h"
+#include "rig/offline/rig_builder.h"
+#include "rig/runtime/evaluate_job.h"
+#include "wrinkles/offline/wrinkle_builder.h"
+#include "wrinkles/runtime/profiles.h"
+
+#include "alloc_counter.h"
+#include "rig/frame_helpers.h"
+
+namespace mimetic {
+namespace {
+
+// (n + 1)^2 grid points with spacing 1; rest_points = map(x, y); the probes are built on the
+// unmapped grid (its lengths are the rest lengths) with uv = (x, y) / n, so a frame with no
+// muscle measures the strain of `map` against the unit grid.
+template <class Map>
+RigData FineGridRig(uint32_t n, const Map& map, float2 across1, float2 across2, float r) {
+  RigData d;
+  const uint32_t side = n + 1;
+  std::vector<float3> unit;
+  for (uint32_t y = 0; y < side; ++y)
+    for (uint32_t x = 0; x < side; ++x) {
+      d.rest_points.push_back(map(float(x), float(y)));
+      unit.push_back({float(x), float(y), 0.f});
+      d.vertex_uvs.push_back({float(x) / n, float(y) / n});
+    }
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      const uint32_t a = y * side + x, b = a + 1, c = a + side, e = c + 1;
+      d.triangles.insert(d.triangles.end(), {a, b, e, a, e, c});
+    }
+  const uint32_t points = d.point_count(), tris = d.triangle_count();
+  const CsrTable pt = BuildPointTriangles(d.triangles, points);
+  d.point_triangle_offsets = pt.offsets;
+  d.point_triangles = pt.items;
+  d.active = {points, points, tris};
+  for (uint32_t p = 0; p < points; ++p) d.vertex_points.push_back(p);
+  d.vertex_indices = d.triangles;
+  d.muscles.offsets.assign(size_t(points) + 1, 0);
+  std::vector<float2> corner_uvs;
+  for (uint32_t v : d.triangles) corner_uvs.push_back(d.vertex_uvs[v]);
+  d.fine_scale.rest_amplitude = r;
+  for (uint32_t p = 0; p < points; ++p) {
+    d.fine_scale.probes.push_back(BuildShrinkageProbe(p, across1, unit, d.triangles, corner_uvs, pt));
+    d.fine_scale.probes.push_back(BuildShrinkageProbe(p, across2, unit, d.triangles, corner_uvs, pt));
+  }
+  return d;
+}
+
+bool RunFine(const Rig& rig, EvaluateContext* ctx, std::vector<float>* amps,
+             std::vector<float>* positions, ParallelForFn pf = nullptr,
+             span<const float> activations = {}) {
+  positions->assign(3 * rig.vertex_count(), 0.f);
+  amps->assign(2 * rig.vertex_count(), -1.f);
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = ctx;
+  job.activations = activations;
+  job.out_positions = *positions;
+  job.out_fine_amplitudes = *amps;
+  job.parallel_for = pf;
+  job.parallel_min_count = 1;
+  return job.Run();
+}
+
+TEST(EvaluateJobFine, ModulationIsBando2002EquationFiveAtHandPoints) {
+  // M(s) = (1 - r) s + r for s >= 0, r exp((1/r - 1) s) for s < 0.
+  EXPECT_FLOAT_EQ(DirectionalModulation(0.f, 0.5f), 0.5f);
+  EXPECT_FLOAT_EQ(DirectionalModulation(0.5f, 0.5f), 0.75f);
+  EXPECT_FLOAT_EQ(DirectionalModulation(1.f, 0.5f), 1.f);
+  EXPECT_NEAR(DirectionalModulation(-1.f, 0.5f), 0.5 * std::exp(-1.0), 1e-7);
+  EXPECT_NEAR(DirectionalModulation(-0.5f, 0.25f), 0.25 * std::exp(3.0 * -0.5), 1e-7);
+  EXPECT_FLOAT_EQ(DirectionalModulation(0.2f, 0.25f), 0.75f * 0.2f + 0.25f);
+}
+
+TEST(EvaluateJobFine, CompressedAcrossFieldOneAndStretchedAcrossFieldTwo) {
+  // X = (0.8 x, 1.25 y, 0): field 1's furrows run along y (s measured across them, along x:
+  // compressed, s1 = 1 - 0.8 = 0.2); field 2's along x (s across along y: stretched, s2 =
+  // 1 - 1.25 = -0.25). Along a grid edge the probe's ray runs along that edge, so L'/L is the
+  // edge's length ratio exactly. r = 0.5: M1 = 0.5 * 0.2 + 0.5 = 0.6, M2 = 0.5 e^-0.25.
+  const auto map = [](float x, float y) { return float3{0.8f * x, 1.25f * y, 0.f}; };
+  Rig rig;
+  ASSERT_TRUE(Rig::Build(FineGridRig(6, map, {1.f, 0.f}, {0.f, 1.f}, 0.5f), &rig));
+  EvaluateContext ctx(rig);
+  std::vector<float> amps, pos;
+  ASSERT_TRUE(RunFine(rig, &ctx, &amps, &pos));
+  for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
+    EXPECT_NEAR(amps[2 * v], 0.6f, 1e-5f) << "vertex " << v;
+    EXPECT_NEAR(amps[2 * v + 1], 0.5 * std::exp(-0.25), 1e-5) << "vertex " << v;
+    EXPECT_GT(amps[2 * v], 0.5f);      // raised above the rest amplitude
+    EXPECT_LT(amps[2 * v + 1], 0.5f);  // lowered
+  }
+  // At rest both are r.
+  Rig rest;
+  ASSERT_TRUE(Rig::Build(FineGridRig(4, [](float x, float y) { return float3{x, y, 0.f}; },
+                                     {1.f, 0.f}, {0.f, 1.f}, 0.3f), &rest));
+  EvaluateContext rctx(rest);
+  ASSERT_TRUE(RunFine(rest, &rctx, &amps, &pos));
+  for (float a : amps) EXPECT_FLOAT_EQ(a, 0.3f);
+}
+
+// The surface rig with a fine_scale block: field 1 along x, field 2 along y.
+struct Surface {
+  MeshData mesh;
+  RigSpec spec;
+  Rig rig;
+};
+Surface FineSurface(uint32_t side, uint32_t muscles) {
+  Surface s;
+  s.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
+  s.spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  FineScaleSpec fs;
+  fs.fields[0].name = "along_x";
+  fs.fields[0].anchors = {{0, {0.5f, 0.f, 0.f}}, {side * side - 1, {0.7f, 0.f, 0.f}}};
+  fs.fields[1].name = "along_y";
+  fs.fields[1].anchors = {{0, {0.f, 0.5f, 0.f}}};
+  fs.rest_amplitude = 0.4f;
+  s.spec.fine_scale = fs;
+  Diagnostics diag;
+  EXPECT_TRUE(BuildRig(s.spec, s.mesh, {}, &s.rig, &diag)) << diag.Format();
+  return s;
+}
+
+using test::SomeActivations;
+using test::TwoThreads;
+
+TEST(EvaluateJobFine, BuilderProbesGiveThePublicShrinkageJobsAmplitudes) {
+  const Surface s = FineSurface(30, 6);
+  const RigFineScale& fs = s.rig.fine_scale();
+  ASSERT_FALSE(fs.empty());
+  EXPECT_EQ(fs.point_count(), s.rig.normal_point_count());
+  EXPECT_FLOAT_EQ(fs.rest_amplitude, 0.4f);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext ctx(s.rig);
+  std::vector<float> amps, pos;
+  ASSERT_TRUE(RunFine(s.rig, &ctx, &amps, &pos, nullptr, act));
+  // Second method: X1 from a frame with the skin layers off, DirectionalShrinkageJob over the
+  // probes, DirectionalModulation.
+  EvaluateContext ctx1(s.rig);
+  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &ctx1));
+  std::vector<float> sh(fs.probes.size());
+  const DirectionalShrinkageJob job{.positions = ctx1.points(),
+                                    .probes = fs.probes,
+                                    .end = fs.probes.size(),
+                                    .out_shrinkage = sh};
+  ASSERT_TRUE(job.Run());
+  size_t moved = 0;
+  for (uint32_t v = 0; v < s.rig.vertex_count(); ++v) {
+    const uint32_t p = s.rig.vertex_points()[v];
+    for (int k = 0; k < 2; ++k) {
+      const float expect = p < fs.point_count() ? DirectionalModulation(sh[2 * p + k], 0.4f) : 0.4f;
+      EXPECT_NEAR(amps[2 * v + k], expect, 1e-6f) << "vertex " << v << " field " << k;
+      moved += std::fabs(amps[2 * v + k] - 0.4f) > 1e-3f;
+    }
+  }
+  EXPECT_GT(moved, 20u) << "the muscles strain the surface";
+}
+
+TEST(EvaluateJobFine, BitIdenticalSplitsZeroAllocationAndNoEffectOnPositions) {
+  const Surface s = FineSurface(40, 8);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(s.rig), c3(s.rig);
+  std::vector<float> a1, a2, p1, p2;
+  ASSERT_TRUE(RunFine(s.rig, &c1, &a1, &p1, nullptr, act));
+  ASSERT_TRUE(RunFine(s.rig, &c2, &a2, &p2, TwoThreads, act));
+  EXPECT_EQ(std::memcmp(a1.data(), a2.data(), a1.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(p1.data(), p2.data(), p1.size() * 4), 0);
+  // Positions are those of a frame without the output.
+  std::vector<float> p3(p1.size());
+  EvaluateJob job;
+  job.rig = &s.rig;
+  job.context = &c3;
+  job.activations = act;
+  job.out_positions = p3;
+  ASSERT_TRUE(job.Run());
+  EXPECT_EQ(std::memcmp(p1.data(), p3.data(), p1.size() * 4), 0);
+  // Zero allocation per frame with the output on.
+  job.out_fine_amplitudes = a1;
+  const long before = g_allocations.load();
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(job.Run());
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+TEST(EvaluateJobFine, TheJobRefusesShortOrMisalignedOutputsAndARigWithoutMapsGivesZero) {
+  const Surface s = FineSurface(12, 2);
+  EvaluateContext ctx(s.rig);
+  std::vector<float> pos(3 * s.rig.vertex_count()), amps(2 * s.rig.vertex_count());
+  const std::vector<float> act(s.rig.muscle_count(), 0.f);
+  EvaluateJob job;
+  job.rig = &s.rig;
+  job.context = &ctx;
+  job.activations = act;
+  job.out_positions = pos;
+  job.out_fine_amplitudes = span<float>(amps).first(amps.size() - 1);
+  EXPECT_FALSE(job.Validate());
+  job.out_fine_amplitudes = amps;
+  job.out_fine_amplitudes_stride = 6;
+  EXPECT_FALSE(job.Validate());
+  job.out_fine_amplitudes_stride = 4;
+  EXPECT_FALSE(job.Validate());
+  job.out_fine_amplitudes_stride = 8;
+  EXPECT_TRUE(job.Run());
+  for (float a : amps) EXPECT_FLOAT_EQ(a, 0.4f);  // at rest: r
+  // A strided layout: amplitudes at floats 1-2 of 4 per vertex.
+  std::vector<float> wide(4 * s.rig.vertex_count(), -7.f);
+  job.out_fine_amplitudes = span<float>(wide).subspan(1);
+  job.out_fine_amplitudes_stride = 16;
+  ASSERT_TRUE(job.Run());
+  EXPECT_EQ(wide[0], -7.f);
+  EXPECT_FLOAT_EQ(wide[1], 0.4f);
+  EXPECT_FLOAT_EQ(wide[2], 0.4f);
+  EXPECT_EQ(wide[3], -7.f);
+  // Without a fine_scale block: 0.
+  RigSpec plain = s.spec;
+  plain.fine_scale.reset();
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(plain, s.mesh, {}, &rig, &diag));
+  EvaluateContext pctx(rig);
+  job.rig = &rig;
+  job.context = &pctx;
+  job.out_fine_amplitudes = amps;
+  job.out_fine_amplitudes_stride = 8;
+  ASSERT_TRUE(job.Run());
+  for (float a : amps) EXPECT_EQ(a, 0.f);
+}
+
+TEST(EvaluateJobFine, RigBuildRefusesMalformedProbes) {
+  const auto map = [](float x, float y) { return float3{x, y, 0.f}; };
+  RigData d = FineGridRig(3, map, {1.f, 0.f}, {0.f, 1.f}, 0.5f);
+  Rig rig;
+  RigData bad = d;
+  bad.fine_scale.probes.pop_back();  // odd count
+  EXPECT_FALSE(Rig::Build(bad, &rig));
+  bad = d;
+  bad.fine_scale.probes[3].point = 0;  // not its row's point
+  EXPECT_FALSE(Rig::Build(bad, &rig));
+  bad = d;
+  bad.fine_scale.probes[2].sides[0].v2 = 9999;
+  EXPECT_FALSE(Rig::Build(bad, &rig));
+  bad = d;
+  bad.fine_scale.rest_amplitude = 1.5f;
+  EXPECT_FALSE(Rig::Build(bad, &rig));
+  bad = d;
+  bad.fine_scale.probes.resize(4);  // fewer points than can change
+  EXPECT_FALSE(Rig::Build(bad, &rig));
+  EXPECT_TRUE(Rig::Build(d, &rig));
+}
+
+}  // namespace
+}  // namespace mimetic

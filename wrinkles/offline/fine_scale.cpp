@@ -1,0 +1,946 @@
+#include "wrinkles/offline/fine_scale.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/LU>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <thread>
+
+#include "geometry/topology.h"
+
+namespace mimetic {
+
+namespace {
+
+
+bool Finite(float3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+float Dot2(float2 a, float2 b) { return a.x * b.x + a.y * b.y; }
+float2 Sub2(float2 a, float2 b) { return {a.x - b.x, a.y - b.y}; }
+
+// Area-weighted point normals (unit, or 0 for an isolated point).
+std::vector<float3> PointNormals(const FineScaleMesh& m) {
+  std::vector<float3> n(m.points.size(), float3{});
+  for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+    const uint32_t a = m.triangles[t], b = m.triangles[t + 1], c = m.triangles[t + 2];
+    if (a >= n.size() || b >= n.size() || c >= n.size()) continue;
+    const float3 f = Cross(m.points[b] - m.points[a], m.points[c] - m.points[a]);
+    n[a] += f;
+    n[b] += f;
+    n[c] += f;
+  }
+  for (float3& v : n) v = NormalizeOr(v, float3{});
+  return n;
+}
+
+// Cotangent weight of the angle at `o` opposite edge (a, b), clamped to a small positive
+// value (Eck et al.'s harmonic-map springs; the clamp keeps the system positive definite on
+// obtuse triangles).
+double Cot(float3 o, float3 a, float3 b) {
+  const float3 u = a - o, v = b - o;
+  const double c = Dot(u, v), s = Length(Cross(u, v));
+  return s > 1e-30 ? c / s : 0.0;
+}
+
+// The cotangent Laplacian's edge weights: sum over the two triangles of 1/2 cot, >= 1e-6.
+struct EdgeWeights {
+  std::vector<Eigen::Triplet<double>> triplets;  // off-diagonal -w, both ways
+  std::vector<double> diagonal;
+};
+EdgeWeights CotangentWeights(const FineScaleMesh& m) {
+  std::vector<std::pair<uint64_t, double>> edges;
+  edges.reserve(m.triangles.size());
+  const size_t n = m.points.size();
+  for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+    const uint32_t c[3] = {m.triangles[t], m.triangles[t + 1], m.triangles[t + 2]};
+    if (c[0] >= n || c[1] >= n || c[2] >= n) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = c[(k + 1) % 3], b = c[(k + 2) % 3];
+      const double w = 0.5 * Cot(m.points[c[k]], m.points[a], m.points[b]);
+      edges.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b), w});
+    }
+  }
+  std::sort(edges.begin(), edges.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  EdgeWeights out;
+  out.diagonal.assign(n, 0.0);
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    double w = 0.0;
+    for (; j < edges.size() && edges[j].first == edges[i].first; ++j) w += edges[j].second;
+    w = std::max(w, 1e-6);
+    const uint32_t a = uint32_t(edges[i].first >> 32), b = uint32_t(edges[i].first);
+    out.triplets.emplace_back(a, b, -w);
+    out.triplets.emplace_back(b, a, -w);
+    out.diagonal[a] += w;
+    out.diagonal[b] += w;
+    i = j;
+  }
+  return out;
+}
+
+// Solves L x = 0 on the free points with x fixed at `fixed` (fixed[p] >= 0: its row in
+// `values`), for `dims` columns of values. Points with no edge to anything keep `isolated`.
+bool HarmonicSolve(const FineScaleMesh& m, const std::vector<int>& fixed,
+                   const Eigen::MatrixXd& values, Eigen::MatrixXd* out) {
+  const size_t n = m.points.size();
+  const EdgeWeights w = CotangentWeights(m);
+  std::vector<int> free_index(n, -1);
+  int free_count = 0;
+  for (size_t p = 0; p < n; ++p)
+    if (fixed[p] < 0) free_index[p] = free_count++;
+  out->setZero(Eigen::Index(n), values.cols());
+  for (size_t p = 0; p < n; ++p)
+    if (fixed[p] >= 0) out->row(Eigen::Index(p)) = values.row(fixed[p]);
+  if (free_count == 0) return true;
+  std::vector<Eigen::Triplet<double>> a;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(free_count, values.cols());
+  for (size_t p = 0; p < n; ++p)
+    if (free_index[p] >= 0)
+      a.emplace_back(free_index[p], free_index[p], w.diagonal[p] > 0.0 ? w.diagonal[p] : 1.0);
+  for (const auto& t : w.triplets) {
+    const int r = free_index[size_t(t.row())];
+    if (r < 0) continue;
+    const int c = free_index[size_t(t.col())];
+    if (c >= 0)
+      a.emplace_back(r, c, t.value());
+    else
+      rhs.row(r) -= t.value() * out->row(t.col());
+  }
+  Eigen::SparseMatrix<double> A(free_count, free_count);
+  A.setFromTriplets(a.begin(), a.end());
+  // A component without a fixed point is singular; a tiny diagonal shift keeps it solvable
+  // (its points go to 0, i.e. no field there).
+  for (int i = 0; i < free_count; ++i) A.coeffRef(i, i) += 1e-9 * (A.coeff(i, i) + 1.0);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success) return false;
+  const Eigen::MatrixXd x = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !x.allFinite()) return false;
+  for (size_t p = 0; p < n; ++p)
+    if (free_index[p] >= 0) out->row(Eigen::Index(p)) = x.row(free_index[p]);
+  return true;
+}
+
+// Harmonic interpolation of several fields on one mesh with ONE factorization: L is
+// factored over F, the points that are no field's anchor (U = the union of the anchors); the
+// harmonic extensions H = -L_FF^-1 L_FU of the |U| unit values give every field's free
+// points from its values on U, x_F = H x_U. For field k, the points of U that are not its
+// anchors (Z) are unknowns that must be harmonic too: (L x)_z = 0, i.e.
+// (L_ZU + L_ZF H) x_U = 0, a |Z| x |Z| dense solve. The same solution as one solve per field.
+bool HarmonicFields(const FineScaleMesh& m, const std::vector<std::vector<uint32_t>>& anchors,
+                    const std::vector<Eigen::MatrixXd>& values, std::vector<Eigen::MatrixXd>* out) {
+  const size_t n = m.points.size();
+  const EdgeWeights w = CotangentWeights(m);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> L{Eigen::Index(n), Eigen::Index(n)};
+  {
+    std::vector<Eigen::Triplet<double>> t = w.triplets;
+    for (size_t p = 0; p < n; ++p)
+      t.emplace_back(Eigen::Index(p), Eigen::Index(p), w.diagonal[p] > 0.0 ? w.diagonal[p] : 1.0);
+    L.setFromTriplets(t.begin(), t.end());
+  }
+  std::vector<int> u_index(n, -1), f_index(n, -1);
+  std::vector<uint32_t> U;
+  for (const auto& a : anchors)
+    for (uint32_t p : a)
+      if (u_index[p] < 0) u_index[p] = int(U.size()), U.push_back(p);
+  int nf = 0;
+  std::vector<uint32_t> F;
+  for (size_t p = 0; p < n; ++p)
+    if (u_index[p] < 0) f_index[p] = nf++, F.push_back(uint32_t(p));
+  const int nu = int(U.size());
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nf, nu);
+  if (nf > 0) {
+    std::vector<Eigen::Triplet<double>> a;
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nf, nu);
+    for (int r = 0; r < nf; ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(L, F[size_t(r)]); it; ++it) {
+        const int c = int(it.col());
+        if (f_index[size_t(c)] >= 0)
+          a.emplace_back(r, f_index[size_t(c)], it.value() + (c == int(F[size_t(r)]) ? 1e-9 * (it.value() + 1.0) : 0.0));
+        else
+          B(r, u_index[size_t(c)]) -= it.value();
+      }
+    Eigen::SparseMatrix<double> A(nf, nf);
+    A.setFromTriplets(a.begin(), a.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+    if (solver.info() != Eigen::Success) return false;
+    H = solver.solve(B);
+    if (solver.info() != Eigen::Success || !H.allFinite()) return false;
+  }
+  out->assign(anchors.size(), Eigen::MatrixXd());
+  for (size_t k = 0; k < anchors.size(); ++k) {
+    const Eigen::Index cols = values[k].cols();
+    Eigen::MatrixXd xu = Eigen::MatrixXd::Zero(nu, cols);
+    std::vector<uint8_t> known(size_t(nu), 0);
+    for (size_t i = 0; i < anchors[k].size(); ++i) {  // a repeated point: the last value wins
+      xu.row(u_index[anchors[k][i]]) = values[k].row(Eigen::Index(i));
+      known[size_t(u_index[anchors[k][i]])] = 1;
+    }
+    std::vector<int> Z;
+    for (int j = 0; j < nu; ++j)
+      if (!known[size_t(j)]) Z.push_back(j);
+    if (!Z.empty()) {
+      // M = L_ZU + L_ZF H, row by row.
+      Eigen::MatrixXd M = Eigen::MatrixXd::Zero(Eigen::Index(Z.size()), nu);
+      for (size_t zi = 0; zi < Z.size(); ++zi)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(L, U[size_t(Z[zi])]); it; ++it) {
+          const size_t c = size_t(it.col());
+          if (f_index[c] >= 0)
+            M.row(Eigen::Index(zi)) += it.value() * H.row(f_index[c]);
+          else
+            M(Eigen::Index(zi), u_index[c]) += it.value();
+        }
+      Eigen::MatrixXd Mz(Eigen::Index(Z.size()), Eigen::Index(Z.size()));
+      for (size_t j = 0; j < Z.size(); ++j) Mz.col(Eigen::Index(j)) = M.col(Z[j]);
+      const Eigen::MatrixXd rhs = -(M * xu);  // the unknown rows of xu are 0 here
+      const Eigen::MatrixXd xz = Mz.fullPivLu().solve(rhs);
+      if (!xz.allFinite()) return false;
+      for (size_t j = 0; j < Z.size(); ++j) xu.row(Z[j]) = xz.row(Eigen::Index(j));
+    }
+    Eigen::MatrixXd& x = (*out)[k];
+    x.setZero(Eigen::Index(n), cols);
+    const Eigen::MatrixXd xf = H * xu;
+    for (int r = 0; r < nf; ++r) x.row(F[size_t(r)]) = xf.row(r);
+    for (int j = 0; j < nu; ++j) x.row(U[size_t(j)]) = xu.row(j);
+  }
+  return true;
+}
+
+// The 3D tangent vector v of triangle (e1, e2 from corner 0) expressed in its texture chart:
+// v ~ a e1 + b e2 -> a g1 + b g2. False for a degenerate triangle.
+bool ToTexture(float3 e1, float3 e2, float2 g1, float2 g2, float3 v, float2* out) {
+  const double a11 = Dot(e1, e1), a12 = Dot(e1, e2), a22 = Dot(e2, e2);
+  const double det = a11 * a22 - a12 * a12;
+  if (!(det > 1e-30 * a11 * a22) || std::abs(g1.x * g2.y - g1.y * g2.x) < 1e-20f) return false;
+  const double b1 = Dot(v, e1), b2 = Dot(v, e2);
+  const double a = (a22 * b1 - a12 * b2) / det, b = (a11 * b2 - a12 * b1) / det;
+  *out = float2{float(a * g1.x + b * g2.x), float(a * g1.y + b * g2.y)};
+  return true;
+}
+
+float2 Unit2(float2 v) {
+  const float l = std::sqrt(Dot2(v, v));
+  return l > 1e-30f ? float2{v.x / l, v.y / l} : float2{0.f, 0.f};
+}
+
+}  // namespace
+
+float MaxMagnitude(FurrowParameterSet set) {
+  return set == FurrowParameterSet::kBando2001 ? 2.f : 1.f;
+}
+
+FurrowParams FurrowParamsFor(FurrowParameterSet set, float m, float k_scale) {
+  const float top = MaxMagnitude(set);
+  m = m > 0.f ? (m < top ? m : top) : 0.f;  // NaN -> 0
+  FurrowParams p;
+  if (set == FurrowParameterSet::kBando2001) {  // 003 eq. 5.1-5.6, x = m in [0, 2]
+    p.segments = int(std::floor(30.f - 10.f * m));
+    p.max_angle = 1.f - 0.4f * m;
+    p.length = k_scale * (4.f + m);
+    p.spacing = k_scale * (1.f + 6.f * m);
+    p.width = k_scale * m;
+    p.intensity = 1.f - 0.25f * m * m;  // f_depth = 0.25 x^2 is the depth below white
+  } else {  // 000 eq. 1
+    p.segments = int(std::floor(30.f - 20.f * m));
+    p.max_angle = 0.5f - 0.4f * m;
+    p.length = 4.f + 2.f * m;
+    p.intensity = 1.f - m * m;
+    p.width = 2.f * m;
+    p.spacing = 1.f + 12.f * m;
+  }
+  return p;
+}
+
+bool ValidateFineScaleSpec(const FineScaleSpec& spec, size_t vertex_count,
+                           const std::string& where, Diagnostics* diag) {
+  bool ok = true;
+  auto error = [&](const std::string& key, const std::string& what) {
+    diag->Error(where + key, what);
+    ok = false;
+  };
+  const float top = MaxMagnitude(spec.parameters);
+  for (int f = 0; f < 2; ++f) {
+    const std::string fw = ".fields[" + std::to_string(f) + "]";
+    const DirectionFieldSpec& field = spec.fields[f];
+    if (field.anchors.empty()) error(fw + ".anchors", "a direction field needs at least one vector");
+    for (size_t i = 0; i < field.anchors.size(); ++i) {
+      const DirectionAnchor& a = field.anchors[i];
+      const std::string aw = fw + ".anchors[" + std::to_string(i) + "]";
+      if (a.vertex >= vertex_count)
+        error(aw + ".vertex", "vertex " + std::to_string(a.vertex) + " is out of range (the mesh has " +
+                                  std::to_string(vertex_count) + " vertices)");
+      if (!Finite(a.vector)) {
+        error(aw + ".vector", "must be finite");
+      } else {
+        const float len = Length(a.vector);
+        if (!(len > 1e-6f))
+          error(aw + ".vector", "has zero length (the direction is undefined)");
+        else if (len > top * 1.0001f)
+          error(aw + ".vector", "magnitude " + std::to_string(len) + " exceeds " +
+                                    std::to_string(top) + ", the largest of these parameters");
+      }
+      if (!(a.weight > 0.f) || !std::isfinite(a.weight)) error(aw + ".weight", "must be > 0 and finite");
+    }
+  }
+  if (!(spec.k_scale > 0.f && spec.k_scale <= 16.f)) error(".k_scale", "must be in (0, 16]");
+  if (!(spec.k_noise >= 0.f && spec.k_noise <= 1.f)) error(".k_noise", "must be in [0, 1]");
+  if (!(spec.k_bump >= 0.f && spec.k_bump <= 64.f)) error(".k_bump", "must be in [0, 64]");
+  if (!(spec.rest_amplitude >= 0.f && spec.rest_amplitude <= 1.f))
+    error(".rest_amplitude", "must be in [0, 1]");
+  return ok;
+}
+
+bool InterpolateDirectionField(const FineScaleMesh& mesh, span<const uint32_t> anchor_points,
+                               span<const float3> anchor_vectors,
+                               span<const float> anchor_weights, FieldInterpolation method,
+                               const std::string& where, std::vector<float3>* out,
+                               Diagnostics* diag) {
+  const size_t n = mesh.points.size();
+  if (anchor_points.empty() || anchor_points.size() != anchor_vectors.size()) {
+    diag->Error(where, "a direction field needs at least one vector");
+    return false;
+  }
+  for (size_t i = 0; i < anchor_points.size(); ++i) {
+    if (anchor_points[i] >= n || !Finite(anchor_vectors[i])) {
+      diag->Error(where + ".anchors[" + std::to_string(i) + "]",
+                  "is out of range or not finite");
+      return false;
+    }
+  }
+  const std::vector<float3> normals = PointNormals(mesh);
+  auto tangent = [&](uint32_t p, float3 v) { return v - Dot(v, normals[p]) * normals[p]; };
+  out->assign(n, float3{});
+  if (method == FieldInterpolation::kInverseDistance) {  // 003 eq. 3.1
+    for (uint32_t p = 0; p < n; ++p) {
+      double sx = 0, sy = 0, sz = 0, sw = 0;
+      bool exact = false;
+      for (size_t i = 0; i < anchor_points.size(); ++i) {
+        const float d = Length(mesh.points[p] - mesh.points[anchor_points[i]]);
+        if (d <= 0.f) {  // the anchor itself (or a point on it)
+          (*out)[p] = anchor_vectors[i];
+          exact = true;
+          break;
+        }
+        const double w = (anchor_weights.size() > i ? anchor_weights[i] : 1.f) / d;
+        sx += w * anchor_vectors[i].x;
+        sy += w * anchor_vectors[i].y;
+        sz += w * anchor_vectors[i].z;
+        sw += w;
+      }
+      if (!exact) (*out)[p] = float3{float(sx / sw), float(sy / sw), float(sz / sw)};
+    }
+  } else {  // 000 §5.1: spring energy with the anchors fixed
+    const FieldAnchors one{anchor_points, anchor_vectors, anchor_weights};
+    std::vector<float3> fields[1];
+    if (!InterpolateDirectionFields(mesh, span<const FieldAnchors>(&one, 1), method, where, fields,
+                                    diag))
+      return false;
+    *out = std::move(fields[0]);
+    return true;
+  }
+  for (uint32_t p = 0; p < n; ++p) (*out)[p] = tangent(p, (*out)[p]);
+  return true;
+}
+
+bool InterpolateDirectionFields(const FineScaleMesh& mesh, span<const FieldAnchors> fields,
+                                FieldInterpolation method, const std::string& where,
+                                std::vector<float3>* out, Diagnostics* diag) {
+  if (method == FieldInterpolation::kInverseDistance) {
+    for (size_t k = 0; k < fields.size(); ++k)
+      if (!InterpolateDirectionField(mesh, fields[k].points, fields[k].vectors, fields[k].weights,
+                                     method, where, &out[k], diag))
+        return false;
+    return true;
+  }
+  const size_t n = mesh.points.size();
+  std::vector<std::vector<uint32_t>> anchors(fields.size());
+  std::vector<Eigen::MatrixXd> values(fields.size());
+  for (size_t k = 0; k < fields.size(); ++k) {
+    const FieldAnchors& f = fields[k];
+    const std::string fw = fields.size() > 1 ? where + ".fields[" + std::to_string(k) + "]" : where;
+    if (f.points.empty() || f.points.size() != f.vectors.size()) {
+      diag->Error(fw, "a direction field needs at least one vector");
+      return false;
+    }
+    values[k].resize(Eigen::Index(f.points.size()), 3);
+    for (size_t i = 0; i < f.points.size(); ++i) {
+      if (f.points[i] >= n || !Finite(f.vectors[i])) {
+        diag->Error(fw + ".anchors[" + std::to_string(i) + "]", "is out of range or not finite");
+        return false;
+      }
+      anchors[k].push_back(f.points[i]);
+      values[k](Eigen::Index(i), 0) = f.vectors[i].x;
+      values[k](Eigen::Index(i), 1) = f.vectors[i].y;
+      values[k](Eigen::Index(i), 2) = f.vectors[i].z;
+    }
+  }
+  std::vector<Eigen::MatrixXd> x;
+  if (!HarmonicFields(mesh, anchors, values, &x)) {
+    diag->Error(where, "the harmonic interpolation's sparse solve failed");
+    return false;
+  }
+  const std::vector<float3> normals = PointNormals(mesh);
+  for (size_t k = 0; k < fields.size(); ++k) {
+    out[k].resize(n);
+    for (uint32_t p = 0; p < n; ++p) {
+      const float3 v{float(x[k](p, 0)), float(x[k](p, 1)), float(x[k](p, 2))};
+      out[k][p] = v - Dot(v, normals[p]) * normals[p];
+    }
+  }
+  return true;
+}
+
+bool MakeTextureSpace(const FineScaleMesh& mesh, TextureProjection projection,
+                      bool minimize_distortion, const std::string& where,
+                      std::vector<float2>* corner_uvs, Diagnostics* diag) {
+  const size_t n = mesh.points.size(), corners = mesh.triangles.size();
+  if (projection == TextureProjection::kAuto)
+    projection = mesh.corner_uvs.size() == corners && corners > 0 ? TextureProjection::kUv
+                                                                  : TextureProjection::kCylindrical;
+  if (projection == TextureProjection::kUv) {
+    if (mesh.corner_uvs.size() != corners || corners == 0) {
+      diag->Error(where + ".texture_space", "\"uv\" needs texture coordinates, and the mesh has none");
+      return false;
+    }
+    if (minimize_distortion) {
+      diag->Error(where + ".minimize_distortion", "applies to a projection, not to the mesh's own uvs");
+      return false;
+    }
+    corner_uvs->assign(mesh.corner_uvs.begin(), mesh.corner_uvs.end());
+    return true;
+  }
+  float3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+  for (float3 p : mesh.points) {
+    lo = float3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = float3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  if (n == 0 || !(hi.y > lo.y)) {
+    diag->Error(where + ".texture_space", "the mesh is empty or flat in y; nothing to project");
+    return false;
+  }
+  const float3 c = (lo + hi) * 0.5f;
+  std::vector<float2> uv(n);
+  const float span_xy = std::max(hi.x - lo.x, hi.y - lo.y);
+  for (size_t p = 0; p < n; ++p) {
+    const float3 x = mesh.points[p];
+    if (projection == TextureProjection::kPlanar) {
+      uv[p] = float2{(x.x - c.x) / span_xy + 0.5f, 0.5f - (x.y - c.y) / span_xy};
+    } else {  // 003 eq. 3.2 about the vertical axis through the box centre
+      float s = std::atan2(x.x - c.x, x.z - c.z);  // 0 at +z, growing toward +x
+      if (s < 0.f) s += 2.f * kPi;
+      uv[p] = float2{s / (2.f * kPi), 1.f - (x.y - lo.y) / (hi.y - lo.y)};
+    }
+  }
+  corner_uvs->resize(corners);
+  bool seam = false;
+  for (size_t t = 0; t + 2 < corners; t += 3) {
+    for (int k = 0; k < 3; ++k) (*corner_uvs)[t + k] = uv[mesh.triangles[t + k]];
+    if (projection == TextureProjection::kCylindrical) {
+      // A triangle across the seam (u jumps by ~1): its corners in one chart, u past 1 (the
+      // texture space wraps around, 000 §4).
+      const float u0 = (*corner_uvs)[t].x;
+      for (int k = 1; k < 3; ++k) {
+        float& u = (*corner_uvs)[t + k].x;
+        if (u - u0 > 0.5f) { u -= 1.f; seam = true; }
+        if (u0 - u > 0.5f) { u += 1.f; seam = true; }
+      }
+    }
+  }
+  if (!minimize_distortion) return true;
+  if (seam) {
+    diag->Error(where + ".minimize_distortion",
+                "needs a projection without a seam (the cylindrical one cuts this mesh); use "
+                "\"planar\" or leave it off");
+    return false;
+  }
+  // 000 §4: boundary points fixed, interior points harmonic.
+  const CsrTable pt = BuildPointTriangles(mesh.triangles, n);
+  std::vector<std::pair<uint64_t, int>> edge_count;
+  for (size_t t = 0; t + 2 < corners; t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = mesh.triangles[t + k], b = mesh.triangles[t + (k + 1) % 3];
+      edge_count.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b), 1});
+    }
+  std::sort(edge_count.begin(), edge_count.end());
+  std::vector<int> fixed(n, -1);
+  std::vector<uint32_t> boundary;
+  for (size_t i = 0; i < edge_count.size();) {
+    size_t j = i;
+    while (j < edge_count.size() && edge_count[j].first == edge_count[i].first) ++j;
+    if (j - i == 1) {
+      boundary.push_back(uint32_t(edge_count[i].first >> 32));
+      boundary.push_back(uint32_t(edge_count[i].first));
+    }
+    i = j;
+  }
+  (void)pt;
+  if (boundary.empty()) {
+    diag->Error(where + ".minimize_distortion", "the mesh is closed (no boundary to hold fixed)");
+    return false;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  Eigen::MatrixXd values(Eigen::Index(boundary.size()), 2);
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    fixed[boundary[i]] = int(i);
+    values(Eigen::Index(i), 0) = uv[boundary[i]].x;
+    values(Eigen::Index(i), 1) = uv[boundary[i]].y;
+  }
+  Eigen::MatrixXd x;
+  if (!HarmonicSolve(mesh, fixed, values, &x)) {
+    diag->Error(where + ".minimize_distortion", "the harmonic map's sparse solve failed");
+    return false;
+  }
+  for (size_t t = 0; t < corners; ++t) {
+    const uint32_t p = mesh.triangles[t];
+    (*corner_uvs)[t] = float2{float(x(p, 0)), float(x(p, 1))};
+  }
+  return true;
+}
+
+float2 TextureDirectionAt(const FineScaleMesh& mesh, span<const float2> corner_uvs,
+                          span<const uint32_t> offsets, span<const uint32_t> tris,
+                          span<const float3> field, uint32_t point) {
+  if (point + 1 >= offsets.size() || point >= field.size()) return {0.f, 0.f};
+  for (uint32_t k = offsets[point]; k < offsets[point + 1]; ++k) {
+    const size_t t = tris[k];
+    if (3 * t + 2 >= mesh.triangles.size() || 3 * t + 2 >= corner_uvs.size()) continue;
+    int c = 0;
+    while (c < 3 && mesh.triangles[3 * t + c] != point) ++c;
+    if (c == 3) continue;
+    const uint32_t a = mesh.triangles[3 * t + c], b = mesh.triangles[3 * t + (c + 1) % 3],
+                   d = mesh.triangles[3 * t + (c + 2) % 3];
+    const float2 ua = corner_uvs[3 * t + c], ub = corner_uvs[3 * t + (c + 1) % 3],
+                 ud = corner_uvs[3 * t + (c + 2) % 3];
+    float2 v;
+    if (ToTexture(mesh.points[b] - mesh.points[a], mesh.points[d] - mesh.points[a], Sub2(ub, ua),
+                  Sub2(ud, ua), field[point], &v))
+      return Unit2(v);
+  }
+  return {0.f, 0.f};
+}
+
+FieldImage RasterizeField(const FineScaleMesh& mesh, span<const float2> corner_uvs,
+                          span<const float3> field, int size) {
+  FieldImage img;
+  img.size = size;
+  const size_t pixels = size_t(size) * size_t(size);
+  img.direction.assign(pixels, float2{0.f, 0.f});
+  img.magnitude.assign(pixels, 0.f);
+  img.mapped.assign(pixels, 0);
+  const float fs = float(size);
+  for (size_t t = 0; 3 * t + 2 < mesh.triangles.size() && 3 * t + 2 < corner_uvs.size(); ++t) {
+    const uint32_t c[3] = {mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]};
+    if (c[0] >= field.size() || c[1] >= field.size() || c[2] >= field.size()) continue;
+    float2 px[3];
+    for (int k = 0; k < 3; ++k)
+      px[k] = float2{corner_uvs[3 * t + k].x * fs, corner_uvs[3 * t + k].y * fs};
+    const float area = (px[1].x - px[0].x) * (px[2].y - px[0].y) - (px[2].x - px[0].x) * (px[1].y - px[0].y);
+    if (!(std::abs(area) > 1e-12f)) continue;
+    // Each corner's vector in this triangle's chart (unit direction times magnitude).
+    float2 vec[3];
+    float mag[3];
+    const float3 e1 = mesh.points[c[1]] - mesh.points[c[0]], e2 = mesh.points[c[2]] - mesh.points[c[0]];
+    const float2 g1 = Sub2(px[1], px[0]), g2 = Sub2(px[2], px[0]);
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      float2 v;
+      ok = ok && ToTexture(e1, e2, g1, g2, field[c[k]], &v);
+      mag[k] = Length(field[c[k]]);
+      const float2 u = Unit2(v);
+      vec[k] = float2{u.x * mag[k], u.y * mag[k]};
+    }
+    if (!ok) continue;
+    const float minx = std::min({px[0].x, px[1].x, px[2].x}), maxx = std::max({px[0].x, px[1].x, px[2].x});
+    const float miny = std::min({px[0].y, px[1].y, px[2].y}), maxy = std::max({px[0].y, px[1].y, px[2].y});
+    const int x0 = std::max(0, int(std::floor(minx - 0.5f))), x1 = std::min(size - 1, int(std::ceil(maxx)));
+    const int y0 = std::max(0, int(std::floor(miny - 0.5f))), y1 = std::min(size - 1, int(std::ceil(maxy)));
+    const float inv = 1.f / area, eps = -1e-5f;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const float2 p{x + 0.5f, y + 0.5f};
+        const float w0 = ((px[1].x - p.x) * (px[2].y - p.y) - (px[2].x - p.x) * (px[1].y - p.y)) * inv;
+        const float w1 = ((px[2].x - p.x) * (px[0].y - p.y) - (px[0].x - p.x) * (px[2].y - p.y)) * inv;
+        const float w2 = 1.f - w0 - w1;
+        if (w0 < eps || w1 < eps || w2 < eps) continue;
+        const size_t i = size_t(y) * size_t(size) + size_t(x);
+        img.direction[i] = Unit2(float2{w0 * vec[0].x + w1 * vec[1].x + w2 * vec[2].x,
+                                        w0 * vec[0].y + w1 * vec[1].y + w2 * vec[2].y});
+        img.magnitude[i] = w0 * mag[0] + w1 * mag[1] + w2 * mag[2];
+        img.mapped[i] = 1;
+      }
+  }
+  return img;
+}
+
+namespace {
+
+// Segments bucketed on a coarse grid, for the crossing test.
+class SegmentGrid {
+ public:
+  SegmentGrid(int size, int cell) : cell_(cell), cells_((size + cell - 1) / cell) {
+    head_.assign(size_t(cells_) * size_t(cells_), -1);
+  }
+  void Add(uint32_t segment, float2 p, float2 q) {
+    ForCells(p, q, [&](size_t c) {
+      entries_.push_back({segment, head_[c]});
+      head_[c] = int32_t(entries_.size() - 1);
+    });
+  }
+  template <class Fn>
+  void Visit(float2 p, float2 q, const Fn& fn) const {
+    ForCells(p, q, [&](size_t c) {
+      for (int32_t e = head_[c]; e >= 0; e = entries_[size_t(e)].next) fn(entries_[size_t(e)].segment);
+    });
+  }
+
+ private:
+  template <class Fn>
+  void ForCells(float2 p, float2 q, const Fn& fn) const {
+    auto cell = [&](float v) { return std::clamp(int(std::floor(v / float(cell_))), 0, cells_ - 1); };
+    const int x0 = cell(std::min(p.x, q.x) - 1.f), x1 = cell(std::max(p.x, q.x) + 1.f);
+    const int y0 = cell(std::min(p.y, q.y) - 1.f), y1 = cell(std::max(p.y, q.y) + 1.f);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(cells_) + size_t(x));
+  }
+  struct Entry {
+    uint32_t segment;
+    int32_t next;
+  };
+  int cell_, cells_;
+  std::vector<int32_t> head_;
+  std::vector<Entry> entries_;
+};
+
+// Parameter t in [0, 1] along pq where it crosses ab, or -1.
+float Crossing(float2 p, float2 q, float2 a, float2 b) {
+  const float2 r = Sub2(q, p), s = Sub2(b, a), ap = Sub2(a, p);
+  const float den = r.x * s.y - r.y * s.x;
+  if (std::abs(den) < 1e-12f) return -1.f;  // parallel: never a crossing
+  const float t = (ap.x * s.y - ap.y * s.x) / den, u = (ap.x * r.y - ap.y * r.x) / den;
+  return t >= 0.f && t <= 1.f && u >= 0.f && u <= 1.f ? t : -1.f;
+}
+
+struct Carver {
+  const FieldImage& field;
+  const CarveOptions& options;
+  CarveResult* out;
+  int size;
+  std::vector<uint8_t> occupied;
+  SegmentGrid grid;
+  std::vector<FurrowSegment> segments;  // always kept (the crossing test reads them)
+  std::mt19937_64 rng;
+  std::uniform_real_distribution<float> unit{-1.f, 1.f};
+
+  Carver(const FieldImage& f, const CarveOptions& o, CarveResult* r)
+      : field(f), options(o), out(r), size(f.size), grid(f.size, 8), rng(o.seed) {
+    occupied.resize(f.mapped.size());
+    for (size_t i = 0; i < occupied.size(); ++i) occupied[i] = f.mapped[i] ? 0 : 1;
+  }
+
+  bool Inside(float2 p) const {
+    if (!(p.x >= 0.f && p.y >= 0.f && p.x < float(size) && p.y < float(size))) return false;
+    return field.mapped[size_t(int(p.y)) * size_t(size) + size_t(int(p.x))] != 0;
+  }
+  size_t Pixel(float2 p) const { return size_t(int(p.y)) * size_t(size) + size_t(int(p.x)); }
+
+  // Box-filtered coverage of a pixel centre at distance d from a line of width w.
+  static float Coverage(float d, float w) {
+    const float h = 0.5f * w;
+    return std::clamp(std::min(d + 0.5f, h) - std::max(d - 0.5f, -h), 0.f, 1.f);
+  }
+
+  // Draws segment PQ: occupancy at every pixel centre within W_o of it, height with width
+  // W_h. Squared distances first (the square root only inside the height band), over each
+  // row's slice of the rectangle {a in [a_lo, L + R], |b| <= R} around PQ (a along PQ from P,
+  // b across, R the larger reach), which holds the capsule. With `prev` (the segment that
+  // ended at P, of this furrow) no larger in W_o, W_h and depth, everything within reach of P
+  // is already drawn at least as strongly (min / or of smaller values leaves it), so a_lo = 0;
+  // else a_lo = -R. The same image either way.
+  void Draw(float2 p, float2 q, const FurrowParams& fp, const FurrowParams* prev) {
+    const float band = 0.5f * fp.width + 0.5f, band2 = band * band;
+    const float occ2 = fp.spacing * fp.spacing;
+    const float reach = std::max(band, fp.spacing);
+    const float depth = 1.f - fp.intensity;
+    float* h = out->height.data();
+    const float2 dq = Sub2(q, p);
+    const float l2 = Dot2(dq, dq), len = std::sqrt(l2), inv = l2 > 0.f ? 1.f / l2 : 0.f;
+    const bool covered = prev && fp.spacing <= prev->spacing && fp.width <= prev->width &&
+                         depth <= 1.f - prev->intensity;
+    const float2 u = len > 1e-6f ? float2{dq.x / len, dq.y / len} : float2{1.f, 0.f};
+    const float2 n{-u.y, u.x};
+    const float a_lo = (covered && len > 1e-6f ? 0.f : -reach) - 1e-3f, a_hi = len + reach + 1e-3f;
+    const float b_hi = reach + 1e-3f;
+    const int y0 = std::max(0, int(std::floor(std::min(p.y, q.y) - reach - 0.5f)));
+    const int y1 = std::min(size - 1, int(std::ceil(std::max(p.y, q.y) + reach)));
+    for (int y = y0; y <= y1; ++y) {
+      const float cy = y + 0.5f - p.y;
+      // x - p.x in [lo, hi] from both slabs (a coefficient near 0 leaves its slab a test on cy).
+      float lo = -1e30f, hi = 1e30f;
+      auto slab = [&](float cx, float cyc, float mn, float mx) {
+        const float k = cy * cyc;
+        if (std::fabs(cx) > 1e-6f) {
+          float e0 = (mn - k) / cx, e1 = (mx - k) / cx;
+          if (e0 > e1) std::swap(e0, e1);
+          lo = std::max(lo, e0);
+          hi = std::min(hi, e1);
+        } else if (k < mn || k > mx) {
+          hi = -1e30f;
+        }
+      };
+      slab(u.x, u.y, a_lo, a_hi);
+      slab(n.x, n.y, -b_hi, b_hi);
+      if (!(hi >= lo)) continue;
+      const int x0 = std::max(0, int(std::ceil(p.x + lo - 0.5f)));
+      const int x1 = std::min(size - 1, int(std::floor(p.x + hi - 0.5f)));
+      uint8_t* occ = &occupied[size_t(y) * size_t(size)];
+      float* hr = h + size_t(y) * size_t(size);
+      for (int x = x0; x <= x1; ++x) {
+        const float cx = x + 0.5f - p.x;
+        const float t = std::clamp((cx * dq.x + cy * dq.y) * inv, 0.f, 1.f);
+        const float ex = cx - t * dq.x, ey = cy - t * dq.y, d2 = ex * ex + ey * ey;
+        if (d2 <= occ2) occ[x] = 1;
+        if (depth > 0.f && d2 < band2) {
+          const float cov = Coverage(std::sqrt(d2), fp.width);
+          if (cov > 0.f) hr[x] = std::min(hr[x], 1.f - depth * cov);
+        }
+      }
+    }
+  }
+
+  // One side of a furrow from `start` along sign * d (000 §5.2 steps 1-7).
+  FurrowSide Grow(uint32_t id, float2 start, float sign, FurrowParams* last) {
+    FurrowSide side;
+    float2 p = start, prev{0.f, 0.f};
+    long n = std::numeric_limits<long>::max();
+    for (;;) {
+      const size_t pix = Pixel(p);
+      float2 d = field.direction[pix];  // step 1 (the pixel's interpolated direction)
+      const float m = field.magnitude[pix];
+      if (Dot2(d, d) == 0.f) { side.end = FurrowEnd::kNoField; break; }
+      if (side.segments == 0) d = float2{sign * d.x, sign * d.y};
+      else if (Dot2(d, prev) < 0.f) d = float2{-d.x, -d.y};  // keep going the same way
+      const FurrowParams fp = FurrowParamsFor(options.parameters, m, options.k_scale);
+      n = std::min(n, long(fp.segments));  // step 2
+      const float theta = fp.max_angle * unit(rng);  // step 3
+      const float cs = std::cos(theta), sn = std::sin(theta);
+      d = float2{cs * d.x - sn * d.y, sn * d.x + cs * d.y};
+      float2 q{p.x + fp.length * d.x, p.y + fp.length * d.y};  // step 4
+      FurrowEnd end = FurrowEnd::kBudget;
+      // The border: the last sample inside the mapped area, 1/4 pixel steps.
+      const int steps = std::max(1, int(std::ceil(fp.length * 4.f)));
+      for (int k = 1; k <= steps; ++k) {
+        const float t = float(k) / float(steps);
+        const float2 s{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
+        if (!Inside(s)) {
+          const float tb = float(k - 1) / float(steps);
+          q = float2{p.x + tb * (q.x - p.x), p.y + tb * (q.y - p.y)};
+          end = FurrowEnd::kBorder;
+          break;
+        }
+      }
+      // The nearest crossing of another furrow's centre line.
+      float best = 2.f;
+      const float bx0 = std::min(p.x, q.x), bx1 = std::max(p.x, q.x);
+      const float by0 = std::min(p.y, q.y), by1 = std::max(p.y, q.y);
+      grid.Visit(p, q, [&](uint32_t s) {
+        const FurrowSegment& g = segments[s];
+        if (g.furrow == id) return;
+        // Bounding boxes first (most candidates in a cell are nowhere near PQ).
+        if (std::max(g.p.x, g.q.x) < bx0 || std::min(g.p.x, g.q.x) > bx1 ||
+            std::max(g.p.y, g.q.y) < by0 || std::min(g.p.y, g.q.y) > by1)
+          return;
+        const float t = Crossing(p, q, g.p, g.q);
+        if (t >= 0.f && t < best) best = t;
+      });
+      if (best <= 1.f) {
+        q = float2{p.x + best * (q.x - p.x), p.y + best * (q.y - p.y)};
+        end = FurrowEnd::kCrossing;
+      }
+      if (end != FurrowEnd::kBudget) n = 0;
+      Draw(p, q, fp, side.segments ? last : start_params_);  // steps 5-6
+      *last = fp;
+      if (side.segments == 0 && sign > 0.f) first_params_ = fp;
+      grid.Add(uint32_t(segments.size()), p, q);
+      segments.push_back({p, q, id});
+      ++side.segments;
+      side.end = end;
+      prev = d;
+      if (n == 0) break;  // step 7
+      p = q;
+      --n;
+      if (!Inside(p)) { side.end = FurrowEnd::kBorder; break; }
+    }
+    side.end_point = side.segments ? segments.back().q : start;
+    return side;
+  }
+
+  void Start(float2 start) {
+    const uint32_t id = uint32_t(out->furrows.size() + furrow_count_);
+    Furrow f;
+    f.start = start;
+    f.start_magnitude = field.magnitude[Pixel(start)];
+    f.first_segment = uint32_t(segments.size());
+    FurrowParams last;
+    start_params_ = nullptr;  // nothing drawn around the start yet
+    f.sides[0] = Grow(id, start, 1.f, &last);
+    // The -d side starts where the +d side's first segment started (its parameters, when it
+    // drew one, cover the start).
+    start_params_ = f.sides[0].segments ? &first_params_ : nullptr;
+    f.sides[1] = Grow(id, start, -1.f, &last);
+    f.segment_count = uint32_t(segments.size()) - f.first_segment;
+    if (options.record) out->furrows.push_back(f);
+    else ++furrow_count_;
+  }
+  size_t furrow_count_ = 0;
+  const FurrowParams* start_params_ = nullptr;
+  FurrowParams first_params_;
+
+  void Run() {
+    const size_t pixels = size_t(size) * size_t(size);
+    out->size = size;
+    out->height.assign(pixels, 1.f);
+    out->furrows.clear();
+    out->segments.clear();
+    size_t mapped = 0;
+    for (uint8_t m : field.mapped) mapped += m;
+    if (mapped == 0) return;
+    // Random starts (pixel centres) until max_failures picks in a row are occupied.
+    std::uniform_int_distribution<size_t> pick(0, pixels - 1);
+    uint32_t failures = 0;
+    while (failures < options.max_failures) {
+      const size_t i = pick(rng);
+      if (occupied[i]) { ++failures; continue; }
+      failures = 0;
+      Start(float2{float(i % size_t(size)) + 0.5f, float(i / size_t(size)) + 0.5f});
+      ++out->random_starts;
+    }
+    if (options.progress) options.progress(0.5f);
+    // Then every pixel still free.
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) {
+        if (occupied[size_t(y) * size_t(size) + size_t(x)]) continue;
+        Start(float2{x + 0.5f, y + 0.5f});
+        ++out->scan_starts;
+      }
+      if (options.progress && (y & 63) == 63) options.progress(0.5f + 0.5f * float(y + 1) / float(size));
+    }
+    if (options.record) out->segments = std::move(segments);
+  }
+};
+
+}  // namespace
+
+void CarveFurrows(const FieldImage& field, const CarveOptions& options, CarveResult* out) {
+  *out = CarveResult();
+  if (field.size <= 0) return;
+  Carver c(field, options, out);
+  c.Run();
+}
+
+bool InterpolateSpecFields(const FineScaleSpec& spec, const FineScaleMesh& mesh,
+                           const std::vector<uint32_t> anchor_points[2], std::vector<float3> out[2],
+                           Diagnostics* diag) {
+  std::vector<float3> vectors[2];
+  std::vector<float> weights[2];
+  FieldAnchors anchors[2];
+  for (int f = 0; f < 2; ++f) {
+    for (const DirectionAnchor& a : spec.fields[f].anchors) {
+      vectors[f].push_back(a.vector);
+      weights[f].push_back(a.weight);
+    }
+    anchors[f] = {anchor_points[f], vectors[f], weights[f]};
+  }
+  return InterpolateDirectionFields(mesh, anchors, spec.interpolation, "fine_scale", out, diag);
+}
+
+void AddHeightNoise(float k_noise, uint64_t seed, std::vector<float>* height) {
+  if (!(k_noise > 0.f)) return;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  for (float& h : *height) h = std::max(0.f, h - k_noise * unit(rng));
+}
+
+std::vector<uint8_t> BumpNormalMap(span<const float> height, int size, float k_bump, int threads) {
+  std::vector<uint8_t> out(size_t(size) * size_t(size) * 3);
+  auto rows = [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < size; ++x) {
+        auto h = [&](int xx, int yy) {
+          xx = std::clamp(xx, 0, size - 1);
+          yy = std::clamp(yy, 0, size - 1);
+          return height[size_t(yy) * size_t(size) + size_t(xx)];
+        };
+        const float dx = 0.5f * (h(x + 1, y) - h(x - 1, y));
+        const float dy = 0.5f * (h(x, y + 1) - h(x, y - 1));
+        const float3 n = NormalizeOr(float3{-k_bump * dx, k_bump * dy, 1.f}, float3{0.f, 0.f, 1.f});
+        uint8_t* o = &out[3 * (size_t(y) * size_t(size) + size_t(x))];
+        o[0] = uint8_t(std::lround(127.5f * (n.x + 1.f)));
+        o[1] = uint8_t(std::lround(127.5f * (n.y + 1.f)));
+        o[2] = uint8_t(std::lround(127.5f * (n.z + 1.f)));
+      }
+  };
+  if (threads >= 2 && size >= 64) {
+    std::thread t(rows, 0, size / 2);
+    rows(size / 2, size);
+    t.join();
+  } else {
+    rows(0, size);
+  }
+  return out;
+}
+
+bool MakeFineScaleMaps(const FineScaleSpec& spec, const FineScaleMesh& mesh,
+                       const std::vector<uint32_t> anchor_points[2],
+                       const FineScaleTextureOptions& options, FineScaleMaps* out,
+                       Diagnostics* diag) {
+  if (options.size < 1 || options.size > kMaxFineScaleSize) {
+    diag->Error("--size", "must be in [1, " + std::to_string(kMaxFineScaleSize) + "], not " +
+                              std::to_string(options.size));
+    return false;
+  }
+  std::vector<float2> uvs;
+  if (!MakeTextureSpace(mesh, spec.projection, spec.minimize_distortion, "fine_scale", &uvs, diag))
+    return false;
+  std::vector<float3> fields[2];
+  if (!InterpolateSpecFields(spec, mesh, anchor_points, fields, diag)) return false;
+  FieldImage images[2];
+  for (int f = 0; f < 2; ++f) images[f] = RasterizeField(mesh, uvs, fields[f], options.size);
+  out->size = options.size;
+  CarveResult results[2];
+  float done[2] = {0.f, 0.f};
+  auto carve = [&](int f) {
+    CarveOptions o;
+    o.parameters = spec.parameters;
+    o.k_scale = spec.k_scale;
+    o.seed = options.seed * 2 + uint64_t(f);  // one stream per field: any thread count
+    if (options.progress) {
+      if (options.threads >= 2) {
+        if (f == 0) o.progress = [&](float x) { options.progress(0.95f * x); };
+      } else {
+        o.progress = [&, f](float x) { done[f] = x; options.progress(0.95f * 0.5f * (done[0] + done[1])); };
+      }
+    }
+    CarveFurrows(images[f], o, &results[f]);
+  };
+  if (options.threads >= 2) {
+    std::thread t(carve, 1);
+    carve(0);
+    t.join();
+  } else {
+    carve(0);
+    carve(1);
+  }
+  for (int f = 0; f < 2; ++f) out->height[f] = std::move(results[f].height);
+  out->merged.resize(out->height[0].size());
+  for (size_t i = 0; i < out->merged.size(); ++i)
+    out->merged[i] = std::min(out->height[0][i], out->height[1][i]);  // 003 step 8
+  AddHeightNoise(spec.k_noise, options.seed * 2 + 7, &out->merged);   // step 9
+  out->normal = BumpNormalMap(out->merged, out->size, spec.k_bump, options.threads);
+  if (options.progress) options.progress(1.f);
+  return true;
+}
+
+}  // namespace mimetic
