@@ -92,7 +92,7 @@ TEST_F(BuildClip, LibraryClipsRoundTripAndSampleBitIdentically) {
       ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0) << "t = " << t;
     }
     // A clip that does something: some muscle is well above 0 at half the duration.
-    ClipSampleJob job{&back, 0.5f * back.duration(), a};
+    ClipSampleJob job{&back, 0.5f * back.duration(), a, {}};
     ASSERT_TRUE(job.Run());
     float peak = 0.f;
     for (uint32_t m = 0; m < back.muscle_count(); ++m) peak = std::max(peak, a[m]);
