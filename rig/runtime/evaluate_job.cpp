@@ -30,6 +30,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   point_fine_.assign(2 * size_t(point_count_),
                      rig.fine_scale().empty() ? 0.f : rig.fine_scale().rest_amplitude);
   point_sums_.assign(point_count_, float4{});
+  fine_edge_lengths_.assign(t.fine_edge_count(), 0.f);
   edge_lengths_.assign(t.edge_count(), 0.f);
   wrinkle_offsets_.assign(point_count_, 0.f);
   thickness_a_.assign(point_count_ + 1, 0.f);  // static points keep 0 (r = 1 there)
@@ -71,7 +72,7 @@ static size_t Bytes(const std::vector<T>& v) {
 
 size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
-         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
+         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(fine_edge_lengths_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
@@ -216,6 +217,7 @@ struct FrameState {
   bool edges;                      // StageStrain measures the edge lengths
   float* compressions;             // #P compression eps (context), StageTension
   float* fine;                     // 2 #P fine-scale amplitudes (context), StageFineScale
+  float* fine_lengths;             // RigTables::fine_edge_count() (context)
   const float* activations;        // #muscles, sanitised
   const float3* base;              // #P: the pose the muscles add to (the rest pose)
   float3* points;                  // #P + pad: X1, then X3 (context)
@@ -823,22 +825,27 @@ void StageTension(const FrameState& f) {
   }
 }
 
-// docs/model.md §23: per point with probes, s across each fine-scale field on X1 (the same
-// ProbeShrinkage as the curve wrinkles' probes, lengths from the points directly) and
-// M(s) = DirectionalModulation(s, r). Each point writes its own two values.
+// docs/model.md §23: the fine-scale probes' edge lengths on X1 (each edge once), then per
+// point with probes s across each fine-scale field (ProbeShrinkage, the curve wrinkles'
+// expression) and M(s) = DirectionalModulation(s, r). Each edge and each point writes its own
+// values only.
 void StageFineScale(const FrameState& f) {
   const RigFineScale& fs = f.rig.fine_scale();
-  const ShrinkageProbe* probes = fs.probes.data();
-  const float r = fs.rest_amplitude;
+  const uint32_t* pairs = f.tables.fine_edge_pairs.data();
+  float* lengths = f.fine_lengths;
   const float3* x = f.points;
+  ParallelFor(f.job, f.tables.fine_edge_count(), [&](uint32_t b, uint32_t e) {
+    EdgeLengths(x, pairs, b, e, lengths);
+  });
+  const ShrinkageProbe* probes = fs.probes.data();
+  const uint32_t* probe_edges = f.tables.fine_probe_edges.data();
+  const float r = fs.rest_amplitude;
   float* out = f.fine;
   ParallelFor(f.job, fs.point_count(), [&](uint32_t b, uint32_t e) {
     for (uint32_t i = 2 * b; i < 2 * e; ++i) {
-      const ShrinkageProbe& probe = probes[i];
-      const float3 x1 = x[probe.point];
-      const float s = ProbeShrinkage(probe, [&](uint32_t k, int which) {
-        const ShrinkageSide& side = probe.sides[k];
-        return Length(x[which == 0 ? side.v2 : side.v3] - x1);
+      const uint32_t* pe = probe_edges + 4 * size_t(i);
+      const float s = ProbeShrinkage(probes[i], [&](uint32_t k, int which) {
+        return lengths[pe[2 * k + uint32_t(which)]];
       });
       out[i] = DirectionalModulation(s, r);  // 000 eq. 5
     }
@@ -918,6 +925,7 @@ bool EvaluateJob::Run() const {
       .edges = false,
       .compressions = ctx.point_compressions_.data(),
       .fine = ctx.point_fine_.data(),
+      .fine_lengths = ctx.fine_edge_lengths_.data(),
       .activations = ctx.activations_.data(),
       .base = r.rest_points().data(),
       .points = ctx.points_.data(),  // padded (face_kernels.h)

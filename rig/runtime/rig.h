@@ -179,6 +179,10 @@ struct RigTables {
   std::vector<float> entry_coeffs;         // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
   std::vector<float> row_profiles;         // H(w_i) At_i per row, mesh units
   std::vector<uint32_t> probe_edges;       // 4 per curve-wrinkle probe: sides' v1v2, v1v3
+  // Fine-scale probes' edges (docs/model.md §23), numbered apart from the ones above: measured
+  // only by frames that request out_fine_amplitudes.
+  std::vector<uint32_t> fine_edge_pairs;   // 2 per edge
+  std::vector<uint32_t> fine_probe_edges;  // 4 per fine-scale probe: sides' v1v2, v1v3
   // Per active point: its muscle-wrinkle rows (a range of the rows above) and its
   // curve-wrinkle rows (CSR into RigCurveWrinkles rows).
   std::vector<uint32_t> point_row_offsets;    // active points + 1
@@ -195,6 +199,7 @@ struct RigTables {
   // every active point and triangle (the same bits).
   bool point_triangles_exact = false;
   uint32_t edge_count() const { return uint32_t(edge_pairs.size() / 2); }
+  uint32_t fine_edge_count() const { return uint32_t(fine_edge_pairs.size() / 2); }
 };
 
 class Rig {

@@ -302,6 +302,25 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
   for (uint32_t& e : t.entry_edges) e = ids[next++];
   for (size_t k = 0; k < c.probes.size(); ++k)
     for (uint32_t s = 0; s < 2 * c.probes[k].side_count; ++s) t.probe_edges[4 * k + s] = ids[next++];
+  // Fine-scale probes (docs/model.md §23): their edges numbered apart (only a frame that asks
+  // for out_fine_amplitudes measures them), 4 per probe (sides' v1v2, v1v3).
+  {
+    const RigFineScale& f = r.fine_scale;
+    std::vector<uint64_t> fine_keys;
+    fine_keys.reserve(4 * f.probes.size());
+    for (const ShrinkageProbe& probe : f.probes)
+      for (uint32_t s = 0; s < probe.side_count; ++s)
+        for (uint32_t v : {probe.sides[s].v2, probe.sides[s].v3}) {
+          const uint32_t a = std::min(probe.point, v), b = std::max(probe.point, v);
+          fine_keys.push_back((uint64_t(a) << 32) | b);
+        }
+    const std::vector<uint32_t> fine_ids =
+        AssignEdgeIds(fine_keys, r.point_count(), &t.fine_edge_pairs);
+    t.fine_probe_edges.assign(4 * f.probes.size(), 0u);
+    size_t at = 0;
+    for (size_t k = 0; k < f.probes.size(); ++k)
+      for (uint32_t s = 0; s < 2 * f.probes[k].side_count; ++s) t.fine_probe_edges[4 * k + s] = fine_ids[at++];
+  }
   // Each point's curve-wrinkle rows, as CSR in row order.
   t.point_curve_offsets.assign(size_t(active) + 1, 0u);
   for (uint32_t i = 0; i < c.row_count(); ++i) ++t.point_curve_offsets[size_t(c.points[i]) + 1];

@@ -47,7 +47,7 @@ CompiledClip Build(std::vector<ClipChannelSpec> channels, ClipEnd end = ClipEnd:
 
 std::vector<float> Sample(const CompiledClip& clip, float t) {
   std::vector<float> out(clip.muscle_count(), -1.f);
-  ClipSampleJob job{&clip, t, out};
+  ClipSampleJob job{&clip, t, out, {}};
   EXPECT_TRUE(job.Run());
   return out;
 }
@@ -333,7 +333,7 @@ TEST(ClipSampler, RunAllocatesNothing) {
              Expr("E", ClipLayer::kOverride, {Key(0, 0.f, KeyInterp::kStep), Key(1.5f, 1.f)})},
             ClipEnd::kLoop, -1.f, expressions);
   float out[3];
-  ClipSampleJob job{&clip, 0.f, out};
+  ClipSampleJob job{&clip, 0.f, out, {}};
   const long before = g_allocations.load();
   for (int i = 0; i < 1000; ++i) {
     job.time = float(i) * 0.013f;
@@ -362,7 +362,7 @@ TEST(ClipSampler, ValidityTable) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
     std::fill(out, out + 4, 7.f);
-    ClipSampleJob job{c.clip, 0.f, span<float>(out, c.out_size)};
+    ClipSampleJob job{c.clip, 0.f, span<float>(out, c.out_size), {}};
     EXPECT_EQ(job.Validate(), c.valid);
     EXPECT_EQ(job.Run(), c.valid);
     if (!c.valid) {
@@ -374,7 +374,7 @@ TEST(ClipSampler, ValidityTable) {
     }
   }
   // A NaN time is not a reason to refuse.
-  ClipSampleJob job{&clip, std::numeric_limits<float>::quiet_NaN(), span<float>(out, 3)};
+  ClipSampleJob job{&clip, std::numeric_limits<float>::quiet_NaN(), span<float>(out, 3), {}};
   EXPECT_TRUE(job.Validate());
 }
 

@@ -392,7 +392,8 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
             VectorBytes(t.row_profiles) + VectorBytes(t.probe_edges) +
             VectorBytes(t.point_row_offsets) + VectorBytes(t.point_curve_offsets) +
             VectorBytes(t.point_curve_rows) + VectorBytes(t.wrinkle_points) +
-            VectorBytes(t.point_neighbor_offsets) + VectorBytes(t.point_neighbors);
+            VectorBytes(t.point_neighbor_offsets) + VectorBytes(t.point_neighbors) +
+            VectorBytes(t.fine_edge_pairs) + VectorBytes(t.fine_probe_edges);
   EXPECT_EQ(rig.ByteSize(), expect);
   // One neighbour slot per edge end at an active point (edges counted from the triangles).
   EXPECT_EQ(t.point_neighbor_offsets.size(), size_t(rig.active_point_count()) + 1);
@@ -420,7 +421,7 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const size_t N = t.point_neighbors.size();
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
-                                8 * P + 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
+                                8 * P + 4 * t.fine_edge_count() + 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
                                 4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT + AT);
 }
 

@@ -96,7 +96,9 @@ TEST(Bezier, ReachClassificationIsNeverWrong) {
             EXPECT_LE(best, reach + 1e-6) << i << " " << j << " " << reach;
           }
           // Within reach of a curve point 1/32 of the way along: the chord ends catch it.
-          if (best < reach - 0.5) EXPECT_EQ(near, BezierReach::kWithin) << i << " " << j;
+          if (best < reach - 0.5) {
+            EXPECT_EQ(near, BezierReach::kWithin) << i << " " << j;
+          }
           if (best > 2 * reach + 0.2) {
             ++far;
             EXPECT_TRUE(out) << "not conclusive far from the curve: " << i << " " << j << " "
