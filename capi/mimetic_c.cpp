@@ -74,6 +74,16 @@ std::string Null(const char* function, const char* argument) {
 
 std::string N(uint64_t v) { return std::to_string(v); }
 
+// Every buffer crossing the ABI holds 4-byte elements (float, uint32_t): a pointer must be a
+// multiple of 4 (C and C++ make any other access undefined; some CPUs fault on it).
+bool Aligned(const void* p) { return reinterpret_cast<uintptr_t>(p) % 4 == 0; }
+
+std::string Misaligned(const char* function, const char* argument, const void* p) {
+  return std::string(function) + ": " + argument + " (address " +
+         N(reinterpret_cast<uintptr_t>(p)) + ") is not a multiple of 4 bytes; a float or "
+         "uint32_t buffer must be aligned to 4";
+}
+
 mimetic::span<const uint8_t> Bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
@@ -131,6 +141,9 @@ mimetic_status Evaluate(const char* function, mimetic_context* c, const float* a
       {"options->tension", o.tension, o.tension_capacity, Needed(nv, o.tension_stride, 2)},
       {"options->region_weights", o.region_weights, o.region_weights_capacity, nr},
   };
+  for (const Buffer& b : buffers)
+    if (!Aligned(b.data))
+      return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Misaligned(function, b.name, b.data));
   for (const Buffer& b : buffers)
     if (b.data && b.capacity < b.need)
       return Fail(MIMETIC_ERROR_BUFFER_TOO_SMALL,
@@ -279,6 +292,7 @@ mimetic_status mimetic_rig_triangles(const mimetic_rig* rig, uint32_t* out, size
   return Guard(fn, [&] {
     if (!rig) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "rig"));
     if (!out) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "out"));
+    if (!Aligned(out)) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Misaligned(fn, "out", out));
     const std::vector<uint32_t>& idx = rig->rig.vertex_indices();
     if (capacity < idx.size())
       return Fail(MIMETIC_ERROR_BUFFER_TOO_SMALL,
@@ -331,6 +345,8 @@ static mimetic_status EvaluateEntry(const char* fn, mimetic_context* context,
     const uint32_t muscles = context->rig->rig.muscle_count();
     if (!activations && muscles)
       return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "activations"));
+    if (!Aligned(activations))
+      return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Misaligned(fn, "activations", activations));
     if (activation_count != muscles)
       return Fail(MIMETIC_ERROR_MISMATCH, std::string(fn) + ": " + N(activation_count) +
                                               " activations; the rig has " + N(muscles) +
@@ -456,6 +472,9 @@ mimetic_status mimetic_clip_sample(const mimetic_clip* clip, float time, float* 
     const uint32_t muscles = clip->clip.muscle_count();
     if (!activations && muscles)
       return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Null(fn, "activations"));
+    if (!Aligned(activations))
+      return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Misaligned(fn, "activations", activations));
+    if (!Aligned(jaw)) return Fail(MIMETIC_ERROR_INVALID_ARGUMENT, Misaligned(fn, "jaw", jaw));
     if (capacity < muscles)
       return Fail(MIMETIC_ERROR_BUFFER_TOO_SMALL,
                   std::string(fn) + ": activations holds " + N(capacity) +

@@ -35,7 +35,7 @@ extern "C" {
 
 typedef enum mimetic_status {
   MIMETIC_OK = 0,
-  MIMETIC_ERROR_INVALID_ARGUMENT = 1, /* a NULL pointer where one is needed, an index out of range */
+  MIMETIC_ERROR_INVALID_ARGUMENT = 1, /* a NULL or misaligned pointer, a bad index or option */
   MIMETIC_ERROR_IO = 2,               /* a file that cannot be opened or read */
   MIMETIC_ERROR_FORMAT = 3,           /* bytes that are not a valid .mrig / .mclip */
   MIMETIC_ERROR_BUFFER_TOO_SMALL = 4, /* a caller buffer shorter than the result */
@@ -148,8 +148,10 @@ typedef struct mimetic_evaluate_options {
 void mimetic_evaluate_options_init(mimetic_evaluate_options* options);
 
 /* mimetic_evaluate with `options` (NULL: the defaults, the same as mimetic_evaluate). A wrong
- * `size`, an unknown layer bit or a bad stride is MIMETIC_ERROR_INVALID_ARGUMENT; a buffer too
- * short for its stride MIMETIC_ERROR_BUFFER_TOO_SMALL. */
+ * `size`, an unknown layer bit, a stride below its minimum (12 bytes for positions and
+ * normals, 8 for tension) or not a multiple of 4, or a buffer pointer not aligned to 4 bytes is
+ * MIMETIC_ERROR_INVALID_ARGUMENT; a buffer too short for its stride
+ * MIMETIC_ERROR_BUFFER_TOO_SMALL. Each message names the argument and the values. */
 mimetic_status mimetic_evaluate_ex(mimetic_context* context, const float* activations,
                                    size_t activation_count, float jaw,
                                    const mimetic_evaluate_options* options, float* positions,

@@ -59,7 +59,7 @@ const char* kPlayUsage =
     "  --no-normals            bake only: no NORMAL attribute and no normal deltas (smaller\n"
     "                          file; viewers then compute flat normals)\n"
     "  --tension               bake only: each frame's tension for engine shaders\n"
-    "                          (docs/tension.md \"Bake\"): a _TENSION attribute (r - 1, eps)\n"
+    "                          (docs/tension.md \"Baking\"): a _TENSION attribute (r - 1, eps)\n"
     "                          per vertex with its deltas in every morph target, and, when the\n"
     "                          rig has tension regions, their weights per frame in\n"
     "                          FILE.regions.json beside FILE.glb\n"

@@ -23,7 +23,7 @@ struct PlayBakeRequest {
   double fps = 30;
   double metres_per_unit = 0.001;
   bool normals = true;                // NORMAL and its deltas
-  // --tension (docs/tension.md "Bake"): each frame's (r - 1, eps) per vertex as the glb's
+  // --tension (docs/tension.md "Baking"): each frame's (r - 1, eps) per vertex as the glb's
   // `_TENSION` attribute and target deltas, and, when the rig has tension regions, their
   // per-frame weights in `regions_out` (JSON: times and one weight curve per region).
   bool tension = false;

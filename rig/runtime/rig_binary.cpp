@@ -469,10 +469,20 @@ bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
     const uint32_t ids[] = {kTensionNames, kTensionReferences, kTensionOffsets, kTensionPoints,
                             kTensionWeights};
     int present = 0;
-    for (uint32_t id : ids) present += r.Of(id).data != nullptr;
+    std::string missing;  // "'NAME' (id N)" of each absent one
+    for (uint32_t id : ids) {
+      if (r.Of(id).data != nullptr) {
+        ++present;
+        continue;
+      }
+      for (const SectionDesc& desc : kSections)
+        if (desc.id == id)
+          missing += std::string(missing.empty() ? "" : ", ") + "'" + desc.name + "' (id " +
+                     std::to_string(id) + ")";
+    }
     if (present != 0 && present != 5) {
       *error = "sections 'tension_region_*' (ids 35-39): the tension regions need all five "
-               "sections; " + std::to_string(present) + " are present";
+               "sections; " + std::to_string(present) + " are present, missing " + missing;
       return false;
     }
     if (present == 5) {
@@ -498,8 +508,9 @@ bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
     const bool params = r.Of(kFineScaleParams).data != nullptr;
     const bool probes = r.Of(kFineScaleProbes).data != nullptr;
     if (params != probes) {
-      *error = "sections 'fine_scale_*' (ids 40-41): the fine-scale amplitudes need both "
-               "sections; one is present";
+      *error = std::string("sections 'fine_scale_*' (ids 40-41): the fine-scale amplitudes "
+                           "need both sections; one is present, missing ") +
+               (params ? "'fine_scale_probes' (id 41)" : "'fine_scale_params' (id 40)");
       return false;
     }
     if (params) {

@@ -8,9 +8,13 @@
  * truncated or corrupt .mrig, NULL pointers, buffers too small, activations and a clip for
  * another muscle count) return their status with a message. Then mimetic_evaluate_ex: no skin
  * layer, the tension outputs, interleaved strides and an engine scheduler (a C parallel_for
- * calling the task over three ranges in reverse order) against the reference's bits, its bad
- * options refused. */
+ * calling the task over three ranges in reverse order; then one splitting each loop between
+ * the calling thread and a second pthread, into 32-byte vertices of position, normal and
+ * tension) against the reference's bits, its bad options (strides too small or not a multiple
+ * of 4, misaligned buffer pointers) refused with their messages. */
+#define _POSIX_C_SOURCE 200809L /* pthreads under -std=c99 */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,6 +88,48 @@ static void ReverseThirds(void* user, uint32_t count, mimetic_task_fn task, void
   task(task_data, a, b);
   task(task_data, 0, a);
   *calls += 1;
+}
+
+/* A scheduler on two threads: the calling thread runs [0, count / 2) while a second thread
+ * runs [count / 2, count), then it joins. Counts the calls in which both halves were
+ * non-empty, and records whether the second thread's half ran on another thread than the
+ * caller (pthread_equal), so the test knows the work was really split. */
+typedef struct {
+  pthread_t caller;
+  int calls, split_calls, other_thread, failed;
+} TwoThreadsState;
+typedef struct {
+  mimetic_task_fn task;
+  void* task_data;
+  uint32_t begin, end;
+  TwoThreadsState* state;
+} TwoThreadsHalf;
+static void* RunHalf(void* arg) {
+  TwoThreadsHalf* h = (TwoThreadsHalf*)arg;
+  if (!pthread_equal(pthread_self(), h->state->caller)) h->state->other_thread = 1;
+  h->task(h->task_data, h->begin, h->end);
+  return NULL;
+}
+static void TwoThreads(void* user, uint32_t count, mimetic_task_fn task, void* task_data) {
+  TwoThreadsState* state = (TwoThreadsState*)user;
+  TwoThreadsHalf second;
+  pthread_t thread;
+  const uint32_t half = count / 2;
+  state->caller = pthread_self();
+  second.task = task;
+  second.task_data = task_data;
+  second.begin = half;
+  second.end = count;
+  second.state = state;
+  state->calls += 1;
+  if (half == 0 || pthread_create(&thread, NULL, RunHalf, &second) != 0) {
+    if (half != 0) state->failed = 1;
+    task(task_data, 0, count);
+    return;
+  }
+  task(task_data, 0, half);
+  pthread_join(thread, NULL);
+  state->split_calls += 1;
 }
 
 static uint32_t U32(const char* p) {
@@ -244,6 +290,52 @@ int main(int argc, char** argv) {
   }
   CHECK(scheduler_calls > 0);
   CHECK(at == ref + ref_size);
+  /* The same frames again on context a with the two-thread scheduler and interleaved
+   * 32-byte vertices (position, normal, tension in one buffer), against the reference's bits. */
+  {
+    TwoThreadsState two;
+    const size_t stride = 8, floats = stride * (size_t)vertex_count;
+    float* vb = (float*)malloc(sizeof(float) * floats);
+    const char* back = at - (size_t)3 * (4 + 4 * 3 * (size_t)vertex_count +
+                                         8 * (size_t)vertex_count + 4 * (size_t)region_count);
+    memset(&two, 0, sizeof two);
+    EXPECT_OK(mimetic_context_set_parallel_for(a, TwoThreads, &two, 1));
+    for (k = 0; k < 3; ++k) {
+      const size_t n = 3 * (size_t)vertex_count;
+      const uint32_t frame = U32(back);
+      uint32_t v;
+      int same = 1;
+      back += 4 + 4 * n; /* the frame, then the no-layer positions */
+      CHECK(frame == 10 * (k + 1));
+      EXPECT_OK(mimetic_clip_sample(clip, (float)frame * 0.07f - 0.2f, act, muscle_count, &jaw));
+      memset(vb, 0xff, sizeof(float) * floats); /* NaNs: every written float is checked */
+      mimetic_evaluate_options_init(&options);
+      options.positions_stride = options.normals_stride = options.tension_stride =
+          (uint32_t)(stride * sizeof(float));
+      options.tension = vb + 6;
+      options.tension_capacity = floats - 6;
+      options.region_weights = weights;
+      options.region_weights_capacity = region_count;
+      EXPECT_OK(mimetic_evaluate_ex(a, act, muscle_count, jaw, &options, vb, floats, vb + 3,
+                                    floats - 3));
+      for (v = 0; v < vertex_count; ++v)
+        same = same && memcmp(vb + stride * v, frame_data[frame] + 12 * v, 12) == 0 &&
+               memcmp(vb + stride * v + 3, frame_data[frame] + 4 * n + 12 * v, 12) == 0 &&
+               memcmp(vb + stride * v + 6, back + 8 * v, 8) == 0;
+      CHECK(same);
+      back += 8 * (size_t)vertex_count;
+      CHECK(memcmp(weights, back, sizeof(float) * region_count) == 0);
+      back += 4 * region_count;
+    }
+    CHECK(back == at);
+    CHECK(two.failed == 0);
+    CHECK(two.split_calls > 0);
+    CHECK(two.other_thread == 1);
+    printf("capi_test: two-thread scheduler: %d calls, %d split across two threads\n",
+           two.calls, two.split_calls);
+    EXPECT_OK(mimetic_context_set_parallel_for(a, NULL, NULL, 0));
+    free(vb);
+  }
   /* Positions alone (normals NULL). */
   EXPECT_OK(mimetic_evaluate(a, act, muscle_count, 0.f, pos, 3 * (size_t)vertex_count, NULL, 0));
   CHECK(!isnan(pos[0]));
@@ -261,6 +353,55 @@ int main(int argc, char** argv) {
   options.positions_stride = 10;
   EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
                MIMETIC_ERROR_INVALID_ARGUMENT, "options->positions_stride is 10 bytes");
+  mimetic_evaluate_options_init(&options);
+  options.positions_stride = 8; /* a multiple of 4, but less than 3 floats */
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "options->positions_stride is 8 bytes; expected 0 or a multiple of 4 of at least 12");
+  mimetic_evaluate_options_init(&options);
+  options.positions_stride = 14; /* at least 12, but it would misalign every other vertex */
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "options->positions_stride is 14 bytes");
+  mimetic_evaluate_options_init(&options);
+  options.normals_stride = 4;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, nrm, 3 * (size_t)vertex_count),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "options->normals_stride is 4 bytes");
+  mimetic_evaluate_options_init(&options);
+  options.tension = tension;
+  options.tension_capacity = 3 * (size_t)vertex_count;
+  options.tension_stride = 6;
+  EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+               MIMETIC_ERROR_INVALID_ARGUMENT, "options->tension_stride is 6 bytes; expected 0 or a multiple of 4 of at least 8");
+  /* Misaligned buffers: a float pointer 2 bytes into an allocation (formally undefined to form
+   * in C; what an engine passing a packed byte offset would hand over, and never dereferenced
+   * here: the library refuses it before any access). */
+  {
+    char* raw = (char*)malloc(sizeof(float) * (6 * (size_t)vertex_count + 2));
+    float* odd = (float*)(void*)(raw + 2);
+    mimetic_evaluate_options_init(&options);
+    EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, odd, 3 * (size_t)vertex_count, NULL, 0),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "mimetic_evaluate_ex: positions (address");
+    EXPECT_ERROR(mimetic_evaluate(a, act, muscle_count, 0.f, pos, 3 * (size_t)vertex_count, odd, 3 * (size_t)vertex_count),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "normals (address");
+    CHECK(strstr(mimetic_last_error(), "is not a multiple of 4 bytes") != NULL);
+    options.tension = odd;
+    options.tension_capacity = 2 * (size_t)vertex_count;
+    EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "options->tension (address");
+    mimetic_evaluate_options_init(&options);
+    options.region_weights = odd;
+    options.region_weights_capacity = region_count;
+    EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "options->region_weights (address");
+    EXPECT_ERROR(mimetic_evaluate(a, odd, muscle_count, 0.f, pos, 3 * (size_t)vertex_count, NULL, 0),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "mimetic_evaluate: activations (address");
+    EXPECT_ERROR(mimetic_clip_sample(clip, 0.f, odd, muscle_count, NULL),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "mimetic_clip_sample: activations (address");
+    EXPECT_ERROR(mimetic_play(a, clip, 0.f, odd, 3 * (size_t)vertex_count, NULL, 0),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "mimetic_play: positions (address");
+    EXPECT_ERROR(mimetic_rig_triangles(rig, (uint32_t*)(void*)odd, 3 * (size_t)triangle_count),
+                 MIMETIC_ERROR_INVALID_ARGUMENT, "mimetic_rig_triangles: out (address");
+    free(raw);
+  }
   mimetic_evaluate_options_init(&options);
   options.positions_stride = 16;
   EXPECT_ERROR(mimetic_evaluate_ex(a, act, muscle_count, 0.f, &options, pos, 3 * (size_t)vertex_count, NULL, 0),

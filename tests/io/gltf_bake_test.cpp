@@ -269,7 +269,7 @@ TEST(GltfBake, U32SparseIndicesPastU16AndNoNormals) {
   EXPECT_LT(bytes.size(), nv * 12 + f.base.indices.size() * 4 + 4096);
 }
 
-// Tension (docs/tension.md "Bake"): the quad's frames with pairs (r - 1, eps) written out here:
+// Tension (docs/tension.md "Baking"): the quad's frames with pairs (r - 1, eps) written out here:
 // frame 0 the base's pairs, frame 1 vertex 2 at (0.5, 0.25), frame 2 every vertex at
 // (-0.125, 0), and a frame 3 with the positions of frame 2 but vertex 0's pair changed, which
 // must get its own target (a held-pose match compares tension too). The primitive's _TENSION

@@ -4,6 +4,7 @@
 // command is in tests/tools/build_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -110,6 +111,32 @@ Entry Find(const std::string& b, uint32_t id) {
   return {};
 }
 
+// `b` rebuilt without the sections of `ids` (docs/mrig-format.md: the table shrinks, the other
+// payloads move up in table order, each at the next multiple of 8, and the header's count, size
+// and checksum follow), a file the writer could have written without them.
+std::string DropSections(const std::string& b, const std::vector<uint32_t>& ids) {
+  std::vector<Entry> kept;
+  for (const Entry& e : Table(b))
+    if (std::find(ids.begin(), ids.end(), e.id) == ids.end()) kept.push_back(e);
+  std::string out = b.substr(0, 40);
+  out.resize(40 + 32 * kept.size(), '\0');
+  for (size_t i = 0; i < kept.size(); ++i) {
+    out.resize((out.size() + 7) / 8 * 8, '\0');
+    const Entry& e = kept[i];
+    const size_t at = 40 + 32 * i;
+    PutU32(&out, at, e.id);
+    PutU32(&out, at + 4, e.element_size);
+    PutU64(&out, at + 8, out.size());
+    PutU64(&out, at + 16, e.size);
+    PutU64(&out, at + 24, e.count);
+    out += b.substr(size_t(e.offset), size_t(e.size));
+  }
+  PutU32(&out, 12, uint32_t(kept.size()));
+  PutU64(&out, 16, out.size());
+  Rechecksum(&out);
+  return out;
+}
+
 // Positions and normals of EvaluateJob, every layer on.
 std::vector<float> Evaluate(const Rig& rig, span<const float> act, float jaw = 0.f) {
   EvaluateContext ctx(rig);
@@ -189,6 +216,14 @@ TEST(RigBinary, FineScaleSectionsComeTogetherAndOldFilesHaveNone) {
   Rechecksum(&edited);
   EXPECT_NE(ReadError(edited).find("sections 'fine_scale_*' (ids 40-41)"), std::string::npos)
       << ReadError(edited);
+  EXPECT_NE(ReadError(edited).find("one is present, missing 'fine_scale_probes' (id 41)"),
+            std::string::npos)
+      << ReadError(edited);
+  // Either one removed from the file: the message names the absent one.
+  const std::string no_params = ReadError(DropSections(bytes, {40}));
+  EXPECT_NE(no_params.find("missing 'fine_scale_params' (id 40)"), std::string::npos) << no_params;
+  const std::string no_probes = ReadError(DropSections(bytes, {41}));
+  EXPECT_NE(no_probes.find("missing 'fine_scale_probes' (id 41)"), std::string::npos) << no_probes;
 }
 
 TEST(RigBinary, TheJawRoundTrips) {
@@ -400,13 +435,52 @@ TEST(RigBinary, HostileIndicesAreRefusedByRigBuild) {
 TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
   const std::string bytes = WriteRigBinary(Surface().data(), nullptr);
   ASSERT_EQ(Surface().tension_region_count(), 2u);
+  const char* const names[] = {"tension_region_names", "tension_region_references",
+                               "tension_region_offsets", "tension_region_points",
+                               "tension_region_weights"};
+  {
+    // The sections physically removed from a valid file: every proper subset of the five
+    // (1-4 present) is refused, the message naming each absent section and no present one.
+    for (uint32_t keep = 1; keep < 31; ++keep) {
+      std::vector<uint32_t> drop;
+      for (uint32_t i = 0; i < 5; ++i)
+        if (!(keep >> i & 1)) drop.push_back(35 + i);
+      const std::string bad = DropSections(bytes, drop);
+      ASSERT_EQ(bad.size() < bytes.size(), true);
+      ASSERT_EQ(Table(bad).size() + drop.size(), Table(bytes).size());
+      const std::string error = ReadError(bad);
+      EXPECT_NE(error.find("the tension regions need all five sections; " +
+                           std::to_string(5 - drop.size()) + " are present, missing"),
+                std::string::npos)
+          << keep << ": " << error;
+      for (uint32_t i = 0; i < 5; ++i) {
+        const std::string named =
+            "'" + std::string(names[i]) + "' (id " + std::to_string(35 + i) + ")";
+        EXPECT_EQ(error.find(named) != std::string::npos, !(keep >> i & 1))
+            << keep << ", " << named << ": " << error;
+      }
+    }
+    // All five removed: a rig without regions, otherwise the same.
+    Rig rig;
+    std::string error;
+    ASSERT_TRUE(ReadRigBinary(Bytes(DropSections(bytes, {35, 36, 37, 38, 39})), &rig, nullptr,
+                              &error))
+        << error;
+    EXPECT_EQ(rig.tension_region_count(), 0u);
+    std::vector<float> act(rig.muscle_count(), 0.5f);
+    EXPECT_EQ(Evaluate(rig, act), Evaluate(Surface(), act));
+    // The helper itself: dropping nothing gives the writer's bytes back.
+    EXPECT_EQ(DropSections(bytes, {}), bytes);
+  }
   for (uint32_t missing = 35; missing <= 39; ++missing) {
     std::string bad = bytes;
     PutU32(&bad, 4, 2 | 7 << 16);  // 2.7: unknown ids are skipped, not refused
     PutU32(&bad, Find(bytes, missing).at, 4000 + missing);
     Rechecksum(&bad);
     const std::string error = ReadError(bad);
-    EXPECT_NE(error.find("tension regions need all five sections; 4 are present"),
+    EXPECT_NE(error.find("tension regions need all five sections; 4 are present, missing '" +
+                         std::string(names[missing - 35]) + "' (id " +
+                         std::to_string(missing) + ")"),
               std::string::npos) << missing << ": " << error;
   }
   {

@@ -176,7 +176,7 @@ TEST(Bake, SampleHeadFramesEqualTheRuntime) {
   EXPECT_EQ(s.interpolation, "LINEAR");
 }
 
-// --tension (docs/tension.md "Bake") on the procedural surface's rig with two tension regions
+// --tension (docs/tension.md "Baking") on the procedural surface's rig with two tension regions
 // added here (every vertex at weight 1, and the left half at 0.5): base + each target's
 // _TENSION deltas is (r - 1, eps) of an independent EvaluateJob with out_tension at k / fps
 // (within the bake's 1e-5), and FILE.regions.json holds the job's out_region_weights per frame.

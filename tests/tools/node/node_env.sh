@@ -3,7 +3,7 @@
 # and exits 77 (skipped) when node or the package the test needs (gltf-validator for
 # `validate`, three for `three`) is missing, except under CI=true, where that is a failure.
 modules="$src/.node/node_modules"
-need=gltf-validator; [[ $what == three ]] && need=three
+need=gltf-validator; [[ $what == three* ]] && need=three
 if ! command -v node >/dev/null || [[ ! -d "$modules/$need" ]]; then
   msg="skipped: node or $modules/$need is missing (bash tools/install-deps.sh installs them)"
   if [[ "${CI:-}" == true ]]; then echo "FAIL (CI): $msg"; exit 1; fi
