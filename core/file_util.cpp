@@ -1,4 +1,5 @@
 #include "core/file_util.h"
+#include "core/file_util_hook.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -127,6 +128,12 @@ bool ReadFile(const std::string& path, std::string* out, Diagnostics* diag, size
   return true;
 }
 
+namespace {
+WriteFileAtomicHook g_before_rename = nullptr;
+}  // namespace
+
+void SetWriteFileAtomicHook(WriteFileAtomicHook hook) { g_before_rename = hook; }
+
 bool WriteFileAtomic(const std::string& path, const std::string& bytes, Diagnostics* diag) {
   RemoveStaleTemporaries(path);
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
@@ -143,6 +150,7 @@ bool WriteFileAtomic(const std::string& path, const std::string& bytes, Diagnost
     std::remove(tmp.c_str());
     return false;
   }
+  if (g_before_rename) g_before_rename(tmp, path);  // tests: a crash between write and rename
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     diag->Error(path, std::string("cannot rename temporary file: ") + std::strerror(errno));
     std::remove(tmp.c_str());

@@ -25,6 +25,35 @@ void App::OnRigLoaded() {
   dirty = true;
 }
 
+void App::BeginPoseEdit() {
+  pose_before = session.activations;
+  jaw_before = session.jaw;
+}
+
+void App::EndPoseEdit() {
+  if (pose_before.size() != session.activations.size()) return;
+  std::vector<float> pose = session.activations;
+  const float jaw = session.jaw;
+  session.activations = pose_before;
+  session.jaw = jaw_before;
+  if (pose != pose_before || jaw != jaw_before) session.Edit(MakeSetPose(std::move(pose), jaw));
+  dirty = true;
+}
+
+void App::OnEdited() {
+  if (session.last_touched() & kEditPose) pose_from_clip = false;  // the pose is the edit
+  if (pose_from_clip && session.has_clip()) session.SampleClip(clip_time);
+  dirty = true;
+}
+
+void App::Undo() {
+  if (session.Undo()) OnEdited();
+}
+
+void App::Redo() {
+  if (session.Redo()) OnEdited();
+}
+
 void App::Update() {
   if (!session.has_rig()) return;
   if (dirty) {

@@ -41,6 +41,33 @@ struct App {
   // Text fields of the Files panel.
   char rig_field[512] = "", clip_field[512] = "", library_field[512] = "";
 
+  // Authoring (docs/viewer.md "Authoring").
+  int active_channel = -1;        // the timeline row Ins adds a key to (a spec channel)
+  bool dragging_keys = false;     // the selected keys follow the mouse; one command on release
+  float drag_dt = 0.f, drag_dv = 0.f;
+  int new_channel = 0;            // the "add channel" combo: muscles, jaw, expressions
+  int interp_choice = 1;          // step, linear, cubic
+  char expr_name[128] = "";       // the Expressions panel's name field
+  int expr_target = -1;           // the expression a confirmation popup is about
+  char rename_field[128] = "";
+  std::vector<float> pose_before;  // the pose when a slider drag started
+  float jaw_before = 0.f;
+  double autosave_seconds = 60.0, last_autosave = 0.0;
+  bool offer_recovery = false;    // the start found .autosave files (a popup asks)
+  bool close_requested = false;   // the window's close button with unsaved changes
+  bool close_confirmed = false;
+  int pending_load = 0;           // 1 rig, 2 library, 3 clip: asked to discard unsaved edits
+
+  // A slider drag of the pose: remember the pose it started from; at the end, one SetPose
+  // command from there to the pose the drag left.
+  void BeginPoseEdit();
+  void EndPoseEdit();
+  // After any edit (or undo): evaluate again, and the pose from the clip when it drives it.
+  void OnEdited();
+  void Undo();
+  void Redo();
+  bool unsaved() const { return session.clip_dirty() || session.library_dirty(); }
+
   bool dirty = true;  // the pose or the overlay changed: evaluate again
   FrameStats stats;
   std::vector<uint32_t> point_vertex;  // point -> one of its vertices (gizmo points)
@@ -58,5 +85,8 @@ struct App {
 // The ImGui panels (viewer/app/panels.cpp): Files, Scene, Muscles, Expressions, Clip,
 // Messages, Stats, the legend and the hover tooltip.
 void DrawPanels(App* app, float width, float height);
+// Ctrl+Z / Ctrl+Shift+Z / Ctrl+Y, Ctrl+S, Ctrl+C / Ctrl+V, Ins, Del (not while a text field
+// has the keyboard).
+void HandleEditShortcuts(App* app);
 
 }  // namespace mimetic::viewer

@@ -15,15 +15,28 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
+#include "core/file_util_hook.h"
 #include "io/image.h"
 #include "viewer/app/app.h"
 #include "viewer/core/args.h"
+#include "viewer/core/script.h"
 #include "viewer/core/timeline.h"
 
 namespace mimetic::viewer {
 namespace {
 
 constexpr int kExitInput = 1, kExitUsage = 2;
+
+// Fault injection for the tests (tests/viewer/headless_test.cpp): with
+// MIMETIC_TEST_EXIT_BEFORE_RENAME=TEXT, an atomic write of a path containing TEXT ends the
+// process (exit 86) after its temporary file is written and before the rename.
+std::string g_exit_before_rename;
+void ExitBeforeRename(const std::string& tmp, const std::string& path) {
+  (void)tmp;
+  if (path.find(g_exit_before_rename) != std::string::npos) _exit(86);
+}
 
 void PrintMessages(const Session& s) {
   for (const Message& m : s.messages())
@@ -56,6 +69,8 @@ bool LoadInputs(const ViewerArgs& args, App* app) {
   if (!args.sets.empty() && s.has_rig()) s.ApplySettings(args.sets);
   if (!args.rig.empty() && !s.has_rig() && app->rig_field[0] == '\0')
     std::snprintf(app->rig_field, sizeof app->rig_field, "%s", args.rig.c_str());
+  if (args.recover && s.RecoverAutosaves() > 0 && app->pose_from_clip && s.has_clip())
+    s.SampleClip(app->clip_time);
   return !HasErrors(s);
 }
 
@@ -74,6 +89,38 @@ void UiFrame(App* app, int width, int height) {
   ImGui::NewFrame();
   DrawPanels(app, float(width), float(height));
   ImGui::Render();
+}
+
+// One frame into `path` at the command line's size (with the panels under --ui).
+bool TakeScreenshot(const ViewerArgs& args, App* app, const std::string& path, std::string* error) {
+  const int w = args.width, h = args.height;
+  if (!app->renderer.BindOffscreen(w, h)) {
+    *error = "the offscreen framebuffer (" + std::to_string(w) + "x" + std::to_string(h) +
+             ") is incomplete";
+    return false;
+  }
+  app->dirty = true;
+  app->Update();
+  Render(app, w, h);
+  if (args.ui) {
+    // ImGui lays windows out over the first frames; draw a few, keep the last.
+    for (int i = 0; i < 3; ++i) {
+      UiFrame(app, w, h);
+      Render(app, w, h);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+  }
+  glFinish();
+  const Image image = Renderer::ReadPixels(w, h);
+  app->renderer.UnbindOffscreen();
+  Diagnostics diag;
+  if (!SavePng(path, image, &diag)) {
+    *error = diag.Format();
+    while (!error->empty() && error->back() == '\n') error->pop_back();
+    return false;
+  }
+  std::printf("mimetic-viewer: wrote %s (%dx%d)\n", path.c_str(), w, h);
+  return true;
 }
 
 int Headless(const ViewerArgs& args, App* app, GLFWwindow* window) {
@@ -95,6 +142,23 @@ int Headless(const ViewerArgs& args, App* app, GLFWwindow* window) {
     }
   }
   if (app->pose_from_clip) app->session.SampleClip(app->clip_time);
+  if (!args.script.empty()) {
+    ScriptHooks hooks;
+    hooks.screenshot = [&](const std::string& path, std::string* error) {
+      return TakeScreenshot(args, app, path, error);
+    };
+    std::string error;
+    const size_t before = app->session.messages().size();
+    const bool ok = RunScriptFile(args.script, &app->session, hooks, &error);
+    for (size_t i = before; i < app->session.messages().size(); ++i)
+      if (!app->session.messages()[i].error)
+        std::fprintf(stderr, "warning: %s\n", app->session.messages()[i].text.c_str());
+    if (!ok) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      return kExitInput;
+    }
+    if (args.screenshot.empty() && args.bench_frames == 0) return 0;
+  }
   const int w = args.width, h = args.height;
   if (!app->renderer.BindOffscreen(w, h)) {
     std::fprintf(stderr, "mimetic-viewer: the offscreen framebuffer (%dx%d) is incomplete\n", w, h);
@@ -131,34 +195,26 @@ int Headless(const ViewerArgs& args, App* app, GLFWwindow* window) {
       std::printf("  %-16s mean %7.3f ms  worst %7.3f ms\n", names[i], sum[i] / n, worst[i]);
     if (args.screenshot.empty()) return 0;
   }
-  app->dirty = true;
-  app->Update();
-  Render(app, w, h);
-  if (args.ui) {
-    // ImGui lays windows out over the first frames; draw a few, keep the last.
-    for (int i = 0; i < 3; ++i) {
-      UiFrame(app, w, h);
-      Render(app, w, h);
-      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    }
-  }
-  glFinish();
-  const Image image = Renderer::ReadPixels(w, h);
-  app->renderer.UnbindOffscreen();
   (void)window;
-  Diagnostics diag;
-  if (!SavePng(args.screenshot, image, &diag)) {
-    std::fputs(diag.Format().c_str(), stderr);
+  app->renderer.UnbindOffscreen();
+  std::string error;
+  if (!TakeScreenshot(args, app, args.screenshot, &error)) {
+    std::fprintf(stderr, "mimetic-viewer: %s\n", error.c_str());
     return kExitInput;
   }
-  std::printf("mimetic-viewer: wrote %s (%dx%d)\n", args.screenshot.c_str(), w, h);
   return 0;
 }
 
 void Interactive(App* app, GLFWwindow* window) {
   double last = glfwGetTime();
   float last_x = -1.f, last_y = -1.f;
-  while (!glfwWindowShouldClose(window)) {
+  while (true) {
+    // Closing the window with unsaved edits asks first (SafetyPopups in panels.cpp).
+    if (glfwWindowShouldClose(window) || app->close_confirmed) {
+      if (app->close_confirmed || !app->unsaved()) break;
+      glfwSetWindowShouldClose(window, GLFW_FALSE);
+      app->close_requested = true;
+    }
     glfwPollEvents();
     int w = 0, h = 0;
     glfwGetFramebufferSize(window, &w, &h);
@@ -166,6 +222,10 @@ void Interactive(App* app, GLFWwindow* window) {
     const float dt = float(now - last);
     ImGuiIO& io = ImGui::GetIO();
     Session& s = app->session;
+    if (app->autosave_seconds > 0.0 && now - app->last_autosave >= app->autosave_seconds) {
+      s.Autosave();  // only what changed since the last save or autosave
+      app->last_autosave = now;
+    }
     // Playback at the fps the Clip panel sets: a new pose every 1/fps seconds.
     if (app->playing && s.has_clip() && dt >= 1.f / app->fps) {
       bool stopped = false;
@@ -207,6 +267,7 @@ void Interactive(App* app, GLFWwindow* window) {
         app->pose_from_clip = true;
       }
     }
+    HandleEditShortcuts(app);
     app->Update();
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);
@@ -225,6 +286,10 @@ int Main(int argc, char** argv) {
     return kExitUsage;
   }
   if (args.help) return std::fputs(ViewerUsage(), stdout), 0;
+  if (const char* e = std::getenv("MIMETIC_TEST_EXIT_BEFORE_RENAME"); e && *e) {
+    g_exit_before_rename = e;
+    SetWriteFileAtomicHook(&ExitBeforeRename);
+  }
   if (!glfwInit()) {
     std::fprintf(stderr, "mimetic-viewer: cannot start GLFW (no display? headless runs need one: "
                          "xvfb-run -a mimetic-viewer ...)\n");
@@ -262,6 +327,9 @@ int Main(int argc, char** argv) {
         rc = Headless(args, &app, window);
       } else {
         LoadInputs(args, &app);
+        app.autosave_seconds = args.autosave_seconds;
+        app.last_autosave = glfwGetTime();
+        app.offer_recovery = !args.recover && !app.session.PendingAutosaves().empty();
         Interactive(&app, window);
       }
       ImGui_ImplOpenGL3_Shutdown();

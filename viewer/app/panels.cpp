@@ -14,6 +14,29 @@ namespace {
 
 ImVec4 Color(const float3& c) { return ImVec4(c.x, c.y, c.z, 1.f); }
 
+// Loads the file of the Files panel's field `which` (1 rig, 2 library, 3 clip).
+void LoadField(App* app, int which) {
+  Session& s = app->session;
+  if (which == 1 && s.LoadRigFile(app->rig_field)) app->OnRigLoaded();
+  if (which == 2 && s.LoadLibraryFile(app->library_field)) app->OnEdited();
+  if (which == 3 && s.LoadClipFile(app->clip_field)) {
+    app->clip_time = 0.f;
+    app->pose_from_clip = true;
+    app->active_channel = -1;
+    app->OnEdited();
+  }
+}
+
+// Load, unless it would drop unsaved edits: then the "Discard unsaved changes?" popup asks.
+void AskLoad(App* app, int which) {
+  const Session& s = app->session;
+  const bool loses = which == 1   ? app->unsaved()
+                     : which == 2 ? s.library_dirty()
+                                  : s.clip_dirty();
+  if (loses) app->pending_load = which;
+  else LoadField(app, which);
+}
+
 void FilesPanel(App* app) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
@@ -21,17 +44,37 @@ void FilesPanel(App* app) {
   Session& s = app->session;
   ImGui::InputText("rig", app->rig_field, sizeof app->rig_field);
   ImGui::SameLine();
-  if (ImGui::Button("Load##rig") && s.LoadRigFile(app->rig_field)) app->OnRigLoaded();
+  if (ImGui::Button("Load##rig")) AskLoad(app, 1);
   ImGui::InputText("library", app->library_field, sizeof app->library_field);
   ImGui::SameLine();
-  if (ImGui::Button("Load##lib")) s.LoadLibraryFile(app->library_field);
+  if (ImGui::Button("Load##lib")) AskLoad(app, 2);
   ImGui::InputText("clip", app->clip_field, sizeof app->clip_field);
   ImGui::SameLine();
-  if (ImGui::Button("Load##clip") && s.LoadClipFile(app->clip_field)) {
-    app->clip_time = 0.f;
-    app->pose_from_clip = true;
-    app->dirty = true;
+  if (ImGui::Button("Load##clip")) AskLoad(app, 3);
+  // Saving to the paths in the fields (atomic; a failure lands in Messages, edits kept).
+  if (ImGui::Button("Save clip (Ctrl+S)")) s.SaveClipFile(app->clip_field);
+  ImGui::SameLine();
+  if (ImGui::Button("Save library")) s.SaveLibraryFile(app->library_field);
+  ImGui::SameLine();
+  if (ImGui::Button("New clip") && s.has_rig()) {
+    if (s.clip_dirty()) app->pending_load = 4;
+    else if (s.NewClip(app->clip_field)) app->OnEdited();
   }
+  ImGui::TextColored(s.clip_dirty() ? ImVec4(1.f, 0.8f, 0.3f, 1.f) : ImVec4(0.6f, 0.8f, 0.6f, 1.f),
+                     "clip: %s", !s.has_clip_spec() ? "not editable" : s.clip_dirty() ? "unsaved changes" : "saved");
+  ImGui::SameLine();
+  ImGui::TextColored(s.library_dirty() ? ImVec4(1.f, 0.8f, 0.3f, 1.f) : ImVec4(0.6f, 0.8f, 0.6f, 1.f),
+                     "  library: %s", s.library_dirty() ? "unsaved changes" : "saved");
+  // Edit: undo and redo of every command (edit.h), with what they would undo.
+  const EditHistory& h = s.history();
+  ImGui::BeginDisabled(!h.CanUndo());
+  if (ImGui::Button("Undo (Ctrl+Z)")) app->Undo();
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!h.CanRedo());
+  if (ImGui::Button("Redo (Ctrl+Y)")) app->Redo();
+  ImGui::EndDisabled();
+  if (h.CanUndo()) ImGui::TextDisabled("undo: %s", h.UndoText().c_str());
   ImGui::End();
 }
 
@@ -110,13 +153,18 @@ void MusclesPanel(App* app, float height) {
   ImGui::Checkbox("link left/right", &app->link_sides);
   ImGui::SameLine();
   if (ImGui::Button("Reset")) {
+    app->BeginPoseEdit();
     s.ResetPose();
+    app->EndPoseEdit();
     app->pose_from_clip = false;
-    app->dirty = true;
   }
-  if (!rig.jaw().empty() && ImGui::SliderFloat("jaw", &s.jaw, 0.f, 1.f)) {
-    app->pose_from_clip = false;
-    app->dirty = true;
+  if (!rig.jaw().empty()) {
+    if (ImGui::SliderFloat("jaw", &s.jaw, 0.f, 1.f)) {
+      app->pose_from_clip = false;
+      app->dirty = true;
+    }
+    if (ImGui::IsItemActivated()) app->BeginPoseEdit();
+    if (ImGui::IsItemDeactivatedAfterEdit()) app->EndPoseEdit();
   }
   ImGui::PushItemWidth(120);
   for (const MuscleGroup& g : GroupMuscles(rig.muscle_names())) {
@@ -136,6 +184,9 @@ void MusclesPanel(App* app, float height) {
         app->pose_from_clip = false;
         app->dirty = true;
       }
+      // The drag is one command (undo gives back the pose before it).
+      if (ImGui::IsItemActivated()) app->BeginPoseEdit();
+      if (ImGui::IsItemDeactivatedAfterEdit()) app->EndPoseEdit();
       ImGui::PopID();
     }
   }
@@ -149,43 +200,178 @@ void ExpressionsPanel(App* app, float width) {
   ImGui::Begin("Expressions");
   ImGui::PushItemWidth(150);
   Session& s = app->session;
-  ImGui::TextWrapped("%s", s.library_path().empty() ? "no library" : s.library_path().c_str());
+  ImGui::TextWrapped("%s%s", s.library_path().empty() ? "no library" : s.library_path().c_str(),
+                     s.library_dirty() ? " (unsaved)" : "");
+  // Save the pose as a new expression (an existing name asks to overwrite it).
+  ImGui::InputText("##name", app->expr_name, sizeof app->expr_name);
+  ImGui::SameLine();
+  int open_modal = 0;  // 1 overwrite, 2 rename, 3 delete: opened at the window's level below
+  if (ImGui::Button("Save pose as") && app->expr_name[0] != '\0' && s.has_rig()) {
+    app->expr_target = -1;
+    for (size_t e = 0; e < s.library().size(); ++e)
+      if (s.library()[e].name == app->expr_name) app->expr_target = int(e);
+    if (app->expr_target >= 0) open_modal = 1;
+    else if (s.Edit(MakeSaveExpression(app->expr_name))) app->OnEdited();
+  }
   bool changed = false;
   for (size_t e = 0; e < s.library().size(); ++e) {
     ImGui::PushID(int(e));
     if (ImGui::SmallButton("apply")) {
+      app->BeginPoseEdit();
       std::fill(s.expression_weights.begin(), s.expression_weights.end(), 0.f);
       s.expression_weights[e] = 1.f;
-      changed = true;
+      s.ApplyExpressionBlend();
+      app->EndPoseEdit();
+      app->pose_from_clip = false;
+    }
+    ImGui::SameLine();
+    if (ImGui::SmallButton("...")) ImGui::OpenPopup("expr_menu");
+    if (ImGui::BeginPopup("expr_menu")) {
+      if (ImGui::MenuItem("Overwrite with the pose")) app->expr_target = int(e), open_modal = 1;
+      if (ImGui::MenuItem("Rename")) {
+        app->expr_target = int(e), open_modal = 2;
+        std::snprintf(app->rename_field, sizeof app->rename_field, "%s", s.library()[e].name.c_str());
+      }
+      if (ImGui::MenuItem("Delete")) app->expr_target = int(e), open_modal = 3;
+      ImGui::EndPopup();
     }
     ImGui::SameLine();
     changed |= ImGui::SliderFloat(s.library()[e].name.c_str(), &s.expression_weights[e], 0.f, 1.f);
+    if (ImGui::IsItemActivated()) app->BeginPoseEdit();
+    const bool released = ImGui::IsItemDeactivatedAfterEdit();
     if (ImGui::IsItemHovered() && !s.library()[e].description.empty())
       ImGui::SetTooltip("%s", s.library()[e].description.c_str());
     ImGui::PopID();
+    if (released && s.has_rig()) {
+      s.ApplyExpressionBlend();
+      app->EndPoseEdit();
+    }
   }
   if (changed && s.has_rig()) {
     s.ApplyExpressionBlend();
     app->pose_from_clip = false;
     app->dirty = true;
   }
+  if (open_modal == 1) ImGui::OpenPopup("Overwrite expression?");
+  if (open_modal == 2) ImGui::OpenPopup("Rename expression");
+  if (open_modal == 3) ImGui::OpenPopup("Delete expression?");
+  const bool valid = app->expr_target >= 0 && size_t(app->expr_target) < s.library().size();
+  const std::string name = valid ? s.library()[size_t(app->expr_target)].name : "";
+  if (ImGui::BeginPopupModal("Overwrite expression?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("Replace the activations of '%s' with the current pose?", name.c_str());
+    if (ImGui::Button("Overwrite") && valid) {
+      if (s.Edit(MakeOverwriteExpression(name))) app->OnEdited();
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  if (ImGui::BeginPopupModal("Rename expression", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("Rename '%s' (and the clip's channels of it) to", name.c_str());
+    ImGui::InputText("##rename", app->rename_field, sizeof app->rename_field);
+    if (ImGui::Button("Rename") && valid) {
+      if (s.Edit(MakeRenameExpression(name, app->rename_field))) app->OnEdited();
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  if (ImGui::BeginPopupModal("Delete expression?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("Delete '%s' from the library? (Undo brings it back.)", name.c_str());
+    if (ImGui::Button("Delete") && valid) {
+      if (s.Edit(MakeDeleteExpression(name))) app->OnEdited();
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
   ImGui::PopItemWidth();
   ImGui::End();
 }
 
+// The channels a key can be added to: every muscle, the jaw (a rig with one), every expression.
+std::vector<ChannelId> ChannelChoices(const Session& s) {
+  std::vector<ChannelId> out;
+  if (!s.has_rig()) return out;
+  for (const std::string& m : s.rig().muscle_names()) out.push_back({ClipChannelKind::kMuscle, m});
+  if (!s.rig().jaw().empty()) out.push_back({ClipChannelKind::kMuscle, kJawInputName});
+  for (const Expression& e : s.library()) out.push_back({ClipChannelKind::kExpression, e.name});
+  return out;
+}
+
+// The pose's value of a channel's target (the key Ins adds takes it).
+float CurrentValue(const Session& s, const ChannelId& id) {
+  if (id.kind == ClipChannelKind::kExpression) {
+    for (size_t e = 0; e < s.library().size() && e < s.expression_weights.size(); ++e)
+      if (s.library()[e].name == id.target) return s.expression_weights[e];
+    return 0.f;
+  }
+  if (id.target == kJawInputName && s.rig().FindMuscle(id.target) < 0) return s.jaw;
+  int m = s.rig().FindMuscle(id.target);
+  if (m < 0) m = s.rig().FindMuscle(id.target + "_L");
+  return m >= 0 && size_t(m) < s.activations.size() ? std::clamp(s.activations[size_t(m)], 0.f, 1.f) : 0.f;
+}
+
+// Ins: a key at the playhead on the active row (or the "add channel" choice).
+void AddKeyAtPlayhead(App* app) {
+  Session& s = app->session;
+  if (!s.has_clip_spec()) return;
+  ChannelId id;
+  if (app->active_channel >= 0 && size_t(app->active_channel) < s.clip_spec().channels.size()) {
+    const ClipChannelSpec& c = s.clip_spec().channels[size_t(app->active_channel)];
+    id = {c.kind, c.target};
+  } else {
+    const std::vector<ChannelId> choices = ChannelChoices(s);
+    if (app->new_channel < 0 || size_t(app->new_channel) >= choices.size()) return;
+    id = choices[size_t(app->new_channel)];
+  }
+  if (s.Edit(MakeAddKey(id, app->clip_time, CurrentValue(s, id), KeyInterp(app->interp_choice)))) {
+    s.selection.clear();
+    app->active_channel = FindChannel(s.clip_spec(), id);
+    app->OnEdited();
+  }
+}
+
+void DeleteSelection(App* app) {
+  Session& s = app->session;
+  if (s.selection.empty()) return;
+  if (s.Edit(MakeDeleteKeys(s.selection))) {
+    s.selection.clear();
+    app->OnEdited();
+  }
+}
+
+void PasteAtPlayhead(App* app) {
+  Session& s = app->session;
+  if (s.clipboard.empty() || !s.has_clip_spec()) return;
+  if (s.Edit(MakePasteKeys(s.clipboard, app->clip_time))) {
+    s.selection.clear();
+    app->OnEdited();
+  }
+}
+
+bool Selected(const Session& s, uint32_t c, uint32_t k) {
+  return std::find(s.selection.begin(), s.selection.end(), KeyRef{c, k}) != s.selection.end();
+}
+
 void ClipPanel(App* app, float width, float height) {
-  ImGui::SetNextWindowPos(ImVec2(350, height - 130), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(width - 700, 120), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(ImVec2(350, height - 250), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(width - 700, 240), ImGuiCond_FirstUseEver);
   ImGui::Begin("Clip");
   Session& s = app->session;
-  if (!s.has_clip()) {
-    ImGui::TextUnformatted("no clip: open one in Files (or --clip CLIP)");
+  if (!s.has_clip() && !s.has_clip_spec()) {
+    ImGui::TextUnformatted("no clip: open one in Files (or --clip CLIP), or New clip");
     ImGui::End();
     return;
   }
-  const CompiledClip& clip = s.clip();
-  ImGui::Text("%s  (%.2f s, %u channels)", s.clip_path().c_str(), clip.duration(), clip.channel_count());
-  if (ImGui::Button(app->playing ? "Pause (space)" : "Play (space)")) {
+  const bool editable = s.has_clip_spec();
+  const float clip_duration = s.has_clip() ? s.clip().duration() : ClipDuration(s.clip_spec());
+  ImGui::Text("%s%s  (%.2f s, %zu channels)", s.clip_path().c_str(), s.clip_dirty() ? " *" : "",
+              clip_duration, editable ? s.clip_spec().channels.size() : size_t(s.clip().channel_count()));
+  if (ImGui::Button(app->playing ? "Pause (space)" : "Play (space)") && s.has_clip()) {
     app->playing = !app->playing;
     app->pose_from_clip = true;
   }
@@ -197,42 +383,166 @@ void ClipPanel(App* app, float width, float height) {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(90);
   ImGui::SliderFloat("speed", &app->speed, 0.1f, 2.f, "%.2fx");
-  if (ImGui::SliderFloat("time", &app->clip_time, 0.f, std::max(clip.duration(), 1e-3f), "%.3f s")) {
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(200);
+  // The track spans a little past the clip's end so keys can be added and dragged there.
+  const float duration = std::max(clip_duration * 1.25f, 1.f);
+  if (ImGui::SliderFloat("time", &app->clip_time, 0.f, duration, "%.3f s")) {
     app->pose_from_clip = true;
     app->dirty = true;
   }
-  // The timeline: one row per channel, its keys as dots, the playhead as a line.
-  const float duration = std::max(clip.duration(), 1e-3f);
-  ImDrawList* draw = ImGui::GetWindowDrawList();
-  const float label_w = 180.f, row_h = 16.f;
+  if (editable) {
+    // Key editing: a channel to add to, the interpolation of new and selected keys.
+    const std::vector<ChannelId> choices = ChannelChoices(s);
+    std::vector<std::string> labels;
+    for (const ChannelId& id : choices) labels.push_back(ChannelIdText(id));
+    ImGui::SetNextItemWidth(200);
+    const char* preview = app->new_channel >= 0 && size_t(app->new_channel) < labels.size()
+                              ? labels[size_t(app->new_channel)].c_str() : "";
+    if (ImGui::BeginCombo("##channel", preview)) {
+      for (size_t i = 0; i < labels.size(); ++i)
+        if (ImGui::Selectable(labels[i].c_str(), int(i) == app->new_channel)) {
+          app->new_channel = int(i);
+          app->active_channel = -1;
+        }
+      ImGui::EndCombo();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Add key (Ins)")) AddKeyAtPlayhead(app);
+    ImGui::SameLine();
+    const char* interps[] = {"step", "linear", "cubic"};
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::Combo("interp", &app->interp_choice, interps, 3) && !s.selection.empty() &&
+        s.Edit(MakeSetInterp(s.selection, KeyInterp(app->interp_choice))))
+      app->OnEdited();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(s.selection.empty());
+    if (ImGui::Button("Delete (Del)")) DeleteSelection(app);
+    ImGui::SameLine();
+    if (ImGui::Button("Copy (Ctrl+C)")) s.clipboard = CopyKeys(s.clip_spec(), s.selection);
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(s.clipboard.empty());
+    if (ImGui::Button("Paste (Ctrl+V)")) PasteAtPlayhead(app);
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    if (s.selection.size() == 1) {
+      const KeyRef r = s.selection[0];
+      const ClipKeySpec& k = s.clip_spec().channels[r.channel].keys[r.key];
+      ImGui::Text("key %.3f s = %.3f (%s)", k.t, k.v, InterpName(k.interp));
+    } else {
+      ImGui::Text("%zu keys selected", s.selection.size());
+    }
+  }
+  // The timeline: one row per channel (the spec's when editable), keys at their value's height,
+  // the curve between them, the playhead.
+  struct Row {
+    std::string label;
+    std::vector<ClipKeySpec> keys;
+  };
+  std::vector<Row> rows;
+  if (editable) {
+    for (const ClipChannelSpec& c : s.clip_spec().channels)
+      rows.push_back({ChannelIdText({c.kind, c.target}), c.keys});
+  } else {
+    for (const TimelineChannel& c : s.timeline()) {
+      Row r{c.label, {}};
+      for (size_t k = 0; k < c.key_times.size(); ++k) r.keys.push_back({c.key_times[k], c.key_values[k]});
+      rows.push_back(std::move(r));
+    }
+  }
+  const float label_w = 190.f, row_h = 26.f;
   ImGui::BeginChild("timeline", ImVec2(0, 0), false);
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const float track_w = std::max(ImGui::GetContentRegionAvail().x - label_w - 8.f, 50.f);
-  draw = ImGui::GetWindowDrawList();
-  const auto& rows = s.timeline();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const float x0 = origin.x + label_w;
+  auto key_pos = [&](size_t c, const ClipKeySpec& k, bool moved) {
+    const float t = moved ? k.t + app->drag_dt : k.t;
+    const float v = moved ? std::clamp(k.v + app->drag_dv, 0.f, 1.f) : k.v;
+    return ImVec2(x0 + track_w * t / duration, origin.y + float(c) * row_h + row_h - 4.f - v * (row_h - 8.f));
+  };
   for (size_t c = 0; c < rows.size(); ++c) {
     const float y = origin.y + float(c) * row_h;
-    draw->AddText(ImVec2(origin.x, y), IM_COL32(220, 220, 220, 255), rows[c].label.c_str());
-    const float x0 = origin.x + label_w;
-    draw->AddRectFilled(ImVec2(x0, y + 2), ImVec2(x0 + track_w, y + row_h - 2), IM_COL32(60, 60, 70, 255));
-    for (size_t k = 0; k < rows[c].key_times.size(); ++k) {
-      const float x = x0 + track_w * rows[c].key_times[k] / duration;
-      const float v = rows[c].key_values[k];
-      draw->AddCircleFilled(ImVec2(x, y + row_h * 0.5f), 4.f,
-                            IM_COL32(int(255 * v), 180, int(255 * (1 - v)), 255));
+    const bool active = editable && int(c) == app->active_channel;
+    draw->AddText(ImVec2(origin.x, y + 5), active ? IM_COL32(255, 230, 120, 255) : IM_COL32(220, 220, 220, 255),
+                  rows[c].label.c_str());
+    draw->AddRectFilled(ImVec2(x0, y + 2), ImVec2(x0 + track_w, y + row_h - 2),
+                        active ? IM_COL32(70, 70, 90, 255) : IM_COL32(55, 55, 65, 255));
+    const float end_x = x0 + track_w * clip_duration / duration;
+    draw->AddLine(ImVec2(end_x, y + 2), ImVec2(end_x, y + row_h - 2), IM_COL32(120, 120, 130, 255));
+    const auto& keys = rows[c].keys;
+    for (size_t k = 0; k < keys.size(); ++k) {
+      const bool sel = editable && Selected(s, uint32_t(c), uint32_t(k));
+      const ImVec2 p = key_pos(c, keys[k], sel && app->dragging_keys);
+      if (k + 1 < keys.size()) {
+        const bool next_sel = editable && Selected(s, uint32_t(c), uint32_t(k + 1));
+        const ImVec2 q = key_pos(c, keys[k + 1], next_sel && app->dragging_keys);
+        if (keys[k].interp == KeyInterp::kStep) {
+          draw->AddLine(p, ImVec2(q.x, p.y), IM_COL32(150, 200, 255, 200));
+          draw->AddLine(ImVec2(q.x, p.y), q, IM_COL32(150, 200, 255, 200));
+        } else {
+          draw->AddLine(p, q, keys[k].interp == KeyInterp::kCubic ? IM_COL32(150, 255, 170, 200)
+                                                                  : IM_COL32(150, 200, 255, 200));
+        }
+      }
+      const float v = keys[k].v;
+      draw->AddCircleFilled(p, 4.5f, IM_COL32(int(255 * v), 180, int(255 * (1 - v)), 255));
+      if (sel) draw->AddCircle(p, 7.f, IM_COL32(255, 255, 255, 255), 0, 2.f);
     }
   }
-  const float px = origin.x + label_w + track_w * app->clip_time / duration;
+  const float px = x0 + track_w * app->clip_time / duration;
   draw->AddLine(ImVec2(px, origin.y), ImVec2(px, origin.y + row_h * float(rows.size())),
                 IM_COL32(255, 80, 80, 255), 2.f);
-  // Scrubbing: click or drag on the tracks.
-  ImGui::SetCursorScreenPos(ImVec2(origin.x + label_w, origin.y));
-  ImGui::InvisibleButton("scrub", ImVec2(track_w, std::max(row_h * float(rows.size()), row_h)));
+  // Mouse: click a key to select it (shift: add or remove), drag the selection in time and
+  // value (one command on release); click a track to scrub and make its row the active one.
+  ImGui::SetCursorScreenPos(ImVec2(x0, origin.y));
+  ImGui::InvisibleButton("tracks", ImVec2(track_w, std::max(row_h * float(rows.size()), row_h)));
+  const ImGuiIO& io = ImGui::GetIO();
+  if (ImGui::IsItemActivated()) {
+    int hit_c = -1, hit_k = -1;
+    float best = 7.f * 7.f;
+    for (size_t c = 0; c < rows.size(); ++c)
+      for (size_t k = 0; k < rows[c].keys.size(); ++k) {
+        const ImVec2 p = key_pos(c, rows[c].keys[k], false);
+        const float d = (p.x - io.MousePos.x) * (p.x - io.MousePos.x) + (p.y - io.MousePos.y) * (p.y - io.MousePos.y);
+        if (d < best) best = d, hit_c = int(c), hit_k = int(k);
+      }
+    const int row = int((io.MousePos.y - origin.y) / row_h);
+    if (editable && row >= 0 && size_t(row) < rows.size()) app->active_channel = row;
+    if (editable && hit_c >= 0) {
+      const KeyRef r{uint32_t(hit_c), uint32_t(hit_k)};
+      const auto it = std::find(s.selection.begin(), s.selection.end(), r);
+      if (io.KeyShift) {
+        if (it == s.selection.end()) s.selection.push_back(r);
+        else s.selection.erase(it);
+      } else if (it == s.selection.end()) {
+        s.selection = {r};
+      }
+      app->dragging_keys = !s.selection.empty();
+      app->drag_dt = app->drag_dv = 0.f;
+    } else if (!io.KeyShift) {
+      s.selection.clear();
+    }
+  }
   if (ImGui::IsItemActive()) {
-    const float t = (ImGui::GetIO().MousePos.x - origin.x - label_w) / track_w * duration;
-    app->clip_time = std::clamp(t, 0.f, duration);
-    app->pose_from_clip = true;
-    app->dirty = true;
+    if (app->dragging_keys) {
+      const ImVec2 d = ImGui::GetMouseDragDelta(0, 0.f);
+      app->drag_dt = d.x / track_w * duration;
+      app->drag_dv = -d.y / (row_h - 8.f);
+    } else {
+      const float t = (io.MousePos.x - x0) / track_w * duration;
+      app->clip_time = std::clamp(t, 0.f, duration);
+      app->pose_from_clip = true;
+      app->dirty = true;
+    }
+  }
+  if (ImGui::IsItemDeactivated() && app->dragging_keys) {
+    app->dragging_keys = false;
+    if ((app->drag_dt != 0.f || app->drag_dv != 0.f) &&
+        s.Edit(MakeMoveKeys(s.selection, app->drag_dt, app->drag_dv)))
+      app->OnEdited();
+    app->drag_dt = app->drag_dv = 0.f;
   }
   ImGui::EndChild();
   ImGui::End();
@@ -283,7 +593,100 @@ void HoverTooltip(App* app) {
   ImGui::EndTooltip();
 }
 
+// The popups that guard unsaved work: a load that would drop edits, the window's close, and
+// the autosaves found at the start.
+void SafetyPopups(App* app) {
+  Session& s = app->session;
+  if (app->pending_load) ImGui::OpenPopup("Discard unsaved changes?");
+  if (ImGui::BeginPopupModal("Discard unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextUnformatted(app->pending_load == 2 ? "The library has unsaved changes."
+                                                  : app->pending_load == 1 && s.library_dirty()
+                                                        ? "The clip or the library has unsaved changes."
+                                                        : "The clip has unsaved changes.");
+    if (ImGui::Button("Discard them")) {
+      if (app->pending_load == 4) {
+        if (s.NewClip(app->clip_field)) app->OnEdited();
+      } else {
+        LoadField(app, app->pending_load);
+      }
+      app->pending_load = 0;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) {
+      app->pending_load = 0;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+  }
+  if (app->close_requested) ImGui::OpenPopup("Quit with unsaved changes?");
+  if (ImGui::BeginPopupModal("Quit with unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    if (s.clip_dirty()) ImGui::Text("clip %s: unsaved changes", s.clip_path().c_str());
+    if (s.library_dirty()) ImGui::Text("library %s: unsaved changes", s.library_path().c_str());
+    if (ImGui::Button("Save and quit")) {
+      const bool ok = (!s.clip_dirty() || s.SaveClipFile()) && (!s.library_dirty() || s.SaveLibraryFile());
+      app->close_requested = false;
+      app->close_confirmed = ok;  // a failed save stays open, its message in Messages
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Quit without saving")) {
+      app->close_requested = false;
+      app->close_confirmed = true;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) {
+      app->close_requested = false;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+  }
+  if (app->offer_recovery) ImGui::OpenPopup("Recover unsaved work?");
+  if (ImGui::BeginPopupModal("Recover unsaved work?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextUnformatted("Edits that were never saved were autosaved to:");
+    for (const std::string& p : s.PendingAutosaves()) ImGui::BulletText("%s", p.c_str());
+    if (ImGui::Button("Recover")) {
+      s.RecoverAutosaves();
+      app->OnEdited();
+      app->offer_recovery = false;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Discard them")) {
+      s.DiscardAutosaves();
+      app->offer_recovery = false;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Later")) {
+      app->offer_recovery = false;
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+  }
+}
+
 }  // namespace
+
+void HandleEditShortcuts(App* app) {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput) return;
+  Session& s = app->session;
+  const bool ctrl = io.KeyCtrl;
+  if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Z, false)) {
+    if (io.KeyShift) app->Redo();
+    else app->Undo();
+  }
+  if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Y, false)) app->Redo();
+  if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_S, false) && s.has_clip_spec()) s.SaveClipFile(app->clip_field);
+  if (!s.has_clip_spec()) return;
+  if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_C, false) && !s.selection.empty())
+    s.clipboard = CopyKeys(s.clip_spec(), s.selection);
+  if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_V, false)) PasteAtPlayhead(app);
+  if (ImGui::IsKeyPressed(GLFW_KEY_INSERT, false)) AddKeyAtPlayhead(app);
+  if (ImGui::IsKeyPressed(GLFW_KEY_DELETE, false)) DeleteSelection(app);
+}
 
 void DrawPanels(App* app, float width, float height) {
   FilesPanel(app);
@@ -294,6 +697,7 @@ void DrawPanels(App* app, float width, float height) {
   MessagesPanel(app, width, height);
   StatsOverlay(app, width);
   HoverTooltip(app);
+  SafetyPopups(app);
 }
 
 }  // namespace mimetic::viewer

@@ -34,7 +34,8 @@ const char* ViewerUsage() {
          "                      [--time T | --set NAME=VALUE ...]\n"
          "                      [--screenshot OUT.png [--size WxH] [--overlay NAME]\n"
          "                       [--view front|side|three-quarter] [--ui] [--select MUSCLE]]\n"
-         "                      [--bench-frames N] [--threads N]\n\n"
+         "                      [--bench-frames N] [--threads N]\n"
+         "                      [--script FILE] [--autosave-seconds N] [--recover]\n\n"
          "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
          "overlays, a slider per muscle, expressions and clips (docs/viewer.md). A file that\n"
          "fails to load is reported in the Messages panel; the viewer keeps what it had.\n\n"
@@ -57,6 +58,12 @@ const char* ViewerUsage() {
          "  --bench-frames N     evaluate, upload and draw N frames headless (playing the clip\n"
          "                       if one is given) and print the mean and worst times\n"
          "  --threads N          evaluation threads (default: the hardware's; 1 = serial)\n"
+         "  --script FILE        run FILE's edit commands headless (docs/viewer.md \"Scripts\")\n"
+         "                       and exit: 0 done, 1 with FILE:LINE: message on a bad line\n"
+         "  --autosave-seconds N write the unsaved clip and library to FILE.autosave every N\n"
+         "                       seconds (default 60; 0 = never)\n"
+         "  --recover            take the clip's and library's .autosave files (newer edits\n"
+         "                       that were never saved) at the start, without asking\n"
          "  -h, --help           this text\n";
 }
 
@@ -83,9 +90,13 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->ui = true;
       continue;
     }
+    if (a == "--recover") {
+      out->recover = true;
+      continue;
+    }
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
                                     "--size", "--overlay", "--view", "--select", "--bench-frames",
-                                    "--threads"};
+                                    "--threads", "--script", "--autosave-seconds"};
     bool valued = false;
     for (const char* k : kValued) valued = valued || a == k;
     if (!valued) {
@@ -109,6 +120,13 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->library = value;
     } else if (a == "--select") {
       out->select = value;
+    } else if (a == "--script") {
+      out->script = value;
+    } else if (a == "--autosave-seconds") {
+      if (!WholeInt(value, 0, 86400, &out->autosave_seconds)) {
+        *error = "--autosave-seconds " + value + ": expected a whole number of seconds in [0, 86400]";
+        return false;
+      }
     } else if (a == "--set") {
       out->sets.push_back(value);
     } else if (a == "--screenshot") {
@@ -174,14 +192,13 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
     return false;
   }
   if ((has_size || has_overlay || has_view || out->ui || !out->select.empty()) &&
-      out->screenshot.empty() &&
-      out->bench_frames == 0) {
+      out->screenshot.empty() && out->bench_frames == 0 && out->script.empty()) {
     *error = "--size, --overlay, --view, --ui and --select need --screenshot OUT.png (or "
-             "--bench-frames)";
+             "--bench-frames, or --script)";
     return false;
   }
   if (out->headless() && out->rig.empty()) {
-    *error = "--screenshot and --bench-frames need RIG";
+    *error = "--screenshot, --bench-frames and --script need RIG";
     return false;
   }
   return true;

@@ -2,7 +2,7 @@
 //
 //   mimetic-viewer [RIG] [--clip CLIP] [--library LIB] [--time T | --set NAME=V ...]
 //                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]]
-//                  [--bench-frames N] [--threads N]
+//                  [--bench-frames N] [--threads N] [--script FILE] [--autosave-seconds N] [--recover]
 #pragma once
 
 #include <string>
@@ -28,14 +28,17 @@ struct ViewerArgs {
   std::string select;             // --select MUSCLE: the muscle whose gizmos are drawn
   int bench_frames = 0;           // --bench-frames N (>= 1): time N frames headless and exit
   int threads = 0;                // --threads N: evaluation threads (0: hardware threads)
+  std::string script;             // --script FILE: run its edit commands headless and exit
+  int autosave_seconds = 60;      // --autosave-seconds N (0: no autosave)
+  bool recover = false;           // --recover: take the .autosave files at the start
   bool help = false;              // --help / -h
-  bool headless() const { return !screenshot.empty() || bench_frames > 0; }
+  bool headless() const { return !screenshot.empty() || bench_frames > 0 || !script.empty(); }
 };
 
 // Parses `args` (without the program name). On a usage problem returns false with `error` set
 // to one line naming the option and what was expected; the caller prints it with the usage
 // and exits 2. Rules: --time needs --clip; --set and --clip exclude each other; --size, --overlay,
-// --view, --ui and --select need --screenshot; a headless run needs RIG; --screenshot ends in .png.
+// --view, --ui and --select need --screenshot (or --bench-frames or --script); a headless run needs RIG; --screenshot ends in .png.
 bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std::string* error);
 
 // The usage text (--help).

@@ -2,12 +2,15 @@
 #include "viewer/core/session.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "expressions/offline/activation_binding.h"
 #include "expressions/runtime/clip_binary.h"
 #include "expressions/runtime/clip_sample_job.h"
 #include "io/clip_file.h"
+#include "core/file_util.h"
 #include "io/expression_library.h"
 #include "rig/offline/jaw_setting.h"
 #include "rig/offline/rig_builder.h"
@@ -33,6 +36,8 @@ std::string DefaultLibraryPath(const std::string& rig_path) {
   }
   return "";
 }
+
+std::string AutosavePath(const std::string& path) { return path + ".autosave"; }
 
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -63,6 +68,11 @@ bool Session::LoadRigFile(const std::string& path) {
   clip_.reset();
   clip_path_.clear();
   timeline_.clear();
+  has_clip_spec_ = false;
+  clip_spec_ = ClipSpec{};
+  selection.clear();
+  history_.Clear();
+  history_.MarkSaved(kEditClip);
   const Rig& rig = rig_->rig;
   context_.Resize(rig);
   aux_context_.Resize(rig);
@@ -104,7 +114,10 @@ bool Session::LoadLibraryFile(const std::string& path) {
   library_ = std::move(library);
   library_path_ = path;
   expression_weights.assign(library_.size(), 0.f);
+  history_.Clear();
+  history_.MarkSaved(kEditLibrary);
   CheckLibrary();
+  if (has_clip_spec_) Rebuild(kEditLibrary, nullptr);  // its expressions may have changed
   return true;
 }
 
@@ -145,11 +158,243 @@ bool Session::LoadClipFile(const std::string& path) {
     diag.Warning(path, "animates the jaw, but the rig has none (the jaw values do nothing)");
   AddMessages(diag, "");
   clip_ = std::move(clip);
+  has_clip_spec_ = !IsCompiledClipPath(path);
   clip_spec_ = std::move(spec);
   clip_path_ = path;
+  selection.clear();
+  history_.Clear();
+  history_.MarkSaved(kEditClip);
   timeline_ = ListTimeline(*clip_, rig().muscle_names(),
                            IsCompiledClipPath(path) ? nullptr : &clip_spec_);
   return true;
+}
+
+EditTarget Session::Target() {
+  static const std::vector<std::string> kNoMuscles;
+  EditTarget t;
+  t.has_clip = &has_clip_spec_;
+  t.clip = &clip_spec_;
+  t.library = &library_;
+  t.activations = &activations;
+  t.jaw = &jaw;
+  t.muscle_names = rig_ ? &rig().muscle_names() : &kNoMuscles;
+  return t;
+}
+
+bool Session::Fail(const std::string& what, std::string* error) {
+  messages_.push_back({true, what});
+  if (error) *error = what;
+  return false;
+}
+
+bool Session::Rebuild(unsigned touched, std::string* error) {
+  if (touched & kEditLibrary) {
+    if (expression_weights.size() != library_.size()) expression_weights.assign(library_.size(), 0.f);
+  }
+  if (!(touched & (kEditClip | kEditLibrary)) || !has_clip_spec_) return true;
+  if (!rig_ || clip_spec_.channels.empty()) {  // nothing to play yet
+    clip_.reset();
+    timeline_.clear();
+    return true;
+  }
+  Diagnostics diag;
+  auto clip = std::make_unique<CompiledClip>();
+  if (!CheckClipSpec(clip_spec_, &diag) ||
+      !BuildClip(clip_spec_, rig().muscle_names(), library_, clip.get(), &diag)) {
+    if (error) {
+      for (const Diagnostic& d : diag.items())
+        if (d.severity == Severity::kError) {
+          *error = "the clip would break a rule: " + (d.where.empty() ? d.what : d.where + ": " + d.what);
+          break;
+        }
+    }
+    return false;
+  }
+  clip_ = std::move(clip);
+  timeline_ = ListTimeline(*clip_, rig().muscle_names(), &clip_spec_);
+  return true;
+}
+
+bool Session::Edit(CommandPtr command, std::string* error) {
+  const std::string what = command->Describe();
+  last_touched_ = command->Touches();
+  std::string why;
+  const auto validate = [this](unsigned touched, std::string* e) { return Rebuild(touched, e); };
+  if (!history_.Do(std::move(command), Target(), validate, &why))
+    return Fail(what + ": " + why, error);
+  return true;
+}
+
+bool Session::Undo() {
+  unsigned touched = 0;
+  if (!history_.Undo(Target(), &touched)) return false;
+  last_touched_ = touched;
+  if (touched & kEditClip) selection.clear();
+  Rebuild(touched, nullptr);
+  return true;
+}
+
+bool Session::Redo(std::string* error) {
+  unsigned touched = 0;
+  std::string why;
+  const auto validate = [this](unsigned t, std::string* e) { return Rebuild(t, e); };
+  if (!history_.Redo(Target(), validate, &touched, &why)) {
+    if (why.empty()) return false;
+    return Fail("redo: " + why, error);
+  }
+  last_touched_ = touched;
+  if (touched & kEditClip) selection.clear();
+  return true;
+}
+
+bool Session::NewClip(const std::string& path) {
+  if (!rig_) return Fail(path + ": no rig is loaded; open a rig before making a clip", nullptr);
+  std::string name = std::filesystem::path(path).filename().string();
+  for (const char* ext : {".clip.json", ".json"})
+    if (name.size() > std::strlen(ext) && name.compare(name.size() - std::strlen(ext), std::strlen(ext), ext) == 0) {
+      name.resize(name.size() - std::strlen(ext));
+      break;
+    }
+  clip_spec_ = ClipSpec{};
+  clip_spec_.name = name.empty() ? "untitled" : name;
+  has_clip_spec_ = true;
+  clip_.reset();
+  timeline_.clear();
+  clip_path_ = path;
+  selection.clear();
+  history_.Clear();
+  history_.MarkChanged(kEditClip);  // not saved yet
+  return true;
+}
+
+bool Session::SetByName(const std::string& name, float value, std::string* error) {
+  if (!rig_) return Fail("set " + name + ": no rig is loaded", error);
+  if (name == kJawInputName && rig().FindMuscle(name) < 0) return Edit(MakeSetJaw(value), error);
+  std::vector<uint32_t> muscles;
+  if (const int m = rig().FindMuscle(name); m >= 0) {
+    muscles.push_back(uint32_t(m));
+  } else {
+    const int l = rig().FindMuscle(name + "_L"), r = rig().FindMuscle(name + "_R");
+    if (l < 0 || r < 0)
+      return Fail("set " + name + ": the rig has no muscle '" + name + "' (nor " + name + "_L and " +
+                      name + "_R); the closest: " + ClosestNames(rig().muscle_names(), name),
+                  error);
+    muscles = {uint32_t(l), uint32_t(r)};
+  }
+  return Edit(MakeSetMuscles(std::move(muscles), value), error);
+}
+
+bool Session::SaveClipFile(const std::string& path_in, std::string* error) {
+  const std::string path = path_in.empty() ? clip_path_ : path_in;
+  if (!has_clip_spec_) return Fail("save clip: no clip is open for editing", error);
+  if (path.empty()) return Fail("save clip: no file name given", error);
+  Diagnostics diag;
+  if (!SaveClip(path, clip_spec_, &diag)) {
+    AddMessages(diag, "");
+    return Fail(path + ": the clip was not saved (" + diag.Format().substr(0, diag.Format().find('\n')) +
+                    "); the edits are kept, unsaved",
+                error);
+  }
+  if (!clip_path_.empty()) std::remove(AutosavePath(clip_path_).c_str());
+  std::remove(AutosavePath(path).c_str());
+  clip_path_ = path;
+  history_.MarkSaved(kEditClip);
+  return true;
+}
+
+bool Session::SaveLibraryFile(const std::string& path_in, std::string* error) {
+  const std::string path = path_in.empty() ? library_path_ : path_in;
+  if (path.empty()) return Fail("save library: no file name given", error);
+  Diagnostics diag;
+  if (!SaveExpressionLibrary(path, library_, &diag)) {
+    AddMessages(diag, "");
+    return Fail(path + ": the library was not saved (" + diag.Format().substr(0, diag.Format().find('\n')) +
+                    "); the edits are kept, unsaved",
+                error);
+  }
+  if (!library_path_.empty()) std::remove(AutosavePath(library_path_).c_str());
+  std::remove(AutosavePath(path).c_str());
+  library_path_ = path;
+  history_.MarkSaved(kEditLibrary);
+  return true;
+}
+
+bool Session::Autosave() {
+  bool ok = true;
+  if (clip_dirty() && !clip_path_.empty() && history_.version(kEditClip) != autosaved_[0] &&
+      !clip_spec_.channels.empty()) {
+    Diagnostics diag;
+    if (SaveClip(AutosavePath(clip_path_), clip_spec_, &diag)) {
+      autosaved_[0] = history_.version(kEditClip);
+    } else {
+      AddMessages(diag, AutosavePath(clip_path_) + ": the autosave failed");
+      ok = false;
+    }
+  }
+  if (library_dirty() && !library_path_.empty() && history_.version(kEditLibrary) != autosaved_[1]) {
+    Diagnostics diag;
+    if (SaveExpressionLibrary(AutosavePath(library_path_), library_, &diag)) {
+      autosaved_[1] = history_.version(kEditLibrary);
+    } else {
+      AddMessages(diag, AutosavePath(library_path_) + ": the autosave failed");
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+std::vector<std::string> Session::PendingAutosaves() const {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const std::string* p : {&clip_path_, &library_path_})
+    if (!p->empty() && std::filesystem::is_regular_file(AutosavePath(*p), ec))
+      out.push_back(AutosavePath(*p));
+  return out;
+}
+
+int Session::RecoverAutosaves() {
+  int recovered = 0;
+  std::error_code ec;
+  if (!library_path_.empty() && std::filesystem::is_regular_file(AutosavePath(library_path_), ec)) {
+    std::vector<Expression> library;
+    Diagnostics diag;
+    if (LoadExpressionLibrary(AutosavePath(library_path_), &library, &diag)) {
+      library_ = std::move(library);
+      expression_weights.assign(library_.size(), 0.f);
+      history_.Clear();
+      history_.MarkChanged(kEditLibrary);
+      ++recovered;
+      messages_.push_back({false, AutosavePath(library_path_) + ": recovered (not saved yet)"});
+    } else {
+      AddMessages(diag, AutosavePath(library_path_) + ": not recovered");
+    }
+  }
+  if (!clip_path_.empty() && rig_ && std::filesystem::is_regular_file(AutosavePath(clip_path_), ec)) {
+    ClipSpec spec;
+    Diagnostics diag;
+    auto clip = std::make_unique<CompiledClip>();
+    if (LoadClip(AutosavePath(clip_path_), &spec, &diag) &&
+        BuildClip(spec, rig().muscle_names(), library_, clip.get(), &diag)) {
+      clip_spec_ = std::move(spec);
+      has_clip_spec_ = true;
+      clip_ = std::move(clip);
+      timeline_ = ListTimeline(*clip_, rig().muscle_names(), &clip_spec_);
+      selection.clear();
+      history_.Clear();
+      history_.MarkChanged(kEditClip);
+      ++recovered;
+      messages_.push_back({false, AutosavePath(clip_path_) + ": recovered (not saved yet)"});
+    } else {
+      AddMessages(diag, AutosavePath(clip_path_) + ": not recovered");
+    }
+  } else if (has_clip_spec_) {
+    Rebuild(kEditLibrary, nullptr);
+  }
+  return recovered;
+}
+
+void Session::DiscardAutosaves() {
+  for (const std::string& p : PendingAutosaves()) std::remove(p.c_str());
 }
 
 bool Session::ApplySettings(const std::vector<std::string>& sets) {

@@ -17,6 +17,7 @@
 #include "io/expression_file.h"
 #include "io/rig_loader.h"
 #include "rig/runtime/evaluate_job.h"
+#include "viewer/core/edit.h"
 #include "viewer/core/overlays.h"
 #include "viewer/core/thread_pool.h"
 #include "viewer/core/timeline.h"
@@ -32,6 +33,9 @@ struct Message {
 // expressions/default.library.json) in the rig's folder or up to four folders above; "" when
 // there is none.
 std::string DefaultLibraryPath(const std::string& rig_path);
+
+// The side file an autosave writes for `path`: PATH.autosave.
+std::string AutosavePath(const std::string& path);
 
 // Milliseconds since `start`.
 double MillisecondsSince(std::chrono::steady_clock::time_point start);
@@ -87,6 +91,49 @@ class Session {
   bool SampleClip(float time);
   void ResetPose();
 
+  // --- Editing (docs/viewer.md "Authoring"). -----------------------------------------------
+  // Every edit is a Command (edit.h) applied here: on success it is on the undo stack and the
+  // clip (when the clip or the library changed) is rebuilt for playback; on failure nothing
+  // changed and the message (also in messages()) is in *error when given. Loading a rig, clip
+  // or library forgets the undo and redo stacks (their commands name the old file's keys).
+  bool Edit(CommandPtr command, std::string* error = nullptr);
+  bool Undo();
+  bool Redo(std::string* error = nullptr);
+  const EditHistory& history() const { return history_; }
+  // The EditDoc bits of the last command done, undone or redone.
+  unsigned last_touched() const { return last_touched_; }
+  // The clip spec being edited: a .clip.json that was loaded, or a new clip. A compiled .mclip
+  // has no spec and cannot be edited.
+  bool has_clip_spec() const { return has_clip_spec_; }
+  const ClipSpec& clip_spec() const { return clip_spec_; }
+  // Starts a new, empty clip to be saved at `path` (its name: the file name without
+  // .clip.json). Needs a rig.
+  bool NewClip(const std::string& path);
+  // A pose setting by name (the Muscles panel, `set NAME VALUE` of a script): a muscle, NAME
+  // for NAME_L and NAME_R, or "jaw".
+  bool SetByName(const std::string& name, float value, std::string* error = nullptr);
+  // The keys selected on the timeline and the copied keys (the commands take them).
+  std::vector<KeyRef> selection;
+  KeyClipboard clipboard;
+
+  // Saving (atomic: temp file + rename). `path` empty: the file it was loaded from. A failed
+  // save says why in messages() (and *error) and keeps the edits and the dirty flag.
+  bool SaveClipFile(const std::string& path = "", std::string* error = nullptr);
+  bool SaveLibraryFile(const std::string& path = "", std::string* error = nullptr);
+  bool clip_dirty() const { return has_clip_spec_ && history_.dirty(kEditClip); }
+  bool library_dirty() const { return history_.dirty(kEditLibrary); }
+
+  // Autosave: the edited clip and library, when they have changes not saved nor autosaved
+  // yet, written to AutosavePath(their file). False (with messages) when a write failed.
+  bool Autosave();
+  // The autosave files of the current clip and library that exist (newer edits to recover).
+  std::vector<std::string> PendingAutosaves() const;
+  // Replaces the clip and library with their autosaves (each must read and build); they are
+  // then dirty (not saved to their own files). Returns how many were recovered.
+  int RecoverAutosaves();
+  // Removes the autosave files of the current clip and library.
+  void DiscardAutosaves();
+
   // --- One frame. --------------------------------------------------------------------------
   // Evaluates the pose (EvaluateJob with the pool): positions and normals per output vertex;
   // the tension outputs when `overlay` reads them; then the overlay's field (a second
@@ -112,12 +159,21 @@ class Session {
   bool RunJob(const SkinLayers& layers, std::vector<float3>* positions,
               std::vector<float3>* normals, std::vector<float>* tension, EvaluateContext* ctx);
   void CheckLibrary();
+  EditTarget Target();
+  // Rebuilds the clip from the spec (after an edit of the clip or library); false with *error
+  // (nullptr: ignore errors) when the spec breaks a rule or does not build.
+  bool Rebuild(unsigned touched, std::string* error);
+  bool Fail(const std::string& what, std::string* error);
 
   ThreadPool pool_;
   std::unique_ptr<LoadedRig> rig_;
   std::string rig_path_;
   std::unique_ptr<CompiledClip> clip_;
   ClipSpec clip_spec_;
+  bool has_clip_spec_ = false;
+  unsigned last_touched_ = 0;
+  EditHistory history_;
+  uint64_t autosaved_[2] = {0, 0};  // clip, library versions last autosaved
   std::string clip_path_;
   std::vector<TimelineChannel> timeline_;
   std::vector<Expression> library_;
