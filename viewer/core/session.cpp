@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 
 #include "expressions/offline/activation_binding.h"
 #include "expressions/runtime/clip_binary.h"
@@ -284,39 +285,39 @@ bool Session::SetByName(const std::string& name, float value, std::string* error
   return Edit(MakeSetMuscles(std::move(muscles), value), error);
 }
 
-bool Session::SaveClipFile(const std::string& path_in, std::string* error) {
-  const std::string path = path_in.empty() ? clip_path_ : path_in;
-  if (!has_clip_spec_) return Fail("save clip: no clip is open for editing", error);
-  if (path.empty()) return Fail("save clip: no file name given", error);
+// A save of the clip or the library: write through `write` (atomic, docs/viewer.md "Safety"),
+// then forget the autosaves of the old and the new file and mark that document saved. A failed
+// write keeps the edits and says why.
+bool Session::SaveDocument(const char* what, const std::string& path, std::string* current_path,
+                           EditDoc document, const std::function<bool(Diagnostics*)>& write,
+                           std::string* error) {
+  if (path.empty()) return Fail(std::string("save ") + what + ": no file name given", error);
   Diagnostics diag;
-  if (!SaveClip(path, clip_spec_, &diag)) {
+  if (!write(&diag)) {
     AddMessages(diag, "");
-    return Fail(path + ": the clip was not saved (" + diag.Format().substr(0, diag.Format().find('\n')) +
-                    "); the edits are kept, unsaved",
+    const std::string first = diag.Format().substr(0, diag.Format().find('\n'));
+    return Fail(path + ": the " + what + " was not saved (" + first + "); the edits are kept, unsaved",
                 error);
   }
-  if (!clip_path_.empty()) std::remove(AutosavePath(clip_path_).c_str());
+  if (!current_path->empty()) std::remove(AutosavePath(*current_path).c_str());
   std::remove(AutosavePath(path).c_str());
-  clip_path_ = path;
-  history_.MarkSaved(kEditClip);
+  *current_path = path;
+  history_.MarkSaved(document);
   return true;
+}
+
+bool Session::SaveClipFile(const std::string& path_in, std::string* error) {
+  if (!has_clip_spec_) return Fail("save clip: no clip is open for editing", error);
+  const std::string path = path_in.empty() ? clip_path_ : path_in;
+  return SaveDocument("clip", path, &clip_path_, kEditClip,
+                      [&](Diagnostics* diag) { return SaveClip(path, clip_spec_, diag); }, error);
 }
 
 bool Session::SaveLibraryFile(const std::string& path_in, std::string* error) {
   const std::string path = path_in.empty() ? library_path_ : path_in;
-  if (path.empty()) return Fail("save library: no file name given", error);
-  Diagnostics diag;
-  if (!SaveExpressionLibrary(path, library_, &diag)) {
-    AddMessages(diag, "");
-    return Fail(path + ": the library was not saved (" + diag.Format().substr(0, diag.Format().find('\n')) +
-                    "); the edits are kept, unsaved",
-                error);
-  }
-  if (!library_path_.empty()) std::remove(AutosavePath(library_path_).c_str());
-  std::remove(AutosavePath(path).c_str());
-  library_path_ = path;
-  history_.MarkSaved(kEditLibrary);
-  return true;
+  return SaveDocument("library", path, &library_path_, kEditLibrary,
+                      [&](Diagnostics* diag) { return SaveExpressionLibrary(path, library_, diag); },
+                      error);
 }
 
 bool Session::Autosave() {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -164,6 +165,9 @@ class Session {
   // (nullptr: ignore errors) when the spec breaks a rule or does not build.
   bool Rebuild(unsigned touched, std::string* error);
   bool Fail(const std::string& what, std::string* error);
+  bool SaveDocument(const char* what, const std::string& path, std::string* current_path,
+                    EditDoc document, const std::function<bool(Diagnostics*)>& write,
+                    std::string* error);
 
   ThreadPool pool_;
   std::unique_ptr<LoadedRig> rig_;
