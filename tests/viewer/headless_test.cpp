@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "core/image.h"
+#include "io/clip_file.h"
 #include "io/image.h"
 #include "test_support.h"
 
@@ -181,6 +184,134 @@ TEST(ViewerHeadless, AMissingRigOpensTheWindowInsteadOfExiting) {
       "ASAN_OPTIONS=detect_leaks=0 timeout -s INT -k 5 4 xvfb-run -a " + test::ShellQuote(MIMETIC_VIEWER_PATH),
       {test::TempDir() + "/no_such.rig.json"});
   EXPECT_EQ(r.exit_code, 124) << r.output;
+}
+
+// --script end to end (docs/viewer.md "Scripts"): the viewer binary under xvfb-run replays a
+// script's edits, saves the clip and takes a screenshot; what it saved reloads with the keys the
+// script wrote, the undone edit absent.
+std::string Surface() { return test::SourceDir() + "/assets/surface/surface.rig.json"; }
+
+std::string WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+std::string ReadBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(ViewerHeadless, AScriptEditsSavesAndScreenshotsAClip) {
+  REQUIRE_XVFB();
+  const std::string dir = test::TempDir();
+  const std::string clip = dir + "/scripted.clip.json", shot = dir + "/scripted.png";
+  const std::string script = WriteText(dir + "/edit.txt",
+      "# a clip from nothing\n"
+      "clip new " + clip + "\n"
+      "key add muscle:zygomatic 0 0 linear\n"
+      "key add muscle:zygomatic 1 0.8 cubic\n"
+      "key add muscle:frontalis 0.5 0.25 step\n"
+      "key move muscle:zygomatic 1 1.5 0.6\n"
+      "undo\n"                       // the move is undone: the key is back at (1, 0.8)
+      "key delete muscle:frontalis 0.5\n"
+      "undo\n"                       // the delete is undone: frontalis keeps its key
+      "time 1\n"
+      "save-clip\n"
+      "screenshot " + shot + "\n");
+  const test::ToolResult r = RunViewer({Surface(), "--script", script, "--size", "320x200"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  ClipSpec saved;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadClip(clip, &saved, &diag)) << diag.Format();
+  ASSERT_EQ(saved.channels.size(), 2u);
+  const ClipChannelSpec* zyg = nullptr;
+  const ClipChannelSpec* fro = nullptr;
+  for (const ClipChannelSpec& c : saved.channels) (c.target == "zygomatic" ? zyg : fro) = &c;
+  ASSERT_TRUE(zyg && fro);
+  ASSERT_EQ(zyg->keys.size(), 2u);
+  EXPECT_EQ(zyg->keys[0].t, 0.f);
+  EXPECT_EQ(zyg->keys[0].v, 0.f);
+  EXPECT_EQ(zyg->keys[0].interp, KeyInterp::kLinear);
+  EXPECT_EQ(zyg->keys[1].t, 1.f);
+  EXPECT_EQ(zyg->keys[1].v, 0.8f);
+  EXPECT_EQ(zyg->keys[1].interp, KeyInterp::kCubic);
+  EXPECT_EQ(fro->target, "frontalis");
+  ASSERT_EQ(fro->keys.size(), 1u);
+  EXPECT_EQ(fro->keys[0].t, 0.5f);
+  EXPECT_EQ(fro->keys[0].v, 0.25f);
+  EXPECT_EQ(fro->keys[0].interp, KeyInterp::kStep);
+
+  GrayImage g;
+  ASSERT_TRUE(LoadGrayImage(shot, "test", "screenshot", &g, &diag)) << diag.Format();
+  EXPECT_EQ(g.width, 320);
+  EXPECT_EQ(g.height, 200);
+  const Box b = Silhouette(g);
+  EXPECT_GT(b.bottom - b.top, 50) << "the screenshot shows no surface";
+}
+
+TEST(ViewerHeadless, AScriptStopsAtItsFirstBadLineKeepingEarlierSaves) {
+  REQUIRE_XVFB();
+  const std::string dir = test::TempDir();
+  const std::string clip = dir + "/stopped.clip.json";
+  const std::string script = WriteText(dir + "/bad_edit.txt",
+      "clip new " + clip + "\n"
+      "key add muscle:zygomatic 0 0.5\n"
+      "save-clip\n"
+      "key add muscle:zygomatic 1 1.5\n"   // line 4: a value outside [0, 1]
+      "key add muscle:zygomatic 2 0.1\n"
+      "save-clip\n");
+  const test::ToolResult r = RunViewer({Surface(), "--script", script});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("bad_edit.txt:4:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1.5"), std::string::npos) << r.output;
+  ClipSpec saved;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadClip(clip, &saved, &diag)) << diag.Format();
+  ASSERT_EQ(saved.channels.size(), 1u);
+  ASSERT_EQ(saved.channels[0].keys.size(), 1u);  // line 5 never ran
+  EXPECT_EQ(saved.channels[0].keys[0].v, 0.5f);
+}
+
+// A viewer killed in the middle of a save (MIMETIC_TEST_EXIT_BEFORE_RENAME ends it after the
+// temporary file is written and before the rename, exit 86) leaves the old file byte for byte;
+// the same script without the fault then replaces it.
+TEST(ViewerHeadless, AViewerKilledDuringASaveLeavesTheOldFile) {
+  REQUIRE_XVFB();
+  const std::string dir = test::TempDir();
+  const std::string clip = dir + "/take.clip.json";
+  const std::string old_text =
+      "{\"format\": \"mimetic-clip\", \"version\": 1, \"name\": \"take\", \"channels\": ["
+      "{\"muscle\": \"zygomatic\", \"keys\": [{\"t\": 0, \"v\": 0.25}]}]}\n";
+  WriteText(clip, old_text);
+  {  // the file is a valid clip to begin with
+    ClipSpec spec;
+    Diagnostics diag;
+    ASSERT_TRUE(LoadClip(clip, &spec, &diag)) << diag.Format();
+  }
+  const std::string script = WriteText(dir + "/edit.txt",
+      "load-clip " + clip + "\n"
+      "key add muscle:zygomatic 1 0.75\n"
+      "save-clip\n");
+  const test::ToolResult killed = test::RunCommand(
+      "MIMETIC_TEST_EXIT_BEFORE_RENAME=take.clip.json " + std::string(kViewer) +
+          test::ShellQuote(MIMETIC_VIEWER_PATH),
+      {Surface(), "--script", script});
+  EXPECT_EQ(killed.exit_code, 86) << killed.output;
+  EXPECT_EQ(ReadBytes(clip), old_text) << "the killed save changed the old file";
+
+  const test::ToolResult ok = RunViewer({Surface(), "--script", script});
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  ClipSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadClip(clip, &spec, &diag)) << diag.Format();
+  ASSERT_EQ(spec.channels.size(), 1u);
+  ASSERT_EQ(spec.channels[0].keys.size(), 2u);
+  EXPECT_EQ(spec.channels[0].keys[0].v, 0.25f);
+  EXPECT_EQ(spec.channels[0].keys[1].t, 1.f);
+  EXPECT_EQ(spec.channels[0].keys[1].v, 0.75f);
 }
 
 }  // namespace

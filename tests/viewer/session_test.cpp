@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <set>
 
 #include <gtest/gtest.h>
 
+#include "io/expression_library.h"
 #include "rig/offline/rig_builder.h"
 #include "test_support.h"
 
@@ -115,6 +117,35 @@ TEST(ViewerSession, ThreadedEvaluationGivesTheSameBits) {
   EXPECT_EQ(0, std::memcmp(one.positions().data(), two.positions().data(),
                            one.positions().size() * sizeof(float3)));
   EXPECT_EQ(one.overlay_field().values, two.overlay_field().values);
+}
+
+// A library made for another rig (the sample head's on the two-muscle test surface): the first
+// few unknown names each get a warning, the rest one summary line with the counts, which are
+// computed here from the library file independently.
+TEST(ViewerSession, ALibraryForAnotherRigWarnsInAFewLines) {
+  Session s(1);
+  ASSERT_TRUE(s.LoadRigFile(Surface()));
+  const std::string lib = test::SourceDir() + "/assets/expressions/default.library.json";
+  std::vector<Expression> library;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadExpressionLibrary(lib, &library, &diag)) << diag.Format();
+  const std::set<std::string> known = {"frontalis", "zygomatic", "jaw"};
+  size_t activations = 0;
+  std::set<std::string> muscles, expressions;
+  for (const Expression& e : library)
+    for (const auto& [m, v] : e.activations)
+      if (!known.count(m)) ++activations, muscles.insert(m), expressions.insert(e.name);
+  ASSERT_GT(activations, 3u);
+  const size_t before = s.messages().size();
+  ASSERT_TRUE(s.LoadLibraryFile(lib));
+  ASSERT_EQ(s.messages().size() - before, 4u);
+  const std::string summary = s.messages().back().text;
+  EXPECT_FALSE(s.messages().back().error);
+  const std::string counts = std::to_string(activations - 3) + " more activations name muscles the rig lacks (" +
+                             std::to_string(expressions.size()) + " of " + std::to_string(library.size()) +
+                             " expressions, " + std::to_string(muscles.size()) + " muscles: ";
+  EXPECT_NE(summary.find(counts), std::string::npos) << summary << "\nexpected: " << counts;
+  EXPECT_NE(summary.find(*muscles.begin()), std::string::npos) << summary;
 }
 
 }  // namespace

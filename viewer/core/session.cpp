@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <set>
 
 #include "expressions/offline/activation_binding.h"
 #include "expressions/runtime/clip_binary.h"
@@ -96,11 +97,28 @@ void Session::CheckLibrary() {
   Diagnostics diag;
   std::vector<std::string> names = rig().muscle_names();
   names.push_back(kJawInputName);
-  if (!CheckLibraryMuscles(library_, names, library_path_, &diag)) {
-    Diagnostics warnings;  // not fatal here: the blend skips unknown muscles
-    for (const Diagnostic& d : diag.items()) warnings.Warning(d.where, d.what);
-    AddMessages(warnings, "");
+  if (CheckLibraryMuscles(library_, names, library_path_, &diag)) return;
+  // Not fatal here: the blend skips unknown muscles. A library made for another rig names
+  // dozens of them; past a few, one summary line says how many and which instead.
+  constexpr size_t kListed = 3;
+  Diagnostics warnings;
+  for (size_t i = 0; i < diag.items().size() && i < kListed; ++i)
+    warnings.Warning(diag.items()[i].where, diag.items()[i].what);
+  if (diag.items().size() > kListed) {
+    std::set<std::string> unknown, expressions;
+    const std::set<std::string> known(names.begin(), names.end());
+    for (const Expression& e : library_)
+      for (const auto& [muscle, value] : e.activations)
+        if (!known.count(muscle)) unknown.insert(muscle), expressions.insert(e.name);
+    std::string list;
+    for (const std::string& m : unknown) list += (list.empty() ? "" : ", ") + m;
+    warnings.Warning(library_path_,
+                     std::to_string(diag.items().size() - kListed) + " more activations name muscles the rig lacks (" +
+                         std::to_string(expressions.size()) + " of " + std::to_string(library_.size()) +
+                         " expressions, " + std::to_string(unknown.size()) + " muscles: " + list +
+                         "); the blends skip them (is the library made for another rig?)");
   }
+  AddMessages(warnings, "");
 }
 
 bool Session::LoadLibraryFile(const std::string& path) {
