@@ -131,5 +131,22 @@ TEST(ViewerScript, ABadLineIsNamedWithItsFileAndLine) {
   EXPECT_NE(error.find("no_such_script.txt"), std::string::npos) << error;
 }
 
+// `time T` tells the window's playhead (ScriptHooks::playhead) where the pose is, so a later
+// screenshot's timeline shows T; `time none` lets go of the clip (-1).
+TEST(ViewerScript, TimeLinesMoveThePlayhead) {
+  Session s(1);
+  ASSERT_TRUE(s.LoadRigFile(Surface()));
+  std::vector<float> seen;
+  ScriptHooks hooks;
+  hooks.playhead = [&](float t) { seen.push_back(t); };
+  std::string error;
+  ASSERT_TRUE(RunScript("clip new " + test::TempDir() + "/p.clip.json\n"
+                        "key add muscle:zygomatic 0 0\nkey add muscle:zygomatic 2 1\n"
+                        "time 0.5\ntime 1.25\ntime none\n",
+                        "p.txt", &s, hooks, &error))
+      << error;
+  EXPECT_EQ(seen, (std::vector<float>{0.5f, 1.25f, -1.f}));
+}
+
 }  // namespace
 }  // namespace mimetic::viewer

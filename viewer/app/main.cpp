@@ -147,6 +147,10 @@ int Headless(const ViewerArgs& args, App* app, GLFWwindow* window) {
     hooks.screenshot = [&](const std::string& path, std::string* error) {
       return TakeScreenshot(args, app, path, error);
     };
+    hooks.playhead = [&](float t) {
+      app->pose_from_clip = t >= 0.f;
+      if (t >= 0.f) app->clip_time = t;
+    };
     std::string error;
     const size_t before = app->session.messages().size();
     const bool ok = RunScriptFile(args.script, &app->session, hooks, &error);

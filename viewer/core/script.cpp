@@ -207,6 +207,7 @@ bool RunScriptWords(const std::vector<std::string>& w, Session* s, const ScriptH
     if (!Arity(w, 2, 2, "time T|none", error)) return false;
     if (sub == "none") {
       *time = -1.f;
+      if (hooks.playhead) hooks.playhead(-1.f);
       return true;
     }
     if (!Number(sub, "a time in seconds or none", &a, error)) return false;
@@ -215,6 +216,7 @@ bool RunScriptWords(const std::vector<std::string>& w, Session* s, const ScriptH
       return false;
     }
     *time = a;
+    if (hooks.playhead) hooks.playhead(a);
     return s->SampleClip(a);
   }
   if (op == "expr") {

@@ -31,6 +31,9 @@ struct ScriptHooks {
   // `screenshot PATH`: renders the session's current frame into PATH (false with *error).
   // Unset: the command is an error ("no renderer").
   std::function<bool(const std::string& path, std::string* error)> screenshot;
+  // `time T` / `time none`: the playhead moved to T (< 0: the pose no longer follows the clip),
+  // so that a window or screenshot shows it there. Unset: nothing else follows.
+  std::function<void(float time)> playhead;
 };
 
 // Splits a line into words: whitespace-separated, "double quotes" group (with \" and \\), a #

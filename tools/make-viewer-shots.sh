@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The viewer's screenshots in docs/viewer.md and the README, each from a script of
+# tools/viewer-shots/ (the same commands the panels issue, docs/viewer.md "Scripts") replayed by
+# mimetic-viewer under xvfb-run, then cropped to the panel it shows. Needs xvfb-run and
+# ImageMagick's convert (bash tools/install-deps.sh; apt-get install imagemagick).
+#   bash tools/make-viewer-shots.sh [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+viewer=${1:-build}/viewer/mimetic-viewer
+[[ -x $viewer ]] || { echo "make-viewer-shots: $viewer not found (build the viewer first)" >&2; exit 1; }
+for tool in xvfb-run convert; do
+  command -v $tool >/dev/null || { echo "make-viewer-shots: needs $tool" >&2; exit 1; }
+done
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# The timeline: the smile clip with muscle and jaw channels keyed over it, two keys selected,
+# the playhead at 1 s. The clip is edited in memory only (the script saves nothing).
+xvfb-run -a "$viewer" assets/head/sample_head.rig.json --clip assets/clips/smile.clip.json \
+  --script tools/viewer-shots/timeline.txt --ui --size 1600x950 --screenshot "$tmp/timeline.png" >/dev/null
+convert "$tmp/timeline.png" -crop 905x250+350+700 +repage "$tmp/viewer_timeline.png"
+mv "$tmp/viewer_timeline.png" docs/images/viewer_timeline.png
+echo "wrote docs/images/viewer_timeline.png"
