@@ -42,6 +42,18 @@ TEST(ViewerArgs, SetsAndDefaults) {
   EXPECT_TRUE(a.help);
 }
 
+TEST(ViewerArgs, FineMapsAndTheirDepth) {
+  ViewerArgs a;
+  std::string error;
+  ASSERT_TRUE(ParseViewerArgs({"r", "--fine", "maps"}, &a, &error)) << error;
+  EXPECT_EQ(a.fine, "maps");
+  EXPECT_FALSE(a.has_fine_depth);
+  EXPECT_EQ(a.fine_depth, 0.15f);  // mimetic render's default
+  ASSERT_TRUE(ParseViewerArgs({"r", "--fine=m2", "--fine-depth", "0.4"}, &a, &error)) << error;
+  EXPECT_EQ(a.fine, "m2");
+  EXPECT_EQ(a.fine_depth, 0.4f);
+}
+
 TEST(ViewerArgs, UsageErrorsNameTheOption) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"r", "--bogus"}, "unknown option --bogus"},
@@ -60,6 +72,10 @@ TEST(ViewerArgs, UsageErrorsNameTheOption) {
       {{"a", "b"}, "at most one RIG"},
       {{"r", "--bench-frames", "2.5"}, "--bench-frames 2.5"},
       {{"r", "--threads", "0"}, "--threads 0"},
+      {{"r", "--fine-depth", "0.2"}, "--fine-depth needs --fine"},
+      {{"r", "--fine", "maps", "--fine-depth", "nan"}, "--fine-depth nan"},
+      {{"r", "--fine", "maps", "--fine-depth", "-1"}, "--fine-depth -1"},
+      {{"r", "--fine"}, "--fine: missing value"},
   };
   for (const auto& [args, needle] : cases) {
     ViewerArgs a;

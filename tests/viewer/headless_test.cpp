@@ -314,5 +314,58 @@ TEST(ViewerHeadless, AViewerKilledDuringASaveLeavesTheOldFile) {
   EXPECT_EQ(spec.channels[0].keys[1].v, 0.75f);
 }
 
+// Fine scale (docs/viewer.md "Fine scale"): the shader bump-maps the slopes of the two height
+// maps. Maps written here: a flat map has no slope, so at any depth the image is the plain one,
+// bit for bit, as it is at depth 0 with furrowed maps; furrows (stripes across v, on the head's
+// cylindrical uv: horizontal lines) change the shading of the face.
+std::string WriteFineMaps(const std::string& dir, bool stripes) {
+  for (int k = 1; k <= 2; ++k) {
+    Gray16Image m;
+    m.width = m.height = 256;
+    m.pixels.assign(size_t(m.width) * m.height, 65535);
+    if (stripes)
+      for (int y = 0; y < m.height; ++y)
+        for (int x = 0; x < m.width; ++x)
+          m.pixels[size_t(y) * m.width + x] =
+              uint16_t(32768 + 32767 * std::cos(2.0 * M_PI * (y * (k == 1 ? 24.0 : 0.0)) / m.height));
+    Diagnostics diag;
+    EXPECT_TRUE(SavePng16(dir + "/fine_height_" + std::to_string(k) + ".png", m, &diag)) << diag.Format();
+  }
+  return dir;
+}
+
+TEST(ViewerHeadless, FineMapsBumpTheShadingByTheirSlopesOnly) {
+  REQUIRE_XVFB();
+  const std::string flat = test::TempDir(), furrowed = test::TempDir();
+  WriteFineMaps(flat, false);
+  WriteFineMaps(furrowed, true);
+  const std::vector<std::string> pose = {Head(), "--set", "frontalis_inner=1"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> all = pose;
+    all.insert(all.end(), extra.begin(), extra.end());
+    return all;
+  };
+  const GrayImage plain = Screenshot(pose, "fine_plain");
+  const GrayImage flat_deep = Screenshot(with({"--fine", flat, "--fine-depth", "5"}), "fine_flat");
+  const GrayImage zero = Screenshot(with({"--fine", furrowed, "--fine-depth", "0"}), "fine_zero");
+  const GrayImage bumped = Screenshot(with({"--fine", furrowed, "--fine-depth", "0.5"}), "fine_bumped");
+  ASSERT_EQ(plain.pixels.size(), bumped.pixels.size());
+  EXPECT_EQ(flat_deep.pixels, plain.pixels) << "a map without slope changed the shading";
+  EXPECT_EQ(zero.pixels, plain.pixels) << "depth 0 changed the shading";
+  const Box b = Silhouette(plain);
+  EXPECT_GT(MeanDifference(plain, bumped, b.top, b.bottom, b.left, b.right), 1.0);
+  EXPECT_EQ(plain.pixels[0], bumped.pixels[0]);  // the background is not bumped
+}
+
+TEST(ViewerHeadless, MissingFineMapsExit1NamingTheFile) {
+  REQUIRE_XVFB();
+  const std::string dir = test::TempDir(), out = dir + "/never.png";
+  const test::ToolResult r = RunViewer({Head(), "--fine", dir, "--screenshot", out});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(dir + "/fine_height_1.png"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("mimetic texture"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 }  // namespace
 }  // namespace mimetic::viewer

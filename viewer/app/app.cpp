@@ -14,7 +14,7 @@ namespace mimetic::viewer {
 
 void App::OnRigLoaded() {
   const Rig& rig = session.rig();
-  renderer.SetMesh(rig.vertex_indices(), rig.vertex_count());
+  renderer.SetMesh(rig.vertex_indices(), rig.vertex_count(), rig.vertex_uvs());
   const float3 lo = session.bounds_lo(), hi = session.bounds_hi();
   camera.Frame({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
   point_vertex.assign(rig.point_count(), 0);
@@ -23,6 +23,14 @@ void App::OnRigLoaded() {
   hover_valid = false;
   std::snprintf(rig_field, sizeof rig_field, "%s", session.rig_path().c_str());
   dirty = true;
+}
+
+bool App::LoadFineMaps(const std::string& dir) {
+  if (!session.LoadFineMaps(dir)) return false;
+  renderer.SetFineMaps(session.fine_height(0), session.fine_height(1));
+  std::snprintf(fine_field, sizeof fine_field, "%s", dir.c_str());
+  dirty = true;
+  return true;
 }
 
 void App::BeginPoseEdit() {
@@ -64,6 +72,7 @@ void App::Update() {
     stats.overlay_ms = overlay == Overlay::kNone ? 0.0 : session.overlay_ms();
     auto start = std::chrono::steady_clock::now();
     renderer.UploadFrame(session.positions(), session.normals());
+    if (session.fine_active()) renderer.UploadFineAmplitudes(session.fine_amplitudes());
     if (overlay != Overlay::kNone) {
       std::vector<float3> colors;
       OverlayColors(session.overlay_field(), &colors);
@@ -151,6 +160,8 @@ DrawParams App::MakeDrawParams(float aspect) const {
   p.overlay = overlay != Overlay::kNone;
   p.wireframe = wireframe;
   p.surface = show_surface;
+  p.fine = session.fine_active();
+  p.fine_depth = session.fine_depth;
   return p;
 }
 

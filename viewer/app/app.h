@@ -40,6 +40,7 @@ struct App {
   std::vector<uint32_t> hover_muscles;
   // Text fields of the Files panel.
   char rig_field[512] = "", clip_field[512] = "", library_field[512] = "";
+  char fine_field[512] = "";
 
   // Authoring (docs/viewer.md "Authoring").
   int active_channel = -1;        // the timeline row Ins adds a key to (a spec channel)
@@ -74,6 +75,8 @@ struct App {
 
   // After a successful rig load: mesh into the renderer, camera framed, fields filled.
   void OnRigLoaded();
+  // Loads the fine-scale maps of DIR into the session and the renderer (false: messages).
+  bool LoadFineMaps(const std::string& dir);
   // Evaluate (when dirty), upload, gizmos; timings into stats.
   void Update();
   void UpdateGizmos();

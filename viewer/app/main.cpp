@@ -54,6 +54,8 @@ bool HasErrors(const Session& s) {
 bool LoadInputs(const ViewerArgs& args, App* app) {
   Session& s = app->session;
   if (!args.rig.empty() && s.LoadRigFile(args.rig)) app->OnRigLoaded();
+  s.fine_depth = args.fine_depth;
+  if (!args.fine.empty() && s.has_rig()) app->LoadFineMaps(args.fine);
   const std::string library = !args.library.empty() ? args.library
                               : args.rig.empty()    ? ""
                                                     : DefaultLibraryPath(args.rig);

@@ -112,7 +112,22 @@ void ScenePanel(App* app) {
     if (rig.layers().curve_wrinkles)
       changed |= ImGui::Checkbox("curve wrinkles", &s.layers.curve_wrinkles);
     changed |= ImGui::Checkbox("fold limiter", &s.limit_folds);
-    ImGui::TextDisabled("fine scale: not in this rig format yet");
+    // Fine scale: the maps of a `mimetic texture` run, bump-mapped and scaled per vertex.
+    if (s.has_fine_maps()) {
+      changed |= ImGui::Checkbox("fine scale", &s.fine_enabled);
+      ImGui::SameLine();
+      ImGui::SetNextItemWidth(90.f);
+      changed |= ImGui::DragFloat("depth", &s.fine_depth, 0.005f, 0.f, 10.f, "%.3f");
+    } else {
+      ImGui::TextDisabled(rig.fine_scale().empty() ? "fine scale: maps only (no fields in the rig)"
+                                                   : "fine scale: no maps loaded");
+    }
+    ImGui::SetNextItemWidth(160.f);
+    ImGui::InputText("##fine", app->fine_field, sizeof app->fine_field);
+    ImGui::SameLine();
+    if (ImGui::Button("Load maps")) changed |= app->LoadFineMaps(app->fine_field);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("the folder of fine_height_1.png and fine_height_2.png (mimetic texture RIG --out DIR)");
     if (changed) app->dirty = true;
   }
   ImGui::Separator();

@@ -1,12 +1,14 @@
 // viewer/app/renderer.cpp: see renderer.h. Shading: docs/model.md §12 (viewer/core/skin_shading.h
 // is the reference of the fragment shader's expression).
 //
-// Fine scale (docs/model.md §9-10) is not in the rig yet. Its hook: when EvaluateJob gains the
-// two per-vertex amplitudes, they become one more vertex attribute (location 3, beside the
-// overlay colour) and the two height/normal maps two samplers; the fragment shader then
-// perturbs `n` by the amplitude-scaled map normals before the lighting below.
+// Fine scale (docs/model.md §22-23, docs/viewer.md "Fine scale"): the two height maps are two
+// R16 textures, the evaluator's per-vertex amplitudes (a1, a2) one more attribute; the fragment
+// shader bump-maps H = depth sum_k a_k (h_k - 1) as mimetic render does (tools/render/render.cpp),
+// with the surface's uv derivatives P_u, P_v taken from the screen-space derivatives of the
+// camera-space position and the uv instead of per triangle.
 #include "viewer/app/renderer.h"
 
+#include <algorithm>
 #include <string>
 
 #include <GL/glcorearb.h>
@@ -19,14 +21,20 @@ const char* kMeshVertex = R"(#version 330 core
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec3 a_color;
+layout(location = 3) in vec2 a_uv;
+layout(location = 4) in vec2 a_amplitude;
 uniform mat4 u_view;
 uniform mat4 u_projection;
 out vec3 v_normal;   // camera space
 out vec3 v_position; // camera space
 out vec3 v_color;
+out vec2 v_uv;
+out vec2 v_amplitude;
 void main() {
   vec4 p = u_view * vec4(a_position, 1.0);
   v_position = p.xyz;
+  v_uv = a_uv;
+  v_amplitude = a_amplitude;
   v_normal = mat3(u_view) * a_normal;
   v_color = a_color;
   gl_Position = u_projection * p;
@@ -39,6 +47,8 @@ const char* kMeshFragment = R"(#version 330 core
 in vec3 v_normal;
 in vec3 v_position;
 in vec3 v_color;
+in vec2 v_uv;
+in vec2 v_amplitude;
 uniform vec3 u_albedo;
 uniform vec3 u_light;  // unit, toward the light, camera space
 uniform float u_ambient;
@@ -48,11 +58,37 @@ uniform float u_exponent;
 uniform int u_overlay;
 uniform int u_flat;     // 1: a plain colour (wireframe)
 uniform vec3 u_flat_color;
+uniform int u_fine;     // 1: bump-map the two fine-scale height maps
+uniform sampler2D u_height1;
+uniform sampler2D u_height2;
+uniform vec2 u_texel;   // one texel of the maps in uv
+uniform float u_fine_depth;
 out vec4 frag;
+// dh/du, dh/dv of one map by central differences over one texel (the CPU renderer's).
+vec2 Slope(sampler2D m) {
+  float hu = texture(m, v_uv + vec2(u_texel.x, 0.0)).r - texture(m, v_uv - vec2(u_texel.x, 0.0)).r;
+  float hv = texture(m, v_uv + vec2(0.0, u_texel.y)).r - texture(m, v_uv - vec2(0.0, u_texel.y)).r;
+  return vec2(hu / (2.0 * u_texel.x), hv / (2.0 * u_texel.y));
+}
 void main() {
   if (u_flat == 1) { frag = vec4(u_flat_color, 1.0); return; }
   vec3 c = u_overlay == 1 ? v_color : u_albedo;
   vec3 n = normalize(v_normal);
+  if (u_fine == 1) {
+    // P_u, P_v from dp/dx = P_u du/dx + P_v dv/dx and the same in y (a 2x2 solve).
+    vec3 dpx = dFdx(v_position), dpy = dFdy(v_position);
+    vec2 tx = dFdx(v_uv), ty = dFdy(v_uv);
+    float det = tx.x * ty.y - tx.y * ty.x;
+    if (abs(det) > 1e-20) {
+      vec3 pu = (dpx * ty.y - dpy * tx.y) / det;
+      vec3 pv = (dpy * tx.x - dpx * ty.x) / det;
+      vec2 g = (v_amplitude.x * Slope(u_height1) + v_amplitude.y * Slope(u_height2)) * u_fine_depth;
+      // (P_u + H_u n) x (P_v + H_v n) to first order, turned outward; n keeps |P_u x P_v|.
+      vec3 base = cross(pu, pv);
+      float sgn = dot(base, n) < 0.0 ? -1.0 : 1.0;
+      n = normalize(n * length(base) + (cross(n, pv) * g.x + cross(pu, n) * g.y) * sgn);
+    }
+  }
   vec3 v = normalize(-v_position);
   if (dot(n, v) < 0.0) n = -n;
   float d = max(0.0, dot(n, u_light));
@@ -115,10 +151,10 @@ unsigned Link(const char* vs, const char* fs, std::string* error) {
   return 0;
 }
 
-void Attribute(unsigned vbo, unsigned location) {
+void Attribute(unsigned vbo, unsigned location, int size = 3) {
   glBindBuffer(GL_ARRAY_BUFFER, vbo);
   glEnableVertexAttribArray(location);
-  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glVertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, 0, nullptr);
 }
 
 }  // namespace
@@ -132,11 +168,16 @@ bool Renderer::Init(std::string* error) {
   glGenBuffers(1, &position_vbo_);
   glGenBuffers(1, &normal_vbo_);
   glGenBuffers(1, &color_vbo_);
+  glGenBuffers(1, &uv_vbo_);
+  glGenBuffers(1, &amplitude_vbo_);
   glGenBuffers(1, &index_ebo_);
+  glGenTextures(2, height_textures_);
   glBindVertexArray(vao_);
   Attribute(position_vbo_, 0);
   Attribute(normal_vbo_, 1);
   Attribute(color_vbo_, 2);
+  Attribute(uv_vbo_, 3, 2);
+  Attribute(amplitude_vbo_, 4, 2);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_ebo_);
   glGenVertexArrays(1, &gizmo_vao_);
   glGenBuffers(1, &gizmo_vbo_);
@@ -149,9 +190,10 @@ bool Renderer::Init(std::string* error) {
 }
 
 void Renderer::Shutdown() {
-  const unsigned buffers[] = {position_vbo_, normal_vbo_, color_vbo_, index_ebo_, gizmo_vbo_,
-                              gizmo_color_vbo_};
-  glDeleteBuffers(6, buffers);
+  const unsigned buffers[] = {position_vbo_, normal_vbo_, color_vbo_, uv_vbo_, amplitude_vbo_,
+                              index_ebo_, gizmo_vbo_, gizmo_color_vbo_};
+  glDeleteBuffers(8, buffers);
+  glDeleteTextures(2, height_textures_);
   const unsigned arrays[] = {vao_, gizmo_vao_};
   glDeleteVertexArrays(2, arrays);
   glDeleteProgram(mesh_program_);
@@ -163,7 +205,8 @@ void Renderer::Shutdown() {
   }
 }
 
-void Renderer::SetMesh(const std::vector<uint32_t>& indices, uint32_t vertex_count) {
+void Renderer::SetMesh(const std::vector<uint32_t>& indices, uint32_t vertex_count,
+                       const std::vector<float2>& uvs) {
   glBindVertexArray(vao_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_ebo_);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * 4), indices.data(), GL_STATIC_DRAW);
@@ -172,9 +215,43 @@ void Renderer::SetMesh(const std::vector<uint32_t>& indices, uint32_t vertex_cou
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_DYNAMIC_DRAW);
   }
+  // Texture coordinates (zeros without: the fine-scale maps are then never drawn, Session::
+  // fine_active) and amplitudes 1 until a frame brings the evaluator's.
+  std::vector<float2> uv = uvs;
+  uv.resize(vertex_count, float2{0.f, 0.f});
+  glBindBuffer(GL_ARRAY_BUFFER, uv_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_count) * 8, uv.data(), GL_STATIC_DRAW);
+  const std::vector<float> ones(2 * size_t(vertex_count), 1.f);
+  glBindBuffer(GL_ARRAY_BUFFER, amplitude_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_count) * 8, ones.data(), GL_DYNAMIC_DRAW);
   glBindVertexArray(0);
   index_count_ = indices.size();
   vertex_count_ = vertex_count;
+}
+
+void Renderer::SetFineMaps(const Gray16Image& height1, const Gray16Image& height2) {
+  const Gray16Image* maps[2] = {&height1, &height2};
+  for (int k = 0; k < 2; ++k) {
+    glBindTexture(GL_TEXTURE_2D, height_textures_[k]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R16, maps[k]->width, maps[k]->height, 0, GL_RED,
+                 GL_UNSIGNED_SHORT, maps[k]->pixels.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    // u is the azimuth of a cylindrical unwrap on the sample head (it wraps); v does not.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  glBindTexture(GL_TEXTURE_2D, 0);
+  fine_texel_[0] = 1.f / float(std::max(1, height1.width));
+  fine_texel_[1] = 1.f / float(std::max(1, height1.height));
+  has_fine_maps_ = true;
+}
+
+void Renderer::UploadFineAmplitudes(const std::vector<float>& amplitudes) {
+  if (amplitudes.size() < 2 * vertex_count_) return;
+  glBindBuffer(GL_ARRAY_BUFFER, amplitude_vbo_);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertex_count_) * 8, amplitudes.data());
 }
 
 void Renderer::UploadFrame(const std::vector<float3>& positions, const std::vector<float3>& normals) {
@@ -225,6 +302,19 @@ void Renderer::Draw(const DrawParams& p) {
   glUniform1f(loc("u_specular"), p.specular);
   glUniform1f(loc("u_exponent"), p.exponent);
   glUniform1i(loc("u_overlay"), p.overlay ? 1 : 0);
+  const bool fine = p.fine && has_fine_maps_;
+  glUniform1i(loc("u_fine"), fine ? 1 : 0);
+  if (fine) {
+    for (int k = 0; k < 2; ++k) {
+      glActiveTexture(GLenum(GL_TEXTURE0 + k));
+      glBindTexture(GL_TEXTURE_2D, height_textures_[k]);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(loc("u_height1"), 0);
+    glUniform1i(loc("u_height2"), 1);
+    glUniform2f(loc("u_texel"), fine_texel_[0], fine_texel_[1]);
+    glUniform1f(loc("u_fine_depth"), p.fine_depth);
+  }
   glBindVertexArray(vao_);
   if (p.surface) {
     glUniform1i(loc("u_flat"), 0);

@@ -21,6 +21,8 @@ struct DrawParams {
   bool overlay = false;    // colour by the per-vertex overlay colours instead of the albedo
   bool wireframe = false;  // edges drawn over the surface
   bool surface = true;
+  bool fine = false;        // bump-map the fine-scale maps (SetFineMaps, UploadFineAmplitudes)
+  float fine_depth = 0.15f; // a full furrow's depth at amplitude 1, mesh units
 };
 
 class Renderer {
@@ -28,8 +30,13 @@ class Renderer {
   // Compiles the shaders; false with `error` (the GL info log) when they do not compile.
   bool Init(std::string* error);
   void Shutdown();
-  // A new mesh (index buffer fixed per rig).
-  void SetMesh(const std::vector<uint32_t>& indices, uint32_t vertex_count);
+  // A new mesh (index buffer and texture coordinates fixed per rig; `uvs` may be empty).
+  void SetMesh(const std::vector<uint32_t>& indices, uint32_t vertex_count,
+               const std::vector<float2>& uvs);
+  // The two fine-scale height maps (16-bit, white = no furrow; the same size).
+  void SetFineMaps(const Gray16Image& height1, const Gray16Image& height2);
+  // Per frame with fine scale on: the amplitudes (a1, a2) per vertex.
+  void UploadFineAmplitudes(const std::vector<float>& amplitudes);
   // Per frame: positions and normals (3 floats per vertex).
   void UploadFrame(const std::vector<float3>& positions, const std::vector<float3>& normals);
   void UploadColors(const std::vector<float3>& colors);
@@ -47,6 +54,9 @@ class Renderer {
  private:
   unsigned mesh_program_ = 0, line_program_ = 0;
   unsigned vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, color_vbo_ = 0, index_ebo_ = 0;
+  unsigned uv_vbo_ = 0, amplitude_vbo_ = 0, height_textures_[2] = {0, 0};
+  bool has_fine_maps_ = false;
+  float fine_texel_[2] = {1.f, 1.f};
   unsigned gizmo_vao_ = 0, gizmo_vbo_ = 0, gizmo_color_vbo_ = 0;
   size_t index_count_ = 0, vertex_count_ = 0, gizmo_lines_ = 0, gizmo_points_ = 0;
   unsigned fbo_ = 0, color_rb_ = 0, depth_rb_ = 0;

@@ -35,7 +35,8 @@ const char* ViewerUsage() {
          "                      [--screenshot OUT.png [--size WxH] [--overlay NAME]\n"
          "                       [--view front|side|three-quarter] [--ui] [--select MUSCLE]]\n"
          "                      [--bench-frames N] [--threads N]\n"
-         "                      [--script FILE] [--autosave-seconds N] [--recover]\n\n"
+         "                      [--script FILE] [--autosave-seconds N] [--recover]\n"
+         "                      [--fine DIR [--fine-depth D]]\n\n"
          "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
          "overlays, a slider per muscle, expressions and clips (docs/viewer.md). A file that\n"
          "fails to load is reported in the Messages panel; the viewer keeps what it had.\n\n"
@@ -64,6 +65,11 @@ const char* ViewerUsage() {
          "                       seconds (default 60; 0 = never)\n"
          "  --recover            take the clip's and library's .autosave files (newer edits\n"
          "                       that were never saved) at the start, without asking\n"
+         "  --fine DIR           bump-map the skin with DIR/fine_height_1.png and\n"
+         "                       fine_height_2.png (`mimetic texture RIG --out DIR`), each\n"
+         "                       scaled per vertex by the evaluator's fine-scale amplitude\n"
+         "  --fine-depth D       a full furrow's depth at amplitude 1, mesh units (default\n"
+         "                       0.15; needs --fine)\n"
          "  -h, --help           this text\n";
 }
 
@@ -96,7 +102,8 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
     }
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
                                     "--size", "--overlay", "--view", "--select", "--bench-frames",
-                                    "--threads", "--script", "--autosave-seconds"};
+                                    "--threads", "--script", "--autosave-seconds", "--fine",
+                                    "--fine-depth"};
     bool valued = false;
     for (const char* k : kValued) valued = valued || a == k;
     if (!valued) {
@@ -135,6 +142,18 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
         return false;
       }
       out->screenshot = value;
+    } else if (a == "--fine") {
+      out->fine = value;
+    } else if (a == "--fine-depth") {
+      char* end = nullptr;
+      errno = 0;
+      const double d = value.empty() ? NAN : std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(d) || d < 0.0 || d > 1e6) {
+        *error = "--fine-depth " + value + ": expected a depth in mesh units in [0, 1e6]";
+        return false;
+      }
+      out->has_fine_depth = true;
+      out->fine_depth = float(d);
     } else if (a == "--time") {
       char* end = nullptr;
       errno = 0;
@@ -183,6 +202,10 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
     return false;
   }
   if (!positional.empty()) out->rig = positional[0];
+  if (out->has_fine_depth && out->fine.empty()) {
+    *error = "--fine-depth needs --fine DIR (the maps it scales)";
+    return false;
+  }
   if (out->has_time && out->clip.empty()) {
     *error = "--time needs --clip CLIP (the time is a time in the clip)";
     return false;

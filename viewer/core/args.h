@@ -3,6 +3,7 @@
 //   mimetic-viewer [RIG] [--clip CLIP] [--library LIB] [--time T | --set NAME=V ...]
 //                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]]
 //                  [--bench-frames N] [--threads N] [--script FILE] [--autosave-seconds N] [--recover]
+//                  [--fine DIR [--fine-depth D]]
 #pragma once
 
 #include <string>
@@ -31,6 +32,9 @@ struct ViewerArgs {
   std::string script;             // --script FILE: run its edit commands headless and exit
   int autosave_seconds = 60;      // --autosave-seconds N (0: no autosave)
   bool recover = false;           // --recover: take the .autosave files at the start
+  std::string fine;               // --fine DIR: the fine-scale height maps to bump-map with
+  bool has_fine_depth = false;    // --fine-depth given (needs --fine)
+  float fine_depth = 0.15f;       // --fine-depth D, mesh units
   bool help = false;              // --help / -h
   bool headless() const { return !screenshot.empty() || bench_frames > 0 || !script.empty(); }
 };

@@ -14,6 +14,7 @@
 #include "io/clip_file.h"
 #include "core/file_util.h"
 #include "io/expression_library.h"
+#include "io/image.h"
 #include "rig/offline/jaw_setting.h"
 #include "rig/offline/rig_builder.h"
 #include "wrinkles/runtime/strain_jobs.h"
@@ -472,7 +473,7 @@ bool Session::SampleClip(float time) {
 
 bool Session::RunJob(const SkinLayers& run_layers, std::vector<float3>* positions,
                      std::vector<float3>* normals, std::vector<float>* tension,
-                     EvaluateContext* ctx) {
+                     EvaluateContext* ctx, std::vector<float>* fine_amplitudes) {
   EvaluateJob job;
   job.rig = &rig();
   job.context = ctx;
@@ -482,6 +483,7 @@ bool Session::RunJob(const SkinLayers& run_layers, std::vector<float3>* position
   job.out_positions = Floats(*positions);
   if (normals) job.out_normals = Floats(*normals);
   if (tension) job.out_tension = *tension;
+  if (fine_amplitudes) job.out_fine_amplitudes = *fine_amplitudes;
   job.layers = run_layers;
   job.limit_folds = limit_folds;
   if (pool_.threads() > 1) {
@@ -501,7 +503,14 @@ bool Session::Evaluate(Overlay overlay) {
   const bool wants_tension = overlay == Overlay::kAreaRatio || overlay == Overlay::kCompression;
   if (wants_tension) tension_.resize(2 * size_t(nv));
   auto start = std::chrono::steady_clock::now();
-  if (!RunJob(layers, &positions_, &normals_, wants_tension ? &tension_ : nullptr, &context_))
+  // Fine scale: the evaluator's amplitudes when the rig has fields; 1 everywhere without
+  // (the maps drawn as they are, like mimetic render --fine on a plain mesh).
+  const bool fine = fine_active();
+  const bool fine_from_job = fine && !r.fine_scale().empty();
+  if (fine) fine_amplitudes_.assign(2 * size_t(nv), 1.f);
+  else fine_amplitudes_.clear();
+  if (!RunJob(layers, &positions_, &normals_, wants_tension ? &tension_ : nullptr, &context_,
+              fine_from_job ? &fine_amplitudes_ : nullptr))
     return false;
   evaluate_ms_ = MillisecondsSince(start);
 
@@ -546,6 +555,41 @@ bool Session::Evaluate(Overlay overlay) {
   return true;
 }
 
+bool Session::LoadFineMaps(const std::string& dir) {
+  Diagnostics diag;
+  const std::string closing = dir + ": the fine-scale maps were not loaded";
+  if (!rig_) {
+    diag.Error(dir, "no rig to draw fine-scale maps on");
+    return AddMessages(diag, closing), false;
+  }
+  if (rig().vertex_uvs().size() != rig().vertex_count()) {
+    diag.Error(rig_path_, "the rig's mesh has no texture coordinates to map fine-scale maps with");
+    return AddMessages(diag, closing), false;
+  }
+  Gray16Image maps[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string path = dir + "/fine_height_" + std::to_string(k + 1) + ".png";
+    if (!LoadGray16Png(path, path, "fine-scale height map", &maps[k], &diag))
+      return AddMessages(diag, closing + " (make them with `mimetic texture RIG --out DIR`)"), false;
+  }
+  if (maps[0].width != maps[1].width || maps[0].height != maps[1].height) {
+    diag.Error(dir, "fine_height_1.png is " + std::to_string(maps[0].width) + "x" +
+                        std::to_string(maps[0].height) + " but fine_height_2.png " +
+                        std::to_string(maps[1].width) + "x" + std::to_string(maps[1].height) +
+                        "; the two fields' maps come from one `mimetic texture` run");
+    return AddMessages(diag, closing), false;
+  }
+  fine_height_[0] = std::move(maps[0]);
+  fine_height_[1] = std::move(maps[1]);
+  fine_dir_ = dir;
+  fine_loaded_ = true;
+  return true;
+}
+
+bool Session::fine_active() const {
+  return rig_ && fine_loaded_ && fine_enabled && rig().vertex_uvs().size() == rig().vertex_count();
+}
+
 std::vector<std::string> Session::RigLayerNames() const {
   std::vector<std::string> names;
   if (!rig_) return names;
@@ -555,6 +599,7 @@ std::vector<std::string> Session::RigLayerNames() const {
   if (r.layers().thickness) names.push_back("thickness");
   if (r.layers().muscle_wrinkles) names.push_back("muscle wrinkles");
   if (r.layers().curve_wrinkles) names.push_back("curve wrinkles");
+  if (!r.fine_scale().empty()) names.push_back("fine scale");
   return names;
 }
 
@@ -567,6 +612,7 @@ std::vector<std::string> Session::ActiveLayerNames() const {
   if (r.layers().thickness && layers.thickness) names.push_back("thickness");
   if (r.layers().muscle_wrinkles && layers.muscle_wrinkles) names.push_back("muscle wrinkles");
   if (r.layers().curve_wrinkles && layers.curve_wrinkles) names.push_back("curve wrinkles");
+  if (fine_active()) names.push_back("fine scale");
   return names;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/image.h"
 #include "core/math.h"
 #include "expressions/offline/clip_spec.h"
 #include "expressions/runtime/clip.h"
@@ -53,6 +54,10 @@ class Session {
   // Needs a rig; a .clip.json is built with the library's expressions.
   bool LoadClipFile(const std::string& path);
   bool LoadLibraryFile(const std::string& path);
+  // Fine-scale height maps (docs/viewer.md "Fine scale"): DIR/fine_height_1.png and
+  // fine_height_2.png, 16-bit, as `mimetic texture` writes them. Needs a rig with texture
+  // coordinates; both maps must load and have the same size, else nothing changes.
+  bool LoadFineMaps(const std::string& dir);
   // Applies NAME=VALUE settings (mimetic eval --set: BindActivations, jaw=VALUE): false with
   // messages (the pose unchanged) on any bad one.
   bool ApplySettings(const std::vector<std::string>& sets);
@@ -80,6 +85,19 @@ class Session {
   bool muscles_enabled = true;  // off: every activation evaluates as 0 (the layer toggle)
   bool jaw_enabled = true;      // off: the jaw evaluates as 0
   bool limit_folds = true;
+  // Fine-scale bump maps (when loaded): on/off and the depth of a full furrow at amplitude 1,
+  // mesh units (mimetic render --fine-depth).
+  bool fine_enabled = true;
+  float fine_depth = 0.15f;
+  bool has_fine_maps() const { return fine_loaded_; }
+  const std::string& fine_dir() const { return fine_dir_; }
+  const Gray16Image& fine_height(int k) const { return fine_height_[k]; }
+  // The maps are drawn this frame: loaded, switched on, and the rig has texture coordinates.
+  bool fine_active() const;
+  // Per output vertex the two fine-scale amplitudes (a1, a2) of the last Evaluate: the
+  // evaluator's (EvaluateJob::out_fine_amplitudes) when the rig has fine-scale fields, else 1.
+  // Empty when fine_active() was false.
+  const std::vector<float>& fine_amplitudes() const { return fine_amplitudes_; }
   // Expression weights, one per library entry (the blend the Expressions panel sets).
   std::vector<float> expression_weights;
 
@@ -158,7 +176,8 @@ class Session {
 
  private:
   bool RunJob(const SkinLayers& layers, std::vector<float3>* positions,
-              std::vector<float3>* normals, std::vector<float>* tension, EvaluateContext* ctx);
+              std::vector<float3>* normals, std::vector<float>* tension, EvaluateContext* ctx,
+              std::vector<float>* fine_amplitudes = nullptr);
   void CheckLibrary();
   EditTarget Target();
   // Rebuilds the clip from the spec (after an edit of the clip or library); false with *error
@@ -169,6 +188,10 @@ class Session {
                     EditDoc document, const std::function<bool(Diagnostics*)>& write,
                     std::string* error);
 
+  Gray16Image fine_height_[2];
+  std::string fine_dir_;
+  bool fine_loaded_ = false;
+  std::vector<float> fine_amplitudes_;
   ThreadPool pool_;
   std::unique_ptr<LoadedRig> rig_;
   std::string rig_path_;
