@@ -21,3 +21,20 @@ xvfb-run -a "$viewer" assets/head/sample_head.rig.json --clip assets/clips/smile
 convert "$tmp/timeline.png" -crop 905x250+350+700 +repage "$tmp/viewer_timeline.png"
 mv "$tmp/viewer_timeline.png" docs/images/viewer_timeline.png
 echo "wrote docs/images/viewer_timeline.png"
+
+# Fine scale: the rig's maps (mimetic texture, 1024^2) bump-mapped in the viewer's shader, the
+# brows raised (the frontalis compresses the forehead across field 1: its furrows deepen).
+"${1:-build}/mimetic" texture assets/head/sample_head.rig.json --size 1024 --out "$tmp/maps" --seed 1 --quiet
+raise=()
+for m in frontalis_inner frontalis_major frontalis_outer; do raise+=(--set $m=1); done
+for fine in "" "--fine $tmp/maps --fine-depth 0.4"; do
+  # shellcheck disable=SC2086
+  xvfb-run -a "$viewer" assets/head/sample_head.rig.json "${raise[@]}" $fine --size 2400x1800 \
+    --screenshot "$tmp/fine${fine:+_on}.png" >/dev/null
+done
+convert "$tmp/fine.png" -crop 760x460+820+330 +repage "$tmp/a.png"
+convert "$tmp/fine_on.png" -crop 760x460+820+330 +repage "$tmp/b.png"
+montage -label 'without maps' "$tmp/a.png" -label '--fine maps --fine-depth 0.4' "$tmp/b.png" \
+  -tile 2x1 -geometry +2+2 "$tmp/viewer_fine.png"
+mv "$tmp/viewer_fine.png" docs/images/viewer_fine.png
+echo "wrote docs/images/viewer_fine.png"
