@@ -11,6 +11,10 @@
 #include "wrinkles/runtime/thickness_job.h"
 #include "wrinkles/runtime/wrinkle_jobs.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace mimetic {
 
 void EvaluateContext::Resize(const Rig& rig) {
@@ -285,6 +289,38 @@ inline void JawSinCos(float t, float* sn, float* cs) {
             t2 * (-1.f / 3628800 + t2 * (1.f / 479001600 + t2 * (-1.f / 87178291200.f)))))));
 }
 
+// JawSinCos on n (<= kJawBlock) angles w[i] * angle at once: the same operations in the same
+// order per element (no FMA: each product is rounded as in the scalar form), so the same bits;
+// with SSE2 four lanes at a time, the scalar form for the tail and elsewhere.
+constexpr uint32_t kJawBlock = 64;
+void JawSinCosBlock(const float* w, float angle, uint32_t n, float* sn, float* cs) {
+  uint32_t i = 0;
+#if defined(__SSE2__)
+  const __m128 a = _mm_set1_ps(angle);
+  auto c = [](float v) { return _mm_set1_ps(v); };
+  for (; i + 4 <= n; i += 4) {
+    const __m128 t = _mm_mul_ps(_mm_loadu_ps(w + i), a);
+    const __m128 t2 = _mm_mul_ps(t, t);
+    __m128 s = _mm_add_ps(c(-1.f / 39916800), _mm_mul_ps(t2, c(1.f / 6227020800.f)));
+    s = _mm_add_ps(c(1.f / 362880), _mm_mul_ps(t2, s));
+    s = _mm_add_ps(c(-1.f / 5040), _mm_mul_ps(t2, s));
+    s = _mm_add_ps(c(1.f / 120), _mm_mul_ps(t2, s));
+    s = _mm_add_ps(c(-1.f / 6), _mm_mul_ps(t2, s));
+    s = _mm_mul_ps(t, _mm_add_ps(c(1.f), _mm_mul_ps(t2, s)));
+    __m128 k = _mm_add_ps(c(1.f / 479001600), _mm_mul_ps(t2, c(-1.f / 87178291200.f)));
+    k = _mm_add_ps(c(-1.f / 3628800), _mm_mul_ps(t2, k));
+    k = _mm_add_ps(c(1.f / 40320), _mm_mul_ps(t2, k));
+    k = _mm_add_ps(c(-1.f / 720), _mm_mul_ps(t2, k));
+    k = _mm_add_ps(c(1.f / 24), _mm_mul_ps(t2, k));
+    k = _mm_add_ps(c(-0.5f), _mm_mul_ps(t2, k));
+    k = _mm_add_ps(c(1.f), _mm_mul_ps(t2, k));
+    _mm_storeu_ps(sn + i, s);
+    _mm_storeu_ps(cs + i, k);
+  }
+#endif
+  for (; i < n; ++i) JawSinCos(w[i] * angle, &sn[i], &cs[i]);
+}
+
 void StageJaw(const FrameState& f, float jaw) {
   const RigJaw& j = f.rig.jaw();
   const float3 c = j.pivot, k = j.axis, tr = j.translation;
@@ -293,17 +329,24 @@ void StageJaw(const FrameState& f, float jaw) {
   const float* weights = j.weights.data();
   float3* x = f.points;
   ParallelFor(f.job, uint32_t(j.points.size()), [&](uint32_t b, uint32_t e) {
-    for (uint32_t i = b; i < e; ++i) {
-      const uint32_t p = points[i];
-      float cs, sn;
-      JawSinCos(weights[i] * angle, &sn, &cs);
-      const float3 v = x[p] - c;
-      const float3 kv = Cross(k, v);
-      const float d = Dot(k, v) * (1.f - cs);
-      const float g = weights[i] * jaw;  // the glide's share
-      x[p] = float3{c.x + (v.x * cs + kv.x * sn + k.x * d) + g * tr.x,
-                    c.y + (v.y * cs + kv.y * sn + k.y * d) + g * tr.y,
-                    c.z + (v.z * cs + kv.z * sn + k.z * d) + g * tr.z};
+    // Blocks of kJawBlock: the angles' sines and cosines first (contiguous weights, four lanes),
+    // then the rotation of each point (a gather and a scatter of its own position).
+    float sns[kJawBlock], css[kJawBlock];
+    for (uint32_t b0 = b; b0 < e; b0 += kJawBlock) {
+      const uint32_t n = std::min(kJawBlock, e - b0);
+      JawSinCosBlock(weights + b0, angle, n, sns, css);
+      for (uint32_t q = 0; q < n; ++q) {
+        const uint32_t i = b0 + q;
+        const uint32_t p = points[i];
+        const float cs = css[q], sn = sns[q];
+        const float3 v = x[p] - c;
+        const float3 kv = Cross(k, v);
+        const float d = Dot(k, v) * (1.f - cs);
+        const float g = weights[i] * jaw;  // the glide's share
+        x[p] = float3{c.x + (v.x * cs + kv.x * sn + k.x * d) + g * tr.x,
+                      c.y + (v.y * cs + kv.y * sn + k.y * d) + g * tr.y,
+                      c.z + (v.z * cs + kv.z * sn + k.z * d) + g * tr.z};
+      }
     }
   });
 }

@@ -803,5 +803,36 @@ TEST(EvaluateJobJaw, BitIdenticalWhenSplitAcrossTwoThreadsAndAllocationFree) {
   EXPECT_EQ(g_allocations.load() - before, 0);
 }
 
+// Chunks of 1, 2 and 3 items in turn (one thread): no chunk holds four, so every jaw angle's sine
+// and cosine comes from the scalar form here and from the four-lane block in a serial run (the
+// jaw stage computes blocks of angles per chunk, JawSinCosBlock): the bits must agree.
+void TinyChunks(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
+  for (uint32_t b = 0, k = 0; b < count; ++k) {
+    const uint32_t e = std::min(count, b + 1 + k % 3);
+    task(data, b, e);
+    b = e;
+  }
+}
+
+TEST(EvaluateJobJaw, FourLaneSinesAndCosinesGiveTheScalarBits) {
+  const Surface s = MakeJawSurface(60, 8);
+  ASSERT_GT(s.rig.jaw().points.size(), 64u);  // more than one block of angles
+  const std::vector<float> act = SomeActivations(s.rig);
+  for (float jaw : {0.3f, 0.77f, 1.f}) {
+    EvaluateContext c1(s.rig), c2(s.rig);
+    std::vector<float> pos1, nrm1, pos2, nrm2;
+    EvaluateJob serial = MakeJob(s.rig, &c1, act, &pos1, &nrm1);
+    serial.jaw = jaw;
+    ASSERT_TRUE(serial.Run());
+    EvaluateJob tiny = MakeJob(s.rig, &c2, act, &pos2, &nrm2);
+    tiny.jaw = jaw;
+    tiny.parallel_for = TinyChunks;
+    tiny.parallel_min_count = 1;
+    ASSERT_TRUE(tiny.Run());
+    EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0) << jaw;
+    EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0) << jaw;
+  }
+}
+
 }  // namespace
 }  // namespace mimetic
