@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 
 #include "expressions/runtime/activations.h"
 #include "rig/runtime/face_kernels.h"
@@ -412,6 +413,11 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   const uint32_t* noff = f.tables.point_neighbor_offsets.data();
   const uint32_t* nbr = f.tables.point_neighbors.data();
   const float3* rest_normals = f.tables.rest_point_normals.data();
+  // The curvature bound, and in the same sweep over the neighbours the slope limit's g L_pq per
+  // neighbour slot (the edge lengths at X1 are the same in every pass). A point whose offset is
+  // 0 keeps 0 through every slope pass (SlopeLimitPoint returns it), so its slots are never
+  // read and are not computed.
+  float* bound = f.slope_bounds;
   ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
     for (uint32_t p = lo; p < hi; ++p) {
       const float d = a[p];
@@ -428,6 +434,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
         const float3 dn = nq - np, e = f.points[q] - xp;
         const float n2 = (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
         const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
+        bound[k] = kOffsetSlope * std::sqrt(l2);
         if (l2 * best_n2 < best_l2 * n2) {
           best_l2 = l2;
           best_n2 = n2;
@@ -435,30 +442,65 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       }
       const float c2 = kOffsetCurvature * kOffsetCurvature;
       if (best_n2 > 0.f && d * d * best_n2 > c2 * best_l2) {
-        const float bound = kOffsetCurvature * std::sqrt(best_l2 / best_n2);
-        b[p] = d > 0.f ? bound : -bound;
+        const float limit = kOffsetCurvature * std::sqrt(best_l2 / best_n2);
+        b[p] = d > 0.f ? limit : -limit;
       } else {
         b[p] = d;
       }
     }
   });
   std::swap(a, b);
-  // g L_pq per neighbour slot: the edge lengths at X1 are the same in every pass.
-  float* bound = f.slope_bounds;
+  // The slope passes (Jacobi). The first runs over every point. A point keeps its bits in a
+  // pass when neither it nor any neighbour changed in the pass before (SlopeLimitPoint reads
+  // only those, so it returns what it returned then), so each later pass recomputes only the
+  // points the previous one changed and their active neighbours: the same bits as a full
+  // pass (bits compared, so a zero turning into -0 counts as a change), a few hundred points
+  // instead of all. The lists are built serially in a fixed order; each parallel phase writes
+  // only its own point.
   ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
-    for (uint32_t p = lo; p < hi; ++p) {
-      const float3 xp = f.points[p];
-      for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) {
-        const float3 e = f.points[nbr[k]] - xp;
-        bound[k] = kOffsetSlope * std::sqrt((e.x * e.x + e.y * e.y) + e.z * e.z);
-      }
-    }
+    for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, bound, p);
   });
-  for (uint32_t pass = 0; pass < kOffsetSlopePasses; ++pass) {
-    ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
-      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, bound, p);
+  std::swap(a, b);  // a: after the first pass, b: before it
+  auto bits = [](float v) {
+    uint32_t u;
+    std::memcpy(&u, &v, 4);
+    return u;
+  };
+  uint32_t* changed = f.limit_moved;   // StageLimit's lists and marks, free until it runs
+  uint32_t* redo = f.limit_recheck;
+  uint8_t* mark = f.limit_point_marks;  // 0 on entry and on exit
+  if (f.job.limit_folds_full_scan) {  // every pass over every point (tests compare the bits)
+    for (uint32_t pass = 1; pass < kOffsetSlopePasses; ++pass) {
+      ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+        for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, bound, p);
+      });
+      std::swap(a, b);
+    }
+    return a;
+  }
+  uint32_t n_changed = 0;
+  for (uint32_t p = 0; p < count; ++p)
+    if (bits(a[p]) != bits(b[p])) changed[n_changed++] = p;
+  for (uint32_t pass = 1; pass < kOffsetSlopePasses && n_changed > 0; ++pass) {
+    uint32_t n_redo = 0;
+    auto add = [&](uint32_t q) {
+      if (q < count && !mark[q]) mark[q] = 1, redo[n_redo++] = q;
+    };
+    for (uint32_t i = 0; i < n_changed; ++i) {
+      const uint32_t p = changed[i];
+      add(p);
+      for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) add(nbr[k]);
+    }
+    ParallelFor(f.job, n_redo, [&](uint32_t lo, uint32_t hi) {
+      for (uint32_t i = lo; i < hi; ++i) b[redo[i]] = SlopeLimitPoint(a, noff, nbr, bound, redo[i]);
     });
-    std::swap(a, b);
+    n_changed = 0;
+    for (uint32_t i = 0; i < n_redo; ++i) {
+      const uint32_t p = redo[i];
+      mark[p] = 0;
+      if (bits(a[p]) != bits(b[p])) changed[n_changed++] = p;
+      a[p] = b[p];
+    }
   }
   return a;
 }

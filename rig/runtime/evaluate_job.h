@@ -196,8 +196,9 @@ struct EvaluateJob {
   // The fold limiter (docs/model.md §16): reduce the skin layers' offset where it would turn
   // a triangle over. On by default; off gives the layers' raw displacement (for comparison).
   bool limit_folds = true;
-  // Testing and measurement only: run the fold limiter as the full scan its worklist replaces
-  // (every pass recomputes every active triangle and tests every active point). The same bits.
+  // Testing and measurement only: run the fold limiter as the full scan its worklists replace
+  // (every slope pass over every active point; every fold pass recomputes every active
+  // triangle and tests every active point). The same bits.
   bool limit_folds_full_scan = false;
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler
