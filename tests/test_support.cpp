@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace mimetic::test {
 
@@ -25,6 +27,13 @@ std::string SharedDir() {
   const std::filesystem::path p = std::filesystem::weakly_canonical(MIMETIC_SHARED_DIR, ec);
   if (ec || !std::filesystem::is_directory(p)) return "";
   return p.string();
+}
+
+std::string ReadFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 std::string TempDir() {

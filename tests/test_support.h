@@ -26,4 +26,7 @@ ToolResult RunCommand(const std::string& command, const std::vector<std::string>
 // `s` quoted for the shell.
 std::string ShellQuote(const std::string& s);
 
+// The bytes of the file at `path` (empty when it cannot be read).
+std::string ReadFileBytes(const std::string& path);
+
 }  // namespace mimetic::test

@@ -141,15 +141,8 @@ TEST(Golden, SequentialAndRandomSeekPlaybackMatchBitForBit) {
   EXPECT_NE(std::memcmp(seq.data(), seq.data() + 12 * nv * 2, nv * sizeof(float)), 0);
 }
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(Golden, ReaderRefusesTruncatedForeignAndNewerFiles) {
-  const std::string bytes = ReadBytes(GoldenDir() + "/brows.golden");
+  const std::string bytes = test::ReadFileBytes(GoldenDir() + "/brows.golden");
   ASSERT_GT(bytes.size(), 100u);
   const std::string dir = test::TempDir();
   struct Case {

@@ -46,13 +46,6 @@ std::vector<SchemaFile> Schemas() {
           {ArkitTakeFormat(), "mimetic-arkit-take.schema.json", {"tests/data/arkit/take.json"}}};
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(Schema, CommittedSchemasAreTheOnesGeneratedFromTheTables) {
   const bool update = std::getenv("MIMETIC_UPDATE_SCHEMAS") != nullptr;
   for (const SchemaFile& s : Schemas()) {
@@ -60,7 +53,7 @@ TEST(Schema, CommittedSchemasAreTheOnesGeneratedFromTheTables) {
     const std::string path = test::SourceDir() + "/assets/schema/" + s.file;
     const nlohmann::json generated = json_reader::Schema(s.format);
     if (update) std::ofstream(path, std::ios::binary) << generated.dump(2) << "\n";
-    const nlohmann::json committed = nlohmann::json::parse(ReadText(path), nullptr, false);
+    const nlohmann::json committed = nlohmann::json::parse(test::ReadFileBytes(path), nullptr, false);
     ASSERT_FALSE(committed.is_discarded()) << path << " is missing or not JSON";
     EXPECT_EQ(committed, generated)
         << path << " differs from the reader's tables; regenerate it with "

@@ -196,13 +196,6 @@ std::string WriteText(const std::string& path, const std::string& text) {
   return path;
 }
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(ViewerHeadless, AScriptEditsSavesAndScreenshotsAClip) {
   REQUIRE_XVFB();
   const std::string dir = test::TempDir();
@@ -300,7 +293,7 @@ TEST(ViewerHeadless, AViewerKilledDuringASaveLeavesTheOldFile) {
           test::ShellQuote(MIMETIC_VIEWER_PATH),
       {Surface(), "--script", script});
   EXPECT_EQ(killed.exit_code, 86) << killed.output;
-  EXPECT_EQ(ReadBytes(clip), old_text) << "the killed save changed the old file";
+  EXPECT_EQ(test::ReadFileBytes(clip), old_text) << "the killed save changed the old file";
 
   const test::ToolResult ok = RunViewer({Surface(), "--script", script});
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
