@@ -25,6 +25,15 @@ void App::OnRigLoaded() {
   dirty = true;
 }
 
+void App::OnRigRebuilt() {
+  const Rig& rig = session.rig();
+  renderer.SetMesh(rig.vertex_indices(), rig.vertex_count());
+  point_vertex.assign(rig.point_count(), 0);
+  for (uint32_t v = rig.vertex_count(); v-- > 0;) point_vertex[rig.vertex_points()[v]] = v;
+  hover_valid = false;
+  dirty = true;
+}
+
 void App::BeginPoseEdit() {
   pose_before = session.activations;
   jaw_before = session.jaw;

@@ -66,7 +66,9 @@ struct App {
   void OnEdited();
   void Undo();
   void Redo();
-  bool unsaved() const { return session.clip_dirty() || session.library_dirty(); }
+  bool unsaved() const {
+    return session.clip_dirty() || session.library_dirty() || session.rig_dirty();
+  }
 
   bool dirty = true;  // the pose or the overlay changed: evaluate again
   FrameStats stats;
@@ -74,6 +76,9 @@ struct App {
 
   // After a successful rig load: mesh into the renderer, camera framed, fields filled.
   void OnRigLoaded();
+  // After a rebuild of the edited rig was swapped in (Session::PollRigRebuild): the mesh into
+  // the renderer again (refinement may have changed it); camera, selection and pose stay.
+  void OnRigRebuilt();
   // Evaluate (when dirty), upload, gizmos; timings into stats.
   void Update();
   void UpdateGizmos();

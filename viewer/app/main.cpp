@@ -93,6 +93,10 @@ void UiFrame(App* app, int width, int height) {
 
 // One frame into `path` at the command line's size (with the panels under --ui).
 bool TakeScreenshot(const ViewerArgs& args, App* app, const std::string& path, std::string* error) {
+  // The headless path draws only finished rigs: a rebuild of the edited rig is waited for, and
+  // the mesh uploaded again (a script's rig edits may have swapped the rig in already).
+  if (app->session.rig_rebuilding()) app->session.WaitRigRebuild();
+  if (app->session.has_rig()) app->OnRigRebuilt();
   const int w = args.width, h = args.height;
   if (!app->renderer.BindOffscreen(w, h)) {
     *error = "the offscreen framebuffer (" + std::to_string(w) + "x" + std::to_string(h) +
@@ -268,6 +272,8 @@ void Interactive(App* app, GLFWwindow* window) {
       }
     }
     HandleEditShortcuts(app);
+    // A finished rebuild of the edited rig is swapped in here, between frames.
+    if (s.PollRigRebuild()) app->OnRigRebuilt();
     app->Update();
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);

@@ -13,6 +13,7 @@
 #include "io/clip_file.h"
 #include "core/file_util.h"
 #include "io/expression_library.h"
+#include "io/rig_file.h"
 #include "rig/offline/jaw_setting.h"
 #include "rig/offline/rig_builder.h"
 #include "wrinkles/runtime/strain_jobs.h"
@@ -66,6 +67,16 @@ bool Session::LoadRigFile(const std::string& path) {
   AddMessages(diag, "");
   rig_ = std::move(loaded);
   rig_path_ = path;
+  rebuilder_.Cancel();  // a rebuild of the old rig's spec is stale
+  built_generation_ = rebuilder_.requested();
+  merge_tag_.clear();
+  if (rig_->compiled) {
+    rig_spec_.reset();
+    rig_mesh_.reset();
+  } else {
+    rig_spec_ = std::make_unique<RigSpec>(rig_->spec);
+    rig_mesh_ = std::make_shared<const MeshData>(rig_->mesh);
+  }
   clip_.reset();
   clip_path_.clear();
   timeline_.clear();
@@ -74,6 +85,14 @@ bool Session::LoadRigFile(const std::string& path) {
   selection.clear();
   history_.Clear();
   history_.MarkSaved(kEditClip);
+  history_.MarkSaved(kEditRig);
+  AdoptRig();
+  ResetPose();
+  CheckLibrary();
+  return true;
+}
+
+void Session::AdoptRig() {
   const Rig& rig = rig_->rig;
   context_.Resize(rig);
   aux_context_.Resize(rig);
@@ -81,14 +100,12 @@ bool Session::LoadRigFile(const std::string& path) {
   rest_positions_ = rest.positions;
   positions_ = rest_positions_;
   normals_.assign(rig.vertex_count(), float3{0.f, 0.f, 1.f});
+  field_ = OverlayField{};
   lo_ = hi_ = rest_positions_.empty() ? float3{} : rest_positions_[0];
   for (const float3& p : rest_positions_) {
     lo_ = {std::min(lo_.x, p.x), std::min(lo_.y, p.y), std::min(lo_.z, p.z)};
     hi_ = {std::max(hi_.x, p.x), std::max(hi_.y, p.y), std::max(hi_.z, p.z)};
   }
-  ResetPose();
-  CheckLibrary();
-  return true;
 }
 
 void Session::CheckLibrary() {
@@ -179,6 +196,7 @@ EditTarget Session::Target() {
   t.activations = &activations;
   t.jaw = &jaw;
   t.muscle_names = rig_ ? &rig().muscle_names() : &kNoMuscles;
+  t.rig_spec = rig_spec_.get();
   return t;
 }
 
@@ -217,35 +235,136 @@ bool Session::Rebuild(unsigned touched, std::string* error) {
 }
 
 bool Session::Edit(CommandPtr command, std::string* error) {
+  merge_tag_.clear();
+  if (!command) return Fail("edit: no command", error);
   const std::string what = command->Describe();
   last_touched_ = command->Touches();
   std::string why;
-  const auto validate = [this](unsigned touched, std::string* e) { return Rebuild(touched, e); };
+  const auto validate = [this](unsigned touched, std::string* e) {
+    return Rebuild(touched, e) && (!(touched & kEditRig) || CheckRigSpec(e));
+  };
   if (!history_.Do(std::move(command), Target(), validate, &why))
     return Fail(what + ": " + why, error);
+  if (last_touched_ & kEditRig) RequestRigRebuild();
+  return true;
+}
+
+bool Session::EditMerged(CommandPtr command, const std::string& merge, std::string* error) {
+  const bool merging = !merge.empty() && merge == merge_tag_ &&
+                       history_.undo_size() == merge_undo_size_ && history_.CanUndo();
+  if (merging) {
+    // Back to the state before the merged run began; the new command starts from there.
+    unsigned touched = 0;
+    history_.Undo(Target(), &touched);
+    Rebuild(touched, nullptr);
+  }
+  if (!Edit(std::move(command), error)) {
+    if (merging) {  // put the run's last step back
+      unsigned touched = 0;
+      std::string ignored;
+      const auto validate = [this](unsigned t, std::string* e) {
+        return Rebuild(t, e) && (!(t & kEditRig) || CheckRigSpec(e));
+      };
+      history_.Redo(Target(), validate, &touched, &ignored);
+      if (touched & kEditRig) RequestRigRebuild();
+    }
+    return false;
+  }
+  merge_tag_ = merge;
+  merge_undo_size_ = history_.undo_size();
   return true;
 }
 
 bool Session::Undo() {
+  merge_tag_.clear();
   unsigned touched = 0;
   if (!history_.Undo(Target(), &touched)) return false;
   last_touched_ = touched;
   if (touched & kEditClip) selection.clear();
   Rebuild(touched, nullptr);
+  if (touched & kEditRig) RequestRigRebuild();
   return true;
 }
 
 bool Session::Redo(std::string* error) {
+  merge_tag_.clear();
   unsigned touched = 0;
   std::string why;
-  const auto validate = [this](unsigned t, std::string* e) { return Rebuild(t, e); };
+  const auto validate = [this](unsigned t, std::string* e) {
+    return Rebuild(t, e) && (!(t & kEditRig) || CheckRigSpec(e));
+  };
   if (!history_.Redo(Target(), validate, &touched, &why)) {
     if (why.empty()) return false;
     return Fail("redo: " + why, error);
   }
   last_touched_ = touched;
   if (touched & kEditClip) selection.clear();
+  if (touched & kEditRig) RequestRigRebuild();
   return true;
+}
+
+// The edited spec must read back as a rig file: the rules between fields are the reader's.
+bool Session::CheckRigSpec(std::string* error) {
+  if (!rig_spec_) return true;
+  const std::string dir = DirectoryOf(rig_path_);
+  std::string why;
+  const std::string text = RigSpecText(*rig_spec_, dir, &why);
+  if (text.empty()) {
+    if (error) *error = "the rig cannot be written: " + why;
+    return false;
+  }
+  RigSpec reread;
+  Diagnostics diag;
+  if (ParseRigSpec(text, dir, &reread, &diag)) return true;
+  if (error) {
+    *error = "the rig would break a rule";
+    for (const Diagnostic& d : diag.items())
+      if (d.severity == Severity::kError) {
+        *error += ": " + (d.where.empty() ? d.what : d.where + ": " + d.what);
+        break;
+      }
+  }
+  return false;
+}
+
+void Session::RequestRigRebuild() {
+  if (!rig_spec_ || !rig_mesh_) return;
+  rebuilder_.Request(*rig_spec_, rig_mesh_);
+}
+
+bool Session::PollRigRebuild() {
+  RigRebuilder::Result result;
+  if (!rig_ || !rebuilder_.Take(&result)) return false;
+  if (!result.ok) {
+    AddMessages(result.diag, rig_path_ + ": the edited rig did not build (" +
+                                 std::to_string(result.diag.ErrorCount()) +
+                                 " error(s)); still showing the last good rig");
+    return false;
+  }
+  if (!result.diag.empty()) AddMessages(result.diag, "");
+  rig_->rig = std::move(result.rig);
+  rig_->spec = std::move(result.spec);
+  built_generation_ = result.generation;
+  AdoptRig();
+  activations.resize(rig().muscle_count(), 0.f);
+  return true;
+}
+
+bool Session::WaitRigRebuild() {
+  rebuilder_.Wait();
+  PollRigRebuild();
+  return !rig_stale();
+}
+
+bool Session::SaveRigFile(const std::string& path_in, std::string* error) {
+  if (!rig_spec_) return Fail("save rig: the rig has no editable spec (a compiled .mrig)", error);
+  const std::string path = path_in.empty() ? rig_path_ : path_in;
+  if (path.empty()) return Fail("save rig: no file name given", error);
+  if (IsCompiledRigPath(path) && path != rig_path_)
+    return Fail(path + ": save rig: a rig file is JSON (.rig.json), not a compiled .mrig", error);
+  return SaveDocument("rig", path, &rig_path_, kEditRig,
+                      [&](Diagnostics* diag) { return SaveRigSpec(path, *rig_spec_, diag); },
+                      error);
 }
 
 bool Session::NewClip(const std::string& path) {
