@@ -20,6 +20,9 @@ void App::OnRigLoaded() {
   point_vertex.assign(rig.point_count(), 0);
   for (uint32_t v = rig.vertex_count(); v-- > 0;) point_vertex[rig.vertex_points()[v]] = v;
   selected_muscle = -1;
+  selected_curve = drag_curve = drag_point = -1;
+  uv_zoom = 0.f;
+  uv_texture_stale = true;
   hover_valid = false;
   std::snprintf(rig_field, sizeof rig_field, "%s", session.rig_path().c_str());
   dirty = true;

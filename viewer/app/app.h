@@ -7,6 +7,7 @@
 
 #include "viewer/app/renderer.h"
 #include "viewer/core/camera.h"
+#include "viewer/core/map_job.h"
 #include "viewer/core/session.h"
 
 namespace mimetic::viewer {
@@ -58,6 +59,20 @@ struct App {
   bool close_confirmed = false;
   int pending_load = 0;           // 1 rig, 2 library, 3 clip: asked to discard unsaved edits
 
+  // Rig editors (viewer/app/panels_rig.cpp; docs/viewer.md "Editing the rig").
+  bool show_muscle_editor = false, show_uv_curves = false, show_directions = false;
+  int selected_curve = -1;              // the UV view's curve (spec index)
+  int drag_curve = -1, drag_point = -1;  // a control point being dragged
+  float uv_center[2] = {0.5f, 0.5f}, uv_zoom = 0.f;  // uv_zoom 0: frame the curves first
+  unsigned uv_texture = 0;              // the UV triangles drawn once (GL texture name)
+  bool uv_texture_stale = true;         // a new rig's mesh: draw them again
+  int direction_field = 0;
+  int new_direction_vertex = 0;
+  float new_direction[4] = {1.f, 0.f, 0.f, 0.5f};  // x y z, magnitude
+  int map_size = 1024;
+  MapJob maps;
+  std::string last_rig_error;           // the last refused rig edit (said once in Messages)
+
   // A slider drag of the pose: remember the pose it started from; at the end, one SetPose
   // command from there to the pose the drag left.
   void BeginPoseEdit();
@@ -90,6 +105,12 @@ struct App {
 // The ImGui panels (viewer/app/panels.cpp): Files, Scene, Muscles, Expressions, Clip,
 // Messages, Stats, the legend and the hover tooltip.
 void DrawPanels(App* app, float width, float height);
+// The rig editors (viewer/app/panels_rig.cpp): Muscle editor, UV curve wrinkles, Directions;
+// RigFilesRow is the Files panel's rig line (Save rig, the rebuild's spinner, the editors'
+// toggles). ReleaseRigPanels frees their GL texture.
+void DrawRigPanels(App* app, float width, float height);
+void RigFilesRow(App* app);
+void ReleaseRigPanels(App* app);
 // Ctrl+Z / Ctrl+Shift+Z / Ctrl+Y, Ctrl+S, Ctrl+C / Ctrl+V, Ins, Del (not while a text field
 // has the keyboard).
 void HandleEditShortcuts(App* app);

@@ -71,6 +71,11 @@ bool LoadInputs(const ViewerArgs& args, App* app) {
     std::snprintf(app->rig_field, sizeof app->rig_field, "%s", args.rig.c_str());
   if (args.recover && s.RecoverAutosaves() > 0 && app->pose_from_clip && s.has_clip())
     s.SampleClip(app->clip_time);
+  for (const std::string& panel : args.panels) {  // --panel: the rig editors to open
+    app->show_muscle_editor |= panel == "muscle-editor";
+    app->show_uv_curves |= panel == "uv-curves";
+    app->show_directions |= panel == "directions";
+  }
   return !HasErrors(s);
 }
 
@@ -338,6 +343,7 @@ int Main(int argc, char** argv) {
         app.offer_recovery = !args.recover && !app.session.PendingAutosaves().empty();
         Interactive(&app, window);
       }
+      ReleaseRigPanels(&app);
       ImGui_ImplOpenGL3_Shutdown();
       ImGui_ImplGlfw_Shutdown();
       ImGui::DestroyContext();

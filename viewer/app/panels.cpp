@@ -75,6 +75,7 @@ void FilesPanel(App* app) {
   if (ImGui::Button("Redo (Ctrl+Y)")) app->Redo();
   ImGui::EndDisabled();
   if (h.CanUndo()) ImGui::TextDisabled("undo: %s", h.UndoText().c_str());
+  RigFilesRow(app);
   ImGui::End();
 }
 
@@ -696,6 +697,7 @@ void DrawPanels(App* app, float width, float height) {
   ClipPanel(app, width, height);
   MessagesPanel(app, width, height);
   StatsOverlay(app, width);
+  DrawRigPanels(app, width, height);
   HoverTooltip(app);
   SafetyPopups(app);
 }

@@ -34,6 +34,7 @@ const char* ViewerUsage() {
          "                      [--time T | --set NAME=VALUE ...]\n"
          "                      [--screenshot OUT.png [--size WxH] [--overlay NAME]\n"
          "                       [--view front|side|three-quarter] [--ui] [--select MUSCLE]]\n"
+         "                      [--panel muscle-editor|uv-curves|directions]\n"
          "                      [--bench-frames N] [--threads N]\n"
          "                      [--script FILE] [--autosave-seconds N] [--recover]\n\n"
          "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
@@ -55,6 +56,8 @@ const char* ViewerUsage() {
          "  --ui                 draw the panels into the screenshot\n"
          "  --select MUSCLE      draw MUSCLE's gizmos (attachment, insertion, zone or sheet\n"
          "                       outline, wrinkling region) in the screenshot\n"
+         "  --panel NAME         open a rig editor at the start (repeatable): muscle-editor\n"
+         "                       (the --select muscle's parameters), uv-curves, directions\n"
          "  --bench-frames N     evaluate, upload and draw N frames headless (playing the clip\n"
          "                       if one is given) and print the mean and worst times\n"
          "  --threads N          evaluation threads (default: the hardware's; 1 = serial)\n"
@@ -95,7 +98,7 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       continue;
     }
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
-                                    "--size", "--overlay", "--view", "--select", "--bench-frames",
+                                    "--size", "--overlay", "--view", "--select", "--panel", "--bench-frames",
                                     "--threads", "--script", "--autosave-seconds"};
     bool valued = false;
     for (const char* k : kValued) valued = valued || a == k;
@@ -120,6 +123,12 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->library = value;
     } else if (a == "--select") {
       out->select = value;
+    } else if (a == "--panel") {
+      if (value != "muscle-editor" && value != "uv-curves" && value != "directions") {
+        *error = "--panel " + value + ": expected muscle-editor, uv-curves or directions";
+        return false;
+      }
+      out->panels.push_back(value);
     } else if (a == "--script") {
       out->script = value;
     } else if (a == "--autosave-seconds") {
