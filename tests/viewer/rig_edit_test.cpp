@@ -6,7 +6,8 @@
 // spec's text and the evaluated output bit for bit; the rebuild runs on another thread (the
 // edit returns while a hook holds the build) and a newer edit supersedes a waiting one; a
 // build that fails keeps the last good rig; bad values are refused naming the field; a drag
-// merges into one undo step; the script lines.
+// merges into one undo step; the script lines; Regenerate maps (MapJob, off the UI thread)
+// writes the bytes `mimetic texture` writes for the edited rig.
 #include "viewer/core/rig_edit.h"
 
 #include <atomic>
@@ -24,6 +25,7 @@
 #include "io/rig_loader.h"
 #include "rig/offline/rig_builder.h"
 #include "test_support.h"
+#include "viewer/core/map_job.h"
 #include "viewer/core/script.h"
 #include "viewer/core/session.h"
 
@@ -364,6 +366,40 @@ save-rig)",
   EXPECT_EQ(anchors[0].vector.x, 0.f);
   EXPECT_EQ(anchors[1].vertex, 1000u);
   EXPECT_FLOAT_EQ(anchors[1].vector.x, 0.5f / std::sqrt(2.f));
+}
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(ViewerRigEdit, RegeneratedMapsAreTheBytesMimeticTextureWrites) {
+  Fixture f("maps");
+  Session s(1);
+  Load(&s, f);
+  std::string error;
+  ASSERT_TRUE(Script(&s, "direction lines 900 0 1 0 0.9\nsave-rig", &error)) << error;
+  MapJob job;
+  ASSERT_TRUE(job.Start(*s.rig_spec(), s.rig(), s.mesh_vertex_count(), f.dir + "/viewer_maps", 64, 1,
+                        &error))
+      << error;
+  job.Wait();
+  bool ok = false;
+  Diagnostics diag;
+  std::vector<std::string> written;
+  ASSERT_TRUE(job.Take(&ok, &diag, &written));
+  ASSERT_TRUE(ok) << diag.Format();
+  EXPECT_EQ(job.progress(), 1.f);
+  ASSERT_EQ(written.size(), 4u);
+  const test::ToolResult tool =
+      test::RunTool({"texture", f.rig, "--size", "64", "--seed", "1", "--out", f.dir + "/tool_maps", "--quiet"});
+  ASSERT_EQ(tool.exit_code, 0) << tool.output;
+  for (const char* name : kFineMapNames) {
+    const std::string mine = Slurp(f.dir + "/viewer_maps/" + name);
+    EXPECT_FALSE(mine.empty()) << name;
+    EXPECT_TRUE(mine == Slurp(f.dir + "/tool_maps/" + name)) << name;
+  }
+  EXPECT_FALSE(job.Take(&ok, &diag, &written));  // handed over once
 }
 
 }  // namespace
