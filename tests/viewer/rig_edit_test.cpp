@@ -255,6 +255,25 @@ TEST(ViewerRigEdit, TheEditReturnsWhileItsRebuildRunsOnAnotherThread) {
   EXPECT_FALSE(s.rig_stale());
 }
 
+TEST(ViewerRigEdit, LoadingARigDropsTheRebuildOfTheOldOne) {
+  Fixture f("reload");
+  Session s(1);
+  Load(&s, f);
+  Gate gate;
+  s.SetRebuildHook([&] { gate.Hook(); });
+  std::string error;
+  ASSERT_TRUE(s.Edit(MakeMuscleEdit(*s.rig_spec(), "zygomatic", "strength", {"12"}, &error), &error));
+  gate.WaitForBuilds(1);
+  ASSERT_TRUE(s.LoadRigFile(f.rig));  // while the edit's build is held
+  EXPECT_FALSE(s.rig_stale());
+  EXPECT_EQ(s.history().undo_size(), 0u);
+  gate.Open();
+  EXPECT_TRUE(s.WaitRigRebuild());
+  EXPECT_EQ(s.loaded().spec.muscles[0].strength, 8.f);  // the held build was not swapped in
+  EXPECT_EQ(s.rig_spec()->muscles[0].strength, 8.f);
+  EXPECT_FALSE(s.rig_dirty());
+}
+
 TEST(ViewerRigEdit, AFailedBuildKeepsTheLastGoodRig) {
   Fixture f("fail");
   Session s(1);

@@ -34,6 +34,7 @@ void App::OnRigRebuilt() {
   point_vertex.assign(rig.point_count(), 0);
   for (uint32_t v = rig.vertex_count(); v-- > 0;) point_vertex[rig.vertex_points()[v]] = v;
   hover_valid = false;
+  UpdateGizmos();  // the selected muscle's geometry may have been edited
   dirty = true;
 }
 
