@@ -274,6 +274,32 @@ TEST(ViewerRigEdit, LoadingARigDropsTheRebuildOfTheOldOne) {
   EXPECT_FALSE(s.rig_dirty());
 }
 
+TEST(ViewerRigEdit, AnAutosavedRigIsRecoveredInANewSession) {
+  Fixture f("autosave");
+  std::string text, out;
+  {
+    Session s(1);
+    Load(&s, f);
+    std::string error;
+    ASSERT_TRUE(Script(&s, "muscle zygomatic strength 11\ncurve furrow depth 1.75\nautosave", &error)) << error;
+    EXPECT_TRUE(s.rig_dirty());  // autosaved, not saved
+    text = SpecText(s);
+    out = Output(&s);
+  }
+  Session t(1);
+  Load(&t, f);
+  EXPECT_EQ(t.rig_spec()->muscles[0].strength, 8.f);  // the file itself is as it was
+  ASSERT_EQ(t.PendingAutosaves(), std::vector<std::string>{AutosavePath(f.rig)});
+  EXPECT_EQ(t.RecoverAutosaves(), 1);
+  ASSERT_TRUE(t.WaitRigRebuild());
+  EXPECT_TRUE(t.rig_dirty());
+  EXPECT_EQ(SpecText(t), text);
+  EXPECT_TRUE(Output(&t) == out);
+  std::string error;
+  ASSERT_TRUE(t.SaveRigFile("", &error)) << error;  // a save removes the autosave
+  EXPECT_TRUE(t.PendingAutosaves().empty());
+}
+
 TEST(ViewerRigEdit, AFailedBuildKeepsTheLastGoodRig) {
   Fixture f("fail");
   Session s(1);

@@ -13,6 +13,7 @@
 #include "io/clip_file.h"
 #include "core/file_util.h"
 #include "io/expression_library.h"
+#include "io/image.h"
 #include "io/rig_file.h"
 #include "rig/offline/jaw_setting.h"
 #include "rig/offline/rig_builder.h"
@@ -451,6 +452,15 @@ bool Session::Autosave() {
       ok = false;
     }
   }
+  if (rig_dirty() && !rig_path_.empty() && history_.version(kEditRig) != autosaved_[2]) {
+    Diagnostics diag;
+    if (SaveRigSpec(AutosavePath(rig_path_), *rig_spec_, &diag)) {
+      autosaved_[2] = history_.version(kEditRig);
+    } else {
+      AddMessages(diag, AutosavePath(rig_path_) + ": the autosave failed");
+      ok = false;
+    }
+  }
   if (library_dirty() && !library_path_.empty() && history_.version(kEditLibrary) != autosaved_[1]) {
     Diagnostics diag;
     if (SaveExpressionLibrary(AutosavePath(library_path_), library_, &diag)) {
@@ -469,12 +479,46 @@ std::vector<std::string> Session::PendingAutosaves() const {
   for (const std::string* p : {&clip_path_, &library_path_})
     if (!p->empty() && std::filesystem::is_regular_file(AutosavePath(*p), ec))
       out.push_back(AutosavePath(*p));
+  if (rig_spec_ && !rig_path_.empty() && std::filesystem::is_regular_file(AutosavePath(rig_path_), ec))
+    out.push_back(AutosavePath(rig_path_));
   return out;
 }
 
 int Session::RecoverAutosaves() {
   int recovered = 0;
   std::error_code ec;
+  if (rig_spec_ && !rig_path_.empty() && std::filesystem::is_regular_file(AutosavePath(rig_path_), ec)) {
+    const std::string path = AutosavePath(rig_path_);
+    RigSpec spec;
+    Diagnostics diag;
+    bool ok = LoadRigSpec(path, &spec, &diag);
+    if (ok && std::filesystem::weakly_canonical(spec.mesh_path, ec) !=
+                  std::filesystem::weakly_canonical(rig_spec_->mesh_path, ec)) {
+      diag.Error(path, "names the mesh " + spec.mesh_path + ", but the rig's is " + rig_spec_->mesh_path);
+      ok = false;
+    }
+    bool same_muscles = ok && spec.muscles.size() == rig_spec_->muscles.size();
+    for (size_t m = 0; same_muscles && m < spec.muscles.size(); ++m)
+      same_muscles = spec.muscles[m].name == rig_spec_->muscles[m].name;
+    if (ok && !same_muscles) {
+      diag.Error(path, "has other muscles than the rig (the pose and the clip name the rig's)");
+      ok = false;
+    }
+    if (ok && spec.thickness.kind == ThicknessSpec::Kind::kImage)
+      ok = LoadGrayImage(spec.thickness.image_path, "thickness.path", "thickness image",
+                         &spec.thickness.image, &diag);
+    if (ok) {
+      spec.file = rig_path_;
+      *rig_spec_ = std::move(spec);
+      history_.Clear();
+      history_.MarkChanged(kEditRig);
+      RequestRigRebuild();
+      ++recovered;
+      messages_.push_back({false, path + ": recovered (not saved yet; the rig is being rebuilt)"});
+    } else {
+      AddMessages(diag, path + ": not recovered");
+    }
+  }
   if (!library_path_.empty() && std::filesystem::is_regular_file(AutosavePath(library_path_), ec)) {
     std::vector<Expression> library;
     Diagnostics diag;

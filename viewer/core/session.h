@@ -125,15 +125,17 @@ class Session {
   bool clip_dirty() const { return has_clip_spec_ && history_.dirty(kEditClip); }
   bool library_dirty() const { return history_.dirty(kEditLibrary); }
 
-  // Autosave: the edited clip and library, when they have changes not saved nor autosaved
-  // yet, written to AutosavePath(their file). False (with messages) when a write failed.
+  // Autosave: the edited clip, library and rig spec, when they have changes not saved nor
+  // autosaved yet, written to AutosavePath(their file). False (with messages) when a write
+  // failed. (A recovered rig spec is rebuilt off the UI thread like an edit.)
   bool Autosave();
-  // The autosave files of the current clip and library that exist (newer edits to recover).
+  // The autosave files of the current clip, library and rig that exist (newer edits to recover).
   std::vector<std::string> PendingAutosaves() const;
-  // Replaces the clip and library with their autosaves (each must read and build); they are
-  // then dirty (not saved to their own files). Returns how many were recovered.
+  // Replaces the clip, library and rig spec with their autosaves (each must read and build; the
+  // rig's must name the same mesh and muscles); they are then dirty (not saved to their own
+  // files). Returns how many were recovered.
   int RecoverAutosaves();
-  // Removes the autosave files of the current clip and library.
+  // Removes the autosave files of the current clip, library and rig.
   void DiscardAutosaves();
 
   // --- Editing the rig (docs/viewer.md "Editing the rig"; viewer/core/rig_edit.h). -------
@@ -219,7 +221,7 @@ class Session {
   bool has_clip_spec_ = false;
   unsigned last_touched_ = 0;
   EditHistory history_;
-  uint64_t autosaved_[2] = {0, 0};  // clip, library versions last autosaved
+  uint64_t autosaved_[3] = {0, 0, 0};  // clip, library, rig versions last autosaved
   std::string clip_path_;
   std::vector<TimelineChannel> timeline_;
   std::vector<Expression> library_;
