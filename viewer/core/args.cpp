@@ -63,10 +63,10 @@ const char* ViewerUsage() {
          "  --threads N          evaluation threads (default: the hardware's; 1 = serial)\n"
          "  --script FILE        run FILE's edit commands headless (docs/viewer.md \"Scripts\")\n"
          "                       and exit: 0 done, 1 with FILE:LINE: message on a bad line\n"
-         "  --autosave-seconds N write the unsaved clip and library to FILE.autosave every N\n"
-         "                       seconds (default 60; 0 = never)\n"
-         "  --recover            take the clip's and library's .autosave files (newer edits\n"
-         "                       that were never saved) at the start, without asking\n"
+         "  --autosave-seconds N write the unsaved clip, library and rig to FILE.autosave\n"
+         "                       every N seconds (default 60; 0 = never)\n"
+         "  --recover            take the clip's, library's and rig's .autosave files (newer\n"
+         "                       edits that were never saved) at the start, without asking\n"
          "  -h, --help           this text\n";
 }
 
