@@ -5,6 +5,7 @@
 // viewer/core/rig_edit.h; a drag is merged into one undo step (Session::EditMerged). The rig is
 // rebuilt off the UI thread; the Files panel's rig line shows a spinner while it runs.
 #include <GL/glcorearb.h>
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 
 #include <algorithm>
@@ -559,15 +560,20 @@ void RigFilesRow(App* app) {
   ImGui::SameLine();
   ImGui::TextColored(s.rig_dirty() ? ImVec4(1.f, 0.8f, 0.3f, 1.f) : ImVec4(0.6f, 0.8f, 0.6f, 1.f), "rig: %s",
                      !s.rig_spec() ? "not editable (.mrig)" : s.rig_dirty() ? "unsaved changes" : "saved");
-  ImGui::Checkbox("muscle editor", &app->show_muscle_editor);
+  ImGui::Checkbox("muscle editor (E)", &app->show_muscle_editor);
+  ImGui::Checkbox("UV curves (U)", &app->show_uv_curves);
   ImGui::SameLine();
-  ImGui::Checkbox("UV curves", &app->show_uv_curves);
-  ImGui::SameLine();
-  ImGui::Checkbox("directions", &app->show_directions);
+  ImGui::Checkbox("directions (D)", &app->show_directions);
   RebuildStatus(app);
 }
 
 void DrawRigPanels(App* app, float width, float height) {
+  // E, U, D open and close the editors (not while a text field or a widget has the keyboard).
+  if (!ImGui::GetIO().WantCaptureKeyboard && !ImGui::GetIO().KeyCtrl) {
+    if (ImGui::IsKeyPressed(GLFW_KEY_E, false)) app->show_muscle_editor = !app->show_muscle_editor;
+    if (ImGui::IsKeyPressed(GLFW_KEY_U, false)) app->show_uv_curves = !app->show_uv_curves;
+    if (ImGui::IsKeyPressed(GLFW_KEY_D, false)) app->show_directions = !app->show_directions;
+  }
   if (app->show_muscle_editor) MuscleEditorPanel(app, width, height);
   if (app->show_uv_curves) UvCurvesPanel(app, width, height);
   if (app->show_directions) DirectionsPanel(app, width, height);
