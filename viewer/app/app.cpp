@@ -23,7 +23,7 @@ void App::OnRigLoaded() {
   selected_curve = drag_curve = drag_point = -1;
   uv_zoom = 0.f;
   uv_texture_stale = true;
-  hover_valid = false;
+  hover_valid = hover_seen = false;
   std::snprintf(rig_field, sizeof rig_field, "%s", session.rig_path().c_str());
   dirty = true;
 }
@@ -178,6 +178,7 @@ void App::Hover(float x, float y, float width, float height) {
     return;
   hover_valid = true;
   hover_vertex = hit.nearest;
+  hover_seen = true;
   hover_muscles = MusclesReachingPoint(session.rig(), session.rig().vertex_points()[hit.nearest]);
   const uint32_t* t = &session.rig().vertex_indices()[3 * size_t(hit.triangle)];
   hover_value = InterpolateValue(session.overlay_field(), t[0], t[1], t[2], hit.u, hit.w);

@@ -37,6 +37,7 @@ struct App {
   // Hover.
   bool hover_valid = false;
   uint32_t hover_vertex = 0;
+  bool hover_seen = false;  // hover_vertex is a vertex the cursor was over (kept off the mesh)
   float hover_value = 0.f;
   std::vector<uint32_t> hover_muscles;
   // Text fields of the Files panel.

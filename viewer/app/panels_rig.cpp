@@ -496,7 +496,14 @@ void DirectionsPanel(App* app, float width, float height) {
     }
     ImGui::EndTable();
   }
-  // A new vector (or the one at that vertex replaced).
+  // A new vector (or the one at that vertex replaced). The first output vertices of a rig are
+  // the file's, in order (refinement adds after them), so a hovered vertex below the file's
+  // count is a file vertex.
+  if (app->hover_seen && app->hover_vertex < s.mesh_vertex_count()) {
+    char label[64];
+    std::snprintf(label, sizeof label, "Use the last hovered vertex (%u)", app->hover_vertex);
+    if (ImGui::SmallButton(label)) app->new_direction_vertex = int(app->hover_vertex);
+  }
   ImGui::SetNextItemWidth(90);
   ImGui::InputInt("##vertex", &app->new_direction_vertex);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("a vertex of the mesh file (0 to %zu)", s.mesh_vertex_count() - 1);
