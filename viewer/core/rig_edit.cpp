@@ -3,9 +3,10 @@
 
 #include <charconv>
 #include <cmath>
-#include <cerrno>
 #include <cstdlib>
 #include <numbers>
+
+#include "expressions/offline/activation_binding.h"
 
 namespace mimetic::viewer {
 namespace {
@@ -113,9 +114,8 @@ std::string Num(float f) {
 
 // A number word: anything strtof reads whole (nan and inf too: the checks below name them).
 bool Word(const std::string& word, float* out) {
-  errno = 0;
   char* end = nullptr;
-  const float v = std::strtof(word.c_str(), &end);
+  const float v = std::strtof(word.c_str(), &end);  // out of range: +-inf, refused by Check
   if (word.empty() || end != word.c_str() + word.size()) return false;
   *out = v;
   return true;
@@ -327,11 +327,10 @@ CommandPtr MakeMuscleEdit(const RigSpec& spec, const std::string& name, const st
                           const std::vector<std::string>& args, std::string* error) {
   const int m = FindSpecMuscle(spec, name);
   if (m < 0) {
-    std::string names;
-    for (const MuscleSpec& s : spec.muscles)
-      if (s.name.compare(0, 4, name, 0, 4) == 0) names += (names.empty() ? "" : ", ") + s.name;
-    *error = "muscle " + name + ": the rig has no muscle '" + name + "'" +
-             (names.empty() ? "" : " (similar: " + names + ")");
+    std::vector<std::string> names;
+    for (const MuscleSpec& s : spec.muscles) names.push_back(s.name);
+    *error = "muscle " + name + ": the rig has no muscle '" + name + "'; the closest: " +
+             ClosestNames(names, name);
     return nullptr;
   }
   const MuscleSpec& muscle = spec.muscles[size_t(m)];
@@ -411,7 +410,10 @@ CommandPtr MakeCurveEdit(const RigSpec& spec, const std::string& name, const std
                          const std::vector<std::string>& args, std::string* error) {
   const int c = FindSpecCurve(spec, name);
   if (c < 0) {
-    *error = "curve " + name + ": the rig has no curve wrinkle '" + name + "'";
+    std::vector<std::string> names;
+    for (const NamedCurveWrinkle& w : spec.curve_wrinkles) names.push_back(w.name);
+    *error = "curve " + name + ": the rig has no curve wrinkle '" + name + "'" +
+             (names.empty() ? " (it has none)" : "; the closest: " + ClosestNames(names, name));
     return nullptr;
   }
   const std::string where = "curve_wrinkles[" + std::to_string(c) + "] " + name;
