@@ -24,6 +24,7 @@ void App::OnRigLoaded() {
   uv_zoom = 0.f;
   uv_texture_stale = true;
   hover_valid = hover_seen = false;
+  gizmo_key = ~0ull;
   std::snprintf(rig_field, sizeof rig_field, "%s", session.rig_path().c_str());
   dirty = true;
 }
@@ -146,6 +147,26 @@ void App::UpdateGizmos() {
         }
       }
     }
+  }
+  // The fine-scale direction vectors while their editor is open: a line from each anchor's
+  // vertex (rest) along its vector, a tenth of the mesh's size at magnitude 1; green for the
+  // first field, orange for the second; a dot at the vertex.
+  const RigSpec* edited = session.rig_spec();
+  if (show_gizmos && show_directions && edited && edited->fine_scale) {
+    const float3 lo = session.bounds_lo(), hi = session.bounds_hi();
+    const float scale = 0.1f * std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    const std::vector<float3>& rest = session.rest_positions();
+    const float3 colors[2] = {{0.3f, 1.f, 0.4f}, {1.f, 0.6f, 0.2f}};
+    for (int f = 0; f < 2; ++f)
+      for (const DirectionAnchor& a : edited->fine_scale->fields[f].anchors) {
+        if (a.vertex >= rest.size()) continue;  // output vertex a.vertex is file vertex a.vertex
+        lines.push_back(rest[a.vertex]);
+        lines.push_back(rest[a.vertex] + scale * a.vector);
+        line_colors.push_back(colors[f]);
+        line_colors.push_back(colors[f]);
+        points.push_back(rest[a.vertex]);
+        point_colors.push_back(colors[f]);
+      }
   }
   renderer.SetGizmos(lines, line_colors, points, point_colors);
 }

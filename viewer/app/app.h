@@ -71,6 +71,7 @@ struct App {
   int new_direction_vertex = 0;
   float new_direction[4] = {1.f, 0.f, 0.f, 0.5f};  // x y z, magnitude
   int map_size = 1024;
+  uint64_t gizmo_key = ~0ull;           // the rig version and toggles the gizmos were made for
   MapJob maps;
   std::string last_rig_error;           // the last refused rig edit (said once in Messages)
 

@@ -581,6 +581,13 @@ void DrawRigPanels(App* app, float width, float height) {
     if (ImGui::IsKeyPressed(GLFW_KEY_U, false)) app->show_uv_curves = !app->show_uv_curves;
     if (ImGui::IsKeyPressed(GLFW_KEY_D, false)) app->show_directions = !app->show_directions;
   }
+  // The direction vectors' gizmos follow the edits and the editor's toggle.
+  const uint64_t key = app->session.history().version(kEditRig) * 4 + (app->show_directions ? 2 : 0) +
+                       (app->show_gizmos ? 1 : 0);
+  if (app->session.has_rig() && key != app->gizmo_key) {
+    app->gizmo_key = key;
+    app->UpdateGizmos();
+  }
   if (app->show_muscle_editor) MuscleEditorPanel(app, width, height);
   if (app->show_uv_curves) UvCurvesPanel(app, width, height);
   if (app->show_directions) DirectionsPanel(app, width, height);
