@@ -305,11 +305,24 @@ bool Session::Redo(std::string* error) {
 }
 
 // The edited spec must read back as a rig file: the rules between fields are the reader's.
+// The parts no edit changes and that may be large (per-vertex thickness, the tension regions'
+// weights; they were checked when the rig loaded) are left out, so that a drag step stays far
+// under a frame on any rig.
 bool Session::CheckRigSpec(std::string* error) {
   if (!rig_spec_) return true;
   const std::string dir = DirectoryOf(rig_path_);
+  RigSpec checked;
+  {
+    ThicknessSpec thickness = std::move(rig_spec_->thickness);
+    std::vector<TensionRegionSpec> regions = std::move(rig_spec_->tension_regions);
+    checked = *rig_spec_;
+    rig_spec_->thickness = std::move(thickness);
+    rig_spec_->tension_regions = std::move(regions);
+  }
+  checked.thickness = ThicknessSpec{};
+  checked.thickness.value = 1.f;  // a constant, as valid as the loaded one was
   std::string why;
-  const std::string text = RigSpecText(*rig_spec_, dir, &why);
+  const std::string text = RigSpecText(checked, dir, &why);
   if (text.empty()) {
     if (error) *error = "the rig cannot be written: " + why;
     return false;
