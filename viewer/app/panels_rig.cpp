@@ -7,6 +7,7 @@
 #include <GL/glcorearb.h>
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>  // SetItemUsingMouseWheel (1.86 keeps it internal)
 
 #include <algorithm>
 #include <charconv>
@@ -315,6 +316,7 @@ void UvCurvesPanel(App* app, float width, float height) {
                   app->uv_center[1] + (p.y - origin.y - 0.5f * canvas.y) / scale};
   };
   ImGui::InvisibleButton("uv", canvas, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+  ImGui::SetItemUsingMouseWheel();  // the wheel zooms the view, it does not scroll the window
   const bool hovered = ImGui::IsItemHovered();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 end(origin.x + canvas.x, origin.y + canvas.y);
