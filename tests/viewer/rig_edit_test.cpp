@@ -373,6 +373,22 @@ TEST(ViewerRigEdit, ADragIsOneUndoStep) {
   EXPECT_EQ(s.rig_spec()->curve_wrinkles[0].spec.control[2].y, 0.45f);
   ASSERT_TRUE(s.Undo());
   EXPECT_EQ(SpecText(s), text0);
+  // A step the file's rules refuse (Rf below Rs) keeps the drag where its last good step left
+  // it, still one undo step.
+  const auto step = [&](float rf) {
+    std::string e;
+    return s.EditMerged(MakeMuscleValueEdit(*s.rig_spec(), 0, "falloff_end", {rf}, &e), "rf", &e);
+  };
+  EXPECT_TRUE(step(50.f));
+  EXPECT_FALSE(step(20.f));
+  EXPECT_EQ(s.rig_spec()->muscles[0].linear.falloff_end, 50.f);
+  EXPECT_EQ(s.history().undo_size(), undo0 + 1);
+  EXPECT_TRUE(step(55.f));
+  s.EndMerge();
+  EXPECT_EQ(s.rig_spec()->muscles[0].linear.falloff_end, 55.f);
+  EXPECT_EQ(s.history().undo_size(), undo0 + 1);
+  ASSERT_TRUE(s.Undo());
+  EXPECT_EQ(SpecText(s), text0);
   ASSERT_TRUE(s.WaitRigRebuild());
 }
 

@@ -266,8 +266,11 @@ bool Session::EditMerged(CommandPtr command, const std::string& merge, std::stri
       const auto validate = [this](unsigned t, std::string* e) {
         return Rebuild(t, e) && (!(t & kEditRig) || CheckRigSpec(e));
       };
-      history_.Redo(Target(), validate, &touched, &ignored);
-      if (touched & kEditRig) RequestRigRebuild();
+      // (The spec is back to the one its rebuild was last asked for: nothing to ask again.)
+      if (history_.Redo(Target(), validate, &touched, &ignored)) {
+        merge_tag_ = merge;  // the drag goes on from its last good step
+        merge_undo_size_ = history_.undo_size();
+      }
     }
     return false;
   }
