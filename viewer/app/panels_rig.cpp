@@ -147,19 +147,21 @@ void MuscleEditorPanel(App* app, float width, float height) {
     MusclePoint(app, m, "insertion", "insertion", -1, muscle.linear.insertion, step);
     MuscleValue(app, m, "zone angle (deg)", "zone_angle", muscle.linear.zone_angle * kDegrees,
                 0.1f, 0.1f, 179.9f, "%.2f");
+    // The drags stop at the rule between them (Rs < Rf), so a drag does not run into it.
     MuscleValue(app, m, "fall-off start Rs", "falloff_start", muscle.linear.falloff_start, step,
-                step, 10.f * size);
-    MuscleValue(app, m, "fall-off end Rf", "falloff_end", muscle.linear.falloff_end, step, step,
-                10.f * size);
+                step, std::max(step, muscle.linear.falloff_end - step));
+    MuscleValue(app, m, "fall-off end Rf", "falloff_end", muscle.linear.falloff_end, step,
+                muscle.linear.falloff_start + step, 10.f * size);
   } else {
     MusclePoint(app, m, "attachment 0", "attachment", 0, muscle.sheet.attachment[0], step);
     MusclePoint(app, m, "attachment 1", "attachment", 1, muscle.sheet.attachment[1], step);
     MusclePoint(app, m, "insertion 0", "insertion", 0, muscle.sheet.insertion[0], step);
     MusclePoint(app, m, "insertion 1", "insertion", 1, muscle.sheet.insertion[1], step);
-    MuscleValue(app, m, "length Ls", "length", muscle.sheet.length, step, step, 10.f * size);
+    MuscleValue(app, m, "length Ls", "length", muscle.sheet.length, step,
+                muscle.sheet.falloff_start + step, 10.f * size);
     MuscleValue(app, m, "width Ws", "width", muscle.sheet.width, step, step, 10.f * size);
     MuscleValue(app, m, "fall-off start Rs", "falloff_start", muscle.sheet.falloff_start, step,
-                step, 10.f * size);
+                step, std::max(step, muscle.sheet.length - step));
   }
   ImGui::Separator();
   bool has = m < spec->muscle_wrinkles.size() && spec->muscle_wrinkles[m].has_value();
