@@ -1058,6 +1058,17 @@ bool LoadRigSpec(const std::string& path, RigSpec* out, Diagnostics* diag) {
   return true;
 }
 
+std::string RigSpecText(const RigSpec& spec, const std::string& dir, std::string* error) {
+  try {
+    return ToJson(spec, dir).dump(2, ' ', false, ordered_json::error_handler_t::strict) + "\n";
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+  } catch (...) {
+    if (error) *error = "unknown error";
+  }
+  return "";
+}
+
 bool SaveRigSpec(const std::string& path, const RigSpec& spec, Diagnostics* diag) {
   Diagnostics local_fallback;
   if (!diag) diag = &local_fallback;

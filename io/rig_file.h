@@ -20,4 +20,10 @@ bool LoadRigSpec(const std::string& path, RigSpec* out, Diagnostics* diag);
 // directory of `path` where possible.
 bool SaveRigSpec(const std::string& path, const RigSpec& spec, Diagnostics* diag);
 
+// The text SaveRigSpec writes for a file in directory `dir` (nothing is checked or written):
+// the same spec gives the same bytes, and every float is written so that it reads back to the
+// same bits (the viewer compares specs by it). "" with *error when it cannot be written (a name
+// that is not UTF-8).
+std::string RigSpecText(const RigSpec& spec, const std::string& dir, std::string* error = nullptr);
+
 }  // namespace mimetic

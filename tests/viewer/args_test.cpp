@@ -28,6 +28,17 @@ TEST(ViewerArgs, AScreenshotWithEveryOption) {
   EXPECT_TRUE(a.headless());
 }
 
+TEST(ViewerArgs, PanelsOpenTheRigEditors) {
+  ViewerArgs a;
+  std::string error;
+  ASSERT_TRUE(ParseViewerArgs({"r.rig.json", "--panel", "uv-curves", "--panel=muscle-editor"}, &a, &error))
+      << error;
+  EXPECT_EQ(a.panels, (std::vector<std::string>{"uv-curves", "muscle-editor"}));
+  EXPECT_FALSE(a.headless());  // a window may open with an editor too
+  EXPECT_FALSE(ParseViewerArgs({"r.rig.json", "--panel", "timeline"}, &a, &error));
+  EXPECT_EQ(error, "--panel timeline: expected muscle-editor, uv-curves or directions");
+}
+
 TEST(ViewerArgs, SetsAndDefaults) {
   ViewerArgs a;
   std::string error;

@@ -4,6 +4,7 @@
 // rig on the command line opens the window (still running when the test stops it).
 // Without xvfb-run the tests skip (CI, which installs it, fails instead).
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -147,6 +148,35 @@ TEST(ViewerHeadless, PanelsDrawIntoTheScreenshot) {
   const GrayImage plain = Screenshot({surface, "--overlay", "area-ratio"}, "plain");
   const GrayImage ui = Screenshot({surface, "--overlay", "area-ratio", "--ui"}, "ui");
   EXPECT_GT(MeanDifference(plain, ui, 0, 100, 0, 200), 5.0);
+}
+
+// A script's rig edit is rebuilt and swapped into the window before its screenshot: the image
+// is the one the saved, edited rig gives when loaded, and not the original rig's.
+TEST(ViewerHeadless, AScriptsRigEditIsDrawnAsTheSavedRigDraws) {
+  REQUIRE_XVFB();
+  const std::string dir = test::TempDir() + "/headless_rig_edit";
+  std::filesystem::create_directories(dir);
+  const std::string script = dir + "/edit.txt", edited = dir + "/edited.rig.json",
+                    shot = dir + "/scripted.png";
+  {
+    FILE* f = std::fopen(script.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fprintf(f, "set zygomaticus_major 1\nmuscle zygomaticus_major_L strength 25\n"
+                    "muscle zygomaticus_major_R strength 25\nsave-rig %s\nscreenshot %s\n",
+                 edited.c_str(), shot.c_str());
+    std::fclose(f);
+  }
+  const test::ToolResult r = RunViewer({Head(), "--script", script, "--size", "640x360"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  GrayImage scripted;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadGrayImage(shot, "test", "screenshot", &scripted, &diag)) << diag.Format();
+  const GrayImage reloaded = Screenshot({edited, "--set", "zygomaticus_major=1"}, "reloaded");
+  const GrayImage original = Screenshot({Head(), "--set", "zygomaticus_major=1"}, "original");
+  ASSERT_EQ(scripted.pixels.size(), reloaded.pixels.size());
+  EXPECT_TRUE(scripted.pixels == reloaded.pixels);
+  const Box b = Silhouette(original);
+  EXPECT_GT(MeanDifference(original, scripted, b.top, b.bottom, b.left, b.right), 0.05);
 }
 
 TEST(ViewerHeadless, ABrokenRigExits1WithItsMessages) {

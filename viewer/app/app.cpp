@@ -20,7 +20,11 @@ void App::OnRigLoaded() {
   point_vertex.assign(rig.point_count(), 0);
   for (uint32_t v = rig.vertex_count(); v-- > 0;) point_vertex[rig.vertex_points()[v]] = v;
   selected_muscle = -1;
-  hover_valid = false;
+  selected_curve = drag_curve = drag_point = -1;
+  uv_zoom = 0.f;
+  uv_texture_stale = true;
+  hover_valid = hover_seen = false;
+  gizmo_key = ~0ull;
   std::snprintf(rig_field, sizeof rig_field, "%s", session.rig_path().c_str());
   dirty = true;
 }
@@ -31,6 +35,16 @@ bool App::LoadFineMaps(const std::string& dir) {
   std::snprintf(fine_field, sizeof fine_field, "%s", dir.c_str());
   dirty = true;
   return true;
+}
+
+void App::OnRigRebuilt() {
+  const Rig& rig = session.rig();
+  renderer.SetMesh(rig.vertex_indices(), rig.vertex_count(), rig.vertex_uvs());
+  point_vertex.assign(rig.point_count(), 0);
+  for (uint32_t v = rig.vertex_count(); v-- > 0;) point_vertex[rig.vertex_points()[v]] = v;
+  hover_valid = false;
+  UpdateGizmos();  // the selected muscle's geometry may have been edited
+  dirty = true;
 }
 
 void App::BeginPoseEdit() {
@@ -143,6 +157,26 @@ void App::UpdateGizmos() {
       }
     }
   }
+  // The fine-scale direction vectors while their editor is open: a line from each anchor's
+  // vertex (rest) along its vector, a tenth of the mesh's size at magnitude 1; green for the
+  // first field, orange for the second; a dot at the vertex.
+  const RigSpec* edited = session.rig_spec();
+  if (show_gizmos && show_directions && edited && edited->fine_scale) {
+    const float3 lo = session.bounds_lo(), hi = session.bounds_hi();
+    const float scale = 0.1f * std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    const std::vector<float3>& rest = session.rest_positions();
+    const float3 colors[2] = {{0.3f, 1.f, 0.4f}, {1.f, 0.6f, 0.2f}};
+    for (int f = 0; f < 2; ++f)
+      for (const DirectionAnchor& a : edited->fine_scale->fields[f].anchors) {
+        if (a.vertex >= rest.size()) continue;  // output vertex a.vertex is file vertex a.vertex
+        lines.push_back(rest[a.vertex]);
+        lines.push_back(rest[a.vertex] + scale * a.vector);
+        line_colors.push_back(colors[f]);
+        line_colors.push_back(colors[f]);
+        points.push_back(rest[a.vertex]);
+        point_colors.push_back(colors[f]);
+      }
+  }
   renderer.SetGizmos(lines, line_colors, points, point_colors);
 }
 
@@ -176,6 +210,7 @@ void App::Hover(float x, float y, float width, float height) {
     return;
   hover_valid = true;
   hover_vertex = hit.nearest;
+  hover_seen = true;
   hover_muscles = MusclesReachingPoint(session.rig(), session.rig().vertex_points()[hit.nearest]);
   const uint32_t* t = &session.rig().vertex_indices()[3 * size_t(hit.triangle)];
   hover_value = InterpolateValue(session.overlay_field(), t[0], t[1], t[2], hit.u, hit.w);

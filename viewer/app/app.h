@@ -7,6 +7,7 @@
 
 #include "viewer/app/renderer.h"
 #include "viewer/core/camera.h"
+#include "viewer/core/map_job.h"
 #include "viewer/core/session.h"
 
 namespace mimetic::viewer {
@@ -36,6 +37,7 @@ struct App {
   // Hover.
   bool hover_valid = false;
   uint32_t hover_vertex = 0;
+  bool hover_seen = false;  // hover_vertex is a vertex the cursor was over (kept off the mesh)
   float hover_value = 0.f;
   std::vector<uint32_t> hover_muscles;
   // Text fields of the Files panel.
@@ -59,6 +61,21 @@ struct App {
   bool close_confirmed = false;
   int pending_load = 0;           // 1 rig, 2 library, 3 clip: asked to discard unsaved edits
 
+  // Rig editors (viewer/app/panels_rig.cpp; docs/viewer.md "Editing the rig").
+  bool show_muscle_editor = false, show_uv_curves = false, show_directions = false;
+  int selected_curve = -1;              // the UV view's curve (spec index)
+  int drag_curve = -1, drag_point = -1;  // a control point being dragged
+  float uv_center[2] = {0.5f, 0.5f}, uv_zoom = 0.f;  // uv_zoom 0: frame the curves first
+  unsigned uv_texture = 0;              // the UV triangles drawn once (GL texture name)
+  bool uv_texture_stale = true;         // a new rig's mesh: draw them again
+  int direction_field = 0;
+  int new_direction_vertex = 0;
+  float new_direction[4] = {1.f, 0.f, 0.f, 0.5f};  // x y z, magnitude
+  int map_size = 1024;
+  uint64_t gizmo_key = ~0ull;           // the rig version and toggles the gizmos were made for
+  MapJob maps;
+  std::string last_rig_error;           // the last refused rig edit (said once in Messages)
+
   // A slider drag of the pose: remember the pose it started from; at the end, one SetPose
   // command from there to the pose the drag left.
   void BeginPoseEdit();
@@ -67,7 +84,9 @@ struct App {
   void OnEdited();
   void Undo();
   void Redo();
-  bool unsaved() const { return session.clip_dirty() || session.library_dirty(); }
+  bool unsaved() const {
+    return session.clip_dirty() || session.library_dirty() || session.rig_dirty();
+  }
 
   bool dirty = true;  // the pose or the overlay changed: evaluate again
   FrameStats stats;
@@ -77,6 +96,9 @@ struct App {
   void OnRigLoaded();
   // Loads the fine-scale maps of DIR into the session and the renderer (false: messages).
   bool LoadFineMaps(const std::string& dir);
+  // After a rebuild of the edited rig was swapped in (Session::PollRigRebuild): the mesh into
+  // the renderer again (refinement may have changed it); camera, selection and pose stay.
+  void OnRigRebuilt();
   // Evaluate (when dirty), upload, gizmos; timings into stats.
   void Update();
   void UpdateGizmos();
@@ -88,6 +110,12 @@ struct App {
 // The ImGui panels (viewer/app/panels.cpp): Files, Scene, Muscles, Expressions, Clip,
 // Messages, Stats, the legend and the hover tooltip.
 void DrawPanels(App* app, float width, float height);
+// The rig editors (viewer/app/panels_rig.cpp): Muscle editor, UV curve wrinkles, Directions;
+// RigFilesRow is the Files panel's rig line (Save rig, the rebuild's spinner, the editors'
+// toggles). ReleaseRigPanels frees their GL texture.
+void DrawRigPanels(App* app, float width, float height);
+void RigFilesRow(App* app);
+void ReleaseRigPanels(App* app);
 // Ctrl+Z / Ctrl+Shift+Z / Ctrl+Y, Ctrl+S, Ctrl+C / Ctrl+V, Ins, Del (not while a text field
 // has the keyboard).
 void HandleEditShortcuts(App* app);

@@ -73,6 +73,11 @@ bool LoadInputs(const ViewerArgs& args, App* app) {
     std::snprintf(app->rig_field, sizeof app->rig_field, "%s", args.rig.c_str());
   if (args.recover && s.RecoverAutosaves() > 0 && app->pose_from_clip && s.has_clip())
     s.SampleClip(app->clip_time);
+  for (const std::string& panel : args.panels) {  // --panel: the rig editors to open
+    app->show_muscle_editor |= panel == "muscle-editor";
+    app->show_uv_curves |= panel == "uv-curves";
+    app->show_directions |= panel == "directions";
+  }
   return !HasErrors(s);
 }
 
@@ -95,6 +100,10 @@ void UiFrame(App* app, int width, int height) {
 
 // One frame into `path` at the command line's size (with the panels under --ui).
 bool TakeScreenshot(const ViewerArgs& args, App* app, const std::string& path, std::string* error) {
+  // The headless path draws only finished rigs: a rebuild of the edited rig is waited for, and
+  // the mesh uploaded again (a script's rig edits may have swapped the rig in already).
+  if (app->session.rig_rebuilding()) app->session.WaitRigRebuild();
+  if (app->session.has_rig()) app->OnRigRebuilt();
   const int w = args.width, h = args.height;
   if (!app->renderer.BindOffscreen(w, h)) {
     *error = "the offscreen framebuffer (" + std::to_string(w) + "x" + std::to_string(h) +
@@ -274,6 +283,8 @@ void Interactive(App* app, GLFWwindow* window) {
       }
     }
     HandleEditShortcuts(app);
+    // A finished rebuild of the edited rig is swapped in here, between frames.
+    if (s.PollRigRebuild()) app->OnRigRebuilt();
     app->Update();
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);
@@ -338,6 +349,7 @@ int Main(int argc, char** argv) {
         app.offer_recovery = !args.recover && !app.session.PendingAutosaves().empty();
         Interactive(&app, window);
       }
+      ReleaseRigPanels(&app);
       ImGui_ImplOpenGL3_Shutdown();
       ImGui_ImplGlfw_Shutdown();
       ImGui::DestroyContext();

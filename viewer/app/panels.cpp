@@ -75,6 +75,7 @@ void FilesPanel(App* app) {
   if (ImGui::Button("Redo (Ctrl+Y)")) app->Redo();
   ImGui::EndDisabled();
   if (h.CanUndo()) ImGui::TextDisabled("undo: %s", h.UndoText().c_str());
+  RigFilesRow(app);
   ImGui::End();
 }
 
@@ -615,9 +616,11 @@ void SafetyPopups(App* app) {
   if (app->pending_load) ImGui::OpenPopup("Discard unsaved changes?");
   if (ImGui::BeginPopupModal("Discard unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     ImGui::TextUnformatted(app->pending_load == 2 ? "The library has unsaved changes."
-                                                  : app->pending_load == 1 && s.library_dirty()
-                                                        ? "The clip or the library has unsaved changes."
-                                                        : "The clip has unsaved changes.");
+                           : app->pending_load == 1 && s.rig_dirty()
+                               ? "The rig (or the clip or the library) has unsaved changes."
+                           : app->pending_load == 1 && s.library_dirty()
+                               ? "The clip or the library has unsaved changes."
+                               : "The clip has unsaved changes.");
     if (ImGui::Button("Discard them")) {
       if (app->pending_load == 4) {
         if (s.NewClip(app->clip_field)) app->OnEdited();
@@ -638,8 +641,10 @@ void SafetyPopups(App* app) {
   if (ImGui::BeginPopupModal("Quit with unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     if (s.clip_dirty()) ImGui::Text("clip %s: unsaved changes", s.clip_path().c_str());
     if (s.library_dirty()) ImGui::Text("library %s: unsaved changes", s.library_path().c_str());
+    if (s.rig_dirty()) ImGui::Text("rig %s: unsaved changes", s.rig_path().c_str());
     if (ImGui::Button("Save and quit")) {
-      const bool ok = (!s.clip_dirty() || s.SaveClipFile()) && (!s.library_dirty() || s.SaveLibraryFile());
+      const bool ok = (!s.clip_dirty() || s.SaveClipFile()) && (!s.library_dirty() || s.SaveLibraryFile()) &&
+                      (!s.rig_dirty() || s.SaveRigFile());
       app->close_requested = false;
       app->close_confirmed = ok;  // a failed save stays open, its message in Messages
       ImGui::CloseCurrentPopup();
@@ -711,6 +716,7 @@ void DrawPanels(App* app, float width, float height) {
   ClipPanel(app, width, height);
   MessagesPanel(app, width, height);
   StatsOverlay(app, width);
+  DrawRigPanels(app, width, height);
   HoverTooltip(app);
   SafetyPopups(app);
 }

@@ -34,6 +34,7 @@ const char* ViewerUsage() {
          "                      [--time T | --set NAME=VALUE ...]\n"
          "                      [--screenshot OUT.png [--size WxH] [--overlay NAME]\n"
          "                       [--view front|side|three-quarter] [--ui] [--select MUSCLE]]\n"
+         "                      [--panel muscle-editor|uv-curves|directions]\n"
          "                      [--bench-frames N] [--threads N]\n"
          "                      [--script FILE] [--autosave-seconds N] [--recover]\n"
          "                      [--fine DIR [--fine-depth D]]\n\n"
@@ -56,15 +57,17 @@ const char* ViewerUsage() {
          "  --ui                 draw the panels into the screenshot\n"
          "  --select MUSCLE      draw MUSCLE's gizmos (attachment, insertion, zone or sheet\n"
          "                       outline, wrinkling region) in the screenshot\n"
+         "  --panel NAME         open a rig editor at the start (repeatable): muscle-editor\n"
+         "                       (the --select muscle's parameters), uv-curves, directions\n"
          "  --bench-frames N     evaluate, upload and draw N frames headless (playing the clip\n"
          "                       if one is given) and print the mean and worst times\n"
          "  --threads N          evaluation threads (default: the hardware's; 1 = serial)\n"
          "  --script FILE        run FILE's edit commands headless (docs/viewer.md \"Scripts\")\n"
          "                       and exit: 0 done, 1 with FILE:LINE: message on a bad line\n"
-         "  --autosave-seconds N write the unsaved clip and library to FILE.autosave every N\n"
-         "                       seconds (default 60; 0 = never)\n"
-         "  --recover            take the clip's and library's .autosave files (newer edits\n"
-         "                       that were never saved) at the start, without asking\n"
+         "  --autosave-seconds N write the unsaved clip, library and rig to FILE.autosave\n"
+         "                       every N seconds (default 60; 0 = never)\n"
+         "  --recover            take the clip's, library's and rig's .autosave files (newer\n"
+         "                       edits that were never saved) at the start, without asking\n"
          "  --fine DIR           bump-map the skin with DIR/fine_height_1.png and\n"
          "                       fine_height_2.png (`mimetic texture RIG --out DIR`), each\n"
          "                       scaled per vertex by the evaluator's fine-scale amplitude\n"
@@ -101,7 +104,7 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       continue;
     }
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
-                                    "--size", "--overlay", "--view", "--select", "--bench-frames",
+                                    "--size", "--overlay", "--view", "--select", "--panel", "--bench-frames",
                                     "--threads", "--script", "--autosave-seconds", "--fine",
                                     "--fine-depth"};
     bool valued = false;
@@ -127,6 +130,12 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->library = value;
     } else if (a == "--select") {
       out->select = value;
+    } else if (a == "--panel") {
+      if (value != "muscle-editor" && value != "uv-curves" && value != "directions") {
+        *error = "--panel " + value + ": expected muscle-editor, uv-curves or directions";
+        return false;
+      }
+      out->panels.push_back(value);
     } else if (a == "--script") {
       out->script = value;
     } else if (a == "--autosave-seconds") {

@@ -1,7 +1,7 @@
 // viewer/core/args.h: mimetic-viewer's command line (docs/viewer.md "Command line").
 //
 //   mimetic-viewer [RIG] [--clip CLIP] [--library LIB] [--time T | --set NAME=V ...]
-//                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]]
+//                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]] [--panel NAME]
 //                  [--bench-frames N] [--threads N] [--script FILE] [--autosave-seconds N] [--recover]
 //                  [--fine DIR [--fine-depth D]]
 #pragma once
@@ -27,6 +27,9 @@ struct ViewerArgs {
   ViewPreset view = ViewPreset::kFront;  // --view
   bool ui = false;                // --ui: draw the panels into the screenshot
   std::string select;             // --select MUSCLE: the muscle whose gizmos are drawn
+  // --panel NAME (repeatable): open a rig editor at the start: muscle-editor, uv-curves,
+  // directions (docs/viewer.md "Editing the rig").
+  std::vector<std::string> panels;
   int bench_frames = 0;           // --bench-frames N (>= 1): time N frames headless and exit
   int threads = 0;                // --threads N: evaluation threads (0: hardware threads)
   std::string script;             // --script FILE: run its edit commands headless and exit

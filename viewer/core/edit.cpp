@@ -569,7 +569,7 @@ bool EditHistory::Do(CommandPtr command, const EditTarget& t, const Validator& v
   }
   Entry e;
   e.command = std::move(command);
-  for (int s = 0; s < 3; ++s) {
+  for (int s = 0; s < kSlots; ++s) {
     e.before[s] = version_[s];
     if (touched & (1u << s)) version_[s] = ++next_version_;
     e.after[s] = version_[s];
@@ -584,7 +584,7 @@ bool EditHistory::Undo(const EditTarget& t, unsigned* touched) {
   Entry e = std::move(undo_.back());
   undo_.pop_back();
   e.command->Revert(t);
-  for (int s = 0; s < 3; ++s) version_[s] = e.before[s];
+  for (int s = 0; s < kSlots; ++s) version_[s] = e.before[s];
   if (touched) *touched = e.command->Touches();
   redo_.push_back(std::move(e));
   return true;
@@ -607,7 +607,7 @@ bool EditHistory::Redo(const EditTarget& t, const Validator& validate, unsigned*
     redo_.clear();
     return false;
   }
-  for (int s = 0; s < 3; ++s) version_[s] = e.after[s];
+  for (int s = 0; s < kSlots; ++s) version_[s] = e.after[s];
   if (touched) *touched = e.command->Touches();
   undo_.push_back(std::move(e));
   return true;

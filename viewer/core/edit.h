@@ -18,11 +18,13 @@
 
 #include "expressions/offline/clip_spec.h"
 #include "io/expression_file.h"
+#include "rig/offline/rig_spec.h"
 
 namespace mimetic::viewer {
 
 // What a command changes (bit flags of Command::Touches).
-enum EditDoc : unsigned { kEditPose = 1u, kEditClip = 2u, kEditLibrary = 4u };
+// kEditRig: the rig's spec (viewer/core/rig_edit.h), rebuilt off the UI thread after a change.
+enum EditDoc : unsigned { kEditPose = 1u, kEditClip = 2u, kEditLibrary = 4u, kEditRig = 8u };
 
 // The state the commands edit (owned by the Session).
 struct EditTarget {
@@ -32,6 +34,7 @@ struct EditTarget {
   std::vector<float>* activations = nullptr;  // one per muscle, rig order
   float* jaw = nullptr;
   const std::vector<std::string>* muscle_names = nullptr;  // the rig's
+  RigSpec* rig_spec = nullptr;  // the editable spec of the rig (nullptr: a compiled rig)
 };
 
 // A clip channel by what it animates: "muscle:NAME", "expression:NAME" or "jaw" (a muscle
@@ -159,13 +162,16 @@ class EditHistory {
   void Clear();
 
  private:
+  static constexpr int kSlots = 4;  // one per EditDoc bit
   struct Entry {
     CommandPtr command;
-    uint64_t before[3] = {0, 0, 0}, after[3] = {0, 0, 0};
+    uint64_t before[kSlots] = {0, 0, 0, 0}, after[kSlots] = {0, 0, 0, 0};
   };
-  static int Slot(EditDoc doc) { return doc == kEditPose ? 0 : doc == kEditClip ? 1 : 2; }
+  static int Slot(EditDoc doc) {
+    return doc == kEditPose ? 0 : doc == kEditClip ? 1 : doc == kEditLibrary ? 2 : 3;
+  }
   std::vector<Entry> undo_, redo_;
-  uint64_t version_[3] = {0, 0, 0}, saved_[3] = {0, 0, 0};
+  uint64_t version_[kSlots] = {0, 0, 0, 0}, saved_[kSlots] = {0, 0, 0, 0};
   uint64_t next_version_ = 0;
 };
 

@@ -7,6 +7,7 @@
 
 #include "core/diagnostics.h"
 #include "core/file_util.h"
+#include "viewer/core/rig_edit.h"
 
 namespace mimetic::viewer {
 namespace {
@@ -286,8 +287,52 @@ bool RunScriptWords(const std::vector<std::string>& w, Session* s, const ScriptH
     *error = NewMessages(*s, before, "no autosave to recover");
     return false;
   }
+  if (op == "muscle" || op == "curve") {
+    if (!Arity(w, 4, 7, op == "muscle" ? "muscle NAME PARAM VALUE..." : "curve NAME PARAM VALUE...",
+               error))
+      return false;
+    if (!s->rig_spec()) {
+      *error = op + " " + sub + ": no editable rig is loaded (a .rig.json, not a compiled .mrig)";
+      return false;
+    }
+    const std::vector<std::string> args(w.begin() + 3, w.end());
+    CommandPtr command = op == "muscle" ? MakeMuscleEdit(*s->rig_spec(), sub, w[2], args, error)
+                                        : MakeCurveEdit(*s->rig_spec(), sub, w[2], args, error);
+    return command && s->Edit(std::move(command), error);
+  }
+  if (op == "direction") {
+    if (!Arity(w, 4, 7, "direction FIELD VERTEX DX DY DZ MAG | direction FIELD VERTEX delete", error))
+      return false;
+    if (!s->rig_spec()) {
+      *error = "direction: no editable rig is loaded (a .rig.json, not a compiled .mrig)";
+      return false;
+    }
+    errno = 0;
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(w[2].c_str(), &end, 10);
+    if (w[2].empty() || w[2][0] == '-' || end != w[2].c_str() + w[2].size() || errno == ERANGE ||
+        v > 0xffffffffull) {
+      *error = "direction " + sub + ": vertex: '" + w[2] + "' is not a vertex number";
+      return false;
+    }
+    const std::vector<std::string> args(w.begin() + 3, w.end());
+    CommandPtr command =
+        MakeDirectionEdit(*s->rig_spec(), s->mesh_vertex_count(), sub, uint32_t(v), args, error);
+    return command && s->Edit(std::move(command), error);
+  }
+  if (op == "save-rig") {
+    if (!Arity(w, 1, 2, "save-rig [PATH]", error)) return false;
+    return s->SaveRigFile(sub, error);
+  }
+  if (op == "wait") {
+    if (!Arity(w, 1, 1, "wait", error)) return false;
+    if (s->WaitRigRebuild()) return true;
+    *error = NewMessages(*s, before, "the edited rig did not build");
+    return false;
+  }
   if (op == "screenshot") {
     if (!Arity(w, 2, 2, "screenshot PATH", error)) return false;
+    if (s->rig_rebuilding()) s->WaitRigRebuild();
     if (!hooks.screenshot) {
       *error = "screenshot: no renderer here";
       return false;
@@ -310,7 +355,13 @@ bool RunScript(const std::string& text, const std::string& file, Session* s,
     ++line_no;
     std::vector<std::string> words;
     std::string why;
+    const size_t before = s->messages().size();
     bool ok = SplitScriptLine(line, &words, &why) && RunScriptWords(words, s, hooks, &time, &why);
+    // A rig edit's rebuild finishes before the next line (the line fails when it does not build).
+    if (ok && s->rig_rebuilding() && !s->WaitRigRebuild()) {
+      ok = false;
+      why = NewMessages(*s, before, "the edited rig did not build");
+    }
     // The pose follows the playhead after every edit, as the window does.
     if (ok && time >= 0.f && s->has_clip()) s->SampleClip(time);
     if (!ok) {

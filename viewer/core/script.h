@@ -14,6 +14,9 @@
 //   clip new PATH                   load-clip PATH           load-library PATH
 //   save-clip [PATH]                save-library [PATH]
 //   autosave                        recover                  screenshot PATH
+//   muscle NAME PARAM VALUE...      curve NAME PARAM VALUE... (viewer/core/rig_edit.h)
+//   direction FIELD VERTEX DX DY DZ MAG | direction FIELD VERTEX delete
+//   save-rig [PATH]                 wait (a rig edit's rebuild; implicit after every line)
 //
 // CHANNEL: muscle:NAME, expression:NAME or jaw (edit.h ParseChannelId); a key is named by its
 // channel and time (within edit.h kKeyTimeTolerance).

@@ -15,6 +15,7 @@
 #include "core/file_util.h"
 #include "io/expression_library.h"
 #include "io/image.h"
+#include "io/rig_file.h"
 #include "rig/offline/jaw_setting.h"
 #include "rig/offline/rig_builder.h"
 #include "wrinkles/runtime/strain_jobs.h"
@@ -68,6 +69,16 @@ bool Session::LoadRigFile(const std::string& path) {
   AddMessages(diag, "");
   rig_ = std::move(loaded);
   rig_path_ = path;
+  rebuilder_.Cancel();  // a rebuild of the old rig's spec is stale
+  built_generation_ = rebuilder_.requested();
+  merge_tag_.clear();
+  if (rig_->compiled) {
+    rig_spec_.reset();
+    rig_mesh_.reset();
+  } else {
+    rig_spec_ = std::make_unique<RigSpec>(rig_->spec);
+    rig_mesh_ = std::make_shared<const MeshData>(rig_->mesh);
+  }
   clip_.reset();
   clip_path_.clear();
   timeline_.clear();
@@ -76,6 +87,14 @@ bool Session::LoadRigFile(const std::string& path) {
   selection.clear();
   history_.Clear();
   history_.MarkSaved(kEditClip);
+  history_.MarkSaved(kEditRig);
+  AdoptRig();
+  ResetPose();
+  CheckLibrary();
+  return true;
+}
+
+void Session::AdoptRig() {
   const Rig& rig = rig_->rig;
   context_.Resize(rig);
   aux_context_.Resize(rig);
@@ -83,14 +102,12 @@ bool Session::LoadRigFile(const std::string& path) {
   rest_positions_ = rest.positions;
   positions_ = rest_positions_;
   normals_.assign(rig.vertex_count(), float3{0.f, 0.f, 1.f});
+  field_ = OverlayField{};
   lo_ = hi_ = rest_positions_.empty() ? float3{} : rest_positions_[0];
   for (const float3& p : rest_positions_) {
     lo_ = {std::min(lo_.x, p.x), std::min(lo_.y, p.y), std::min(lo_.z, p.z)};
     hi_ = {std::max(hi_.x, p.x), std::max(hi_.y, p.y), std::max(hi_.z, p.z)};
   }
-  ResetPose();
-  CheckLibrary();
-  return true;
 }
 
 void Session::CheckLibrary() {
@@ -198,6 +215,7 @@ EditTarget Session::Target() {
   t.activations = &activations;
   t.jaw = &jaw;
   t.muscle_names = rig_ ? &rig().muscle_names() : &kNoMuscles;
+  t.rig_spec = rig_spec_.get();
   return t;
 }
 
@@ -236,35 +254,152 @@ bool Session::Rebuild(unsigned touched, std::string* error) {
 }
 
 bool Session::Edit(CommandPtr command, std::string* error) {
+  merge_tag_.clear();
+  if (!command) return Fail("edit: no command", error);
   const std::string what = command->Describe();
   last_touched_ = command->Touches();
   std::string why;
-  const auto validate = [this](unsigned touched, std::string* e) { return Rebuild(touched, e); };
+  const auto validate = [this](unsigned touched, std::string* e) {
+    return Rebuild(touched, e) && (!(touched & kEditRig) || CheckRigSpec(e));
+  };
   if (!history_.Do(std::move(command), Target(), validate, &why))
     return Fail(what + ": " + why, error);
+  if (last_touched_ & kEditRig) RequestRigRebuild();
+  return true;
+}
+
+bool Session::EditMerged(CommandPtr command, const std::string& merge, std::string* error) {
+  const bool merging = !merge.empty() && merge == merge_tag_ &&
+                       history_.undo_size() == merge_undo_size_ && history_.CanUndo();
+  if (merging) {
+    // Back to the state before the merged run began; the new command starts from there.
+    unsigned touched = 0;
+    history_.Undo(Target(), &touched);
+    Rebuild(touched, nullptr);
+  }
+  if (!Edit(std::move(command), error)) {
+    if (merging) {  // put the run's last step back
+      unsigned touched = 0;
+      std::string ignored;
+      const auto validate = [this](unsigned t, std::string* e) {
+        return Rebuild(t, e) && (!(t & kEditRig) || CheckRigSpec(e));
+      };
+      // (The spec is back to the one its rebuild was last asked for: nothing to ask again.)
+      if (history_.Redo(Target(), validate, &touched, &ignored)) {
+        merge_tag_ = merge;  // the drag goes on from its last good step
+        merge_undo_size_ = history_.undo_size();
+      }
+    }
+    return false;
+  }
+  merge_tag_ = merge;
+  merge_undo_size_ = history_.undo_size();
   return true;
 }
 
 bool Session::Undo() {
+  merge_tag_.clear();
   unsigned touched = 0;
   if (!history_.Undo(Target(), &touched)) return false;
   last_touched_ = touched;
   if (touched & kEditClip) selection.clear();
   Rebuild(touched, nullptr);
+  if (touched & kEditRig) RequestRigRebuild();
   return true;
 }
 
 bool Session::Redo(std::string* error) {
+  merge_tag_.clear();
   unsigned touched = 0;
   std::string why;
-  const auto validate = [this](unsigned t, std::string* e) { return Rebuild(t, e); };
+  const auto validate = [this](unsigned t, std::string* e) {
+    return Rebuild(t, e) && (!(t & kEditRig) || CheckRigSpec(e));
+  };
   if (!history_.Redo(Target(), validate, &touched, &why)) {
     if (why.empty()) return false;
     return Fail("redo: " + why, error);
   }
   last_touched_ = touched;
   if (touched & kEditClip) selection.clear();
+  if (touched & kEditRig) RequestRigRebuild();
   return true;
+}
+
+// The edited spec must read back as a rig file: the rules between fields are the reader's.
+// The parts no edit changes and that may be large (per-vertex thickness, the tension regions'
+// weights; they were checked when the rig loaded) are left out, so that a drag step stays far
+// under a frame on any rig.
+bool Session::CheckRigSpec(std::string* error) {
+  if (!rig_spec_) return true;
+  const std::string dir = DirectoryOf(rig_path_);
+  RigSpec checked;
+  {
+    ThicknessSpec thickness = std::move(rig_spec_->thickness);
+    std::vector<TensionRegionSpec> regions = std::move(rig_spec_->tension_regions);
+    checked = *rig_spec_;
+    rig_spec_->thickness = std::move(thickness);
+    rig_spec_->tension_regions = std::move(regions);
+  }
+  checked.thickness = ThicknessSpec{};
+  checked.thickness.value = 1.f;  // a constant, as valid as the loaded one was
+  std::string why;
+  const std::string text = RigSpecText(checked, dir, &why);
+  if (text.empty()) {
+    if (error) *error = "the rig cannot be written: " + why;
+    return false;
+  }
+  RigSpec reread;
+  Diagnostics diag;
+  if (ParseRigSpec(text, dir, &reread, &diag)) return true;
+  if (error) {
+    *error = "the rig would break a rule";
+    for (const Diagnostic& d : diag.items())
+      if (d.severity == Severity::kError) {
+        *error += ": " + (d.where.empty() ? d.what : d.where + ": " + d.what);
+        break;
+      }
+  }
+  return false;
+}
+
+void Session::RequestRigRebuild() {
+  if (!rig_spec_ || !rig_mesh_) return;
+  rebuilder_.Request(*rig_spec_, rig_mesh_);
+}
+
+bool Session::PollRigRebuild() {
+  RigRebuilder::Result result;
+  if (!rig_ || !rebuilder_.Take(&result)) return false;
+  if (!result.ok) {
+    AddMessages(result.diag, rig_path_ + ": the edited rig did not build (" +
+                                 std::to_string(result.diag.ErrorCount()) +
+                                 " error(s)); still showing the last good rig");
+    return false;
+  }
+  if (!result.diag.empty()) AddMessages(result.diag, "");
+  rig_->rig = std::move(result.rig);
+  rig_->spec = std::move(result.spec);
+  built_generation_ = result.generation;
+  AdoptRig();
+  activations.resize(rig().muscle_count(), 0.f);
+  return true;
+}
+
+bool Session::WaitRigRebuild() {
+  rebuilder_.Wait();
+  PollRigRebuild();
+  return !rig_stale();
+}
+
+bool Session::SaveRigFile(const std::string& path_in, std::string* error) {
+  if (!rig_spec_) return Fail("save rig: the rig has no editable spec (a compiled .mrig)", error);
+  const std::string path = path_in.empty() ? rig_path_ : path_in;
+  if (path.empty()) return Fail("save rig: no file name given", error);
+  if (IsCompiledRigPath(path) && path != rig_path_)
+    return Fail(path + ": save rig: a rig file is JSON (.rig.json), not a compiled .mrig", error);
+  return SaveDocument("rig", path, &rig_path_, kEditRig,
+                      [&](Diagnostics* diag) { return SaveRigSpec(path, *rig_spec_, diag); },
+                      error);
 }
 
 bool Session::NewClip(const std::string& path) {
@@ -351,6 +486,15 @@ bool Session::Autosave() {
       ok = false;
     }
   }
+  if (rig_dirty() && !rig_path_.empty() && history_.version(kEditRig) != autosaved_[2]) {
+    Diagnostics diag;
+    if (SaveRigSpec(AutosavePath(rig_path_), *rig_spec_, &diag)) {
+      autosaved_[2] = history_.version(kEditRig);
+    } else {
+      AddMessages(diag, AutosavePath(rig_path_) + ": the autosave failed");
+      ok = false;
+    }
+  }
   if (library_dirty() && !library_path_.empty() && history_.version(kEditLibrary) != autosaved_[1]) {
     Diagnostics diag;
     if (SaveExpressionLibrary(AutosavePath(library_path_), library_, &diag)) {
@@ -369,12 +513,46 @@ std::vector<std::string> Session::PendingAutosaves() const {
   for (const std::string* p : {&clip_path_, &library_path_})
     if (!p->empty() && std::filesystem::is_regular_file(AutosavePath(*p), ec))
       out.push_back(AutosavePath(*p));
+  if (rig_spec_ && !rig_path_.empty() && std::filesystem::is_regular_file(AutosavePath(rig_path_), ec))
+    out.push_back(AutosavePath(rig_path_));
   return out;
 }
 
 int Session::RecoverAutosaves() {
   int recovered = 0;
   std::error_code ec;
+  if (rig_spec_ && !rig_path_.empty() && std::filesystem::is_regular_file(AutosavePath(rig_path_), ec)) {
+    const std::string path = AutosavePath(rig_path_);
+    RigSpec spec;
+    Diagnostics diag;
+    bool ok = LoadRigSpec(path, &spec, &diag);
+    if (ok && std::filesystem::weakly_canonical(spec.mesh_path, ec) !=
+                  std::filesystem::weakly_canonical(rig_spec_->mesh_path, ec)) {
+      diag.Error(path, "names the mesh " + spec.mesh_path + ", but the rig's is " + rig_spec_->mesh_path);
+      ok = false;
+    }
+    bool same_muscles = ok && spec.muscles.size() == rig_spec_->muscles.size();
+    for (size_t m = 0; same_muscles && m < spec.muscles.size(); ++m)
+      same_muscles = spec.muscles[m].name == rig_spec_->muscles[m].name;
+    if (ok && !same_muscles) {
+      diag.Error(path, "has other muscles than the rig (the pose and the clip name the rig's)");
+      ok = false;
+    }
+    if (ok && spec.thickness.kind == ThicknessSpec::Kind::kImage)
+      ok = LoadGrayImage(spec.thickness.image_path, "thickness.path", "thickness image",
+                         &spec.thickness.image, &diag);
+    if (ok) {
+      spec.file = rig_path_;
+      *rig_spec_ = std::move(spec);
+      history_.Clear();
+      history_.MarkChanged(kEditRig);
+      RequestRigRebuild();
+      ++recovered;
+      messages_.push_back({false, path + ": recovered (not saved yet; the rig is being rebuilt)"});
+    } else {
+      AddMessages(diag, path + ": not recovered");
+    }
+  }
   if (!library_path_.empty() && std::filesystem::is_regular_file(AutosavePath(library_path_), ec)) {
     std::vector<Expression> library;
     Diagnostics diag;

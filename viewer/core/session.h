@@ -21,6 +21,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "viewer/core/edit.h"
 #include "viewer/core/overlays.h"
+#include "viewer/core/rig_rebuild.h"
 #include "viewer/core/thread_pool.h"
 #include "viewer/core/timeline.h"
 
@@ -142,16 +143,51 @@ class Session {
   bool clip_dirty() const { return has_clip_spec_ && history_.dirty(kEditClip); }
   bool library_dirty() const { return history_.dirty(kEditLibrary); }
 
-  // Autosave: the edited clip and library, when they have changes not saved nor autosaved
-  // yet, written to AutosavePath(their file). False (with messages) when a write failed.
+  // Autosave: the edited clip, library and rig spec, when they have changes not saved nor
+  // autosaved yet, written to AutosavePath(their file). False (with messages) when a write
+  // failed. (A recovered rig spec is rebuilt off the UI thread like an edit.)
   bool Autosave();
-  // The autosave files of the current clip and library that exist (newer edits to recover).
+  // The autosave files of the current clip, library and rig that exist (newer edits to recover).
   std::vector<std::string> PendingAutosaves() const;
-  // Replaces the clip and library with their autosaves (each must read and build); they are
-  // then dirty (not saved to their own files). Returns how many were recovered.
+  // Replaces the clip, library and rig spec with their autosaves (each must read and build; the
+  // rig's must name the same mesh and muscles); they are then dirty (not saved to their own
+  // files). Returns how many were recovered.
   int RecoverAutosaves();
-  // Removes the autosave files of the current clip and library.
+  // Removes the autosave files of the current clip, library and rig.
   void DiscardAutosaves();
+
+  // --- Editing the rig (docs/viewer.md "Editing the rig"; viewer/core/rig_edit.h). -------
+  // The spec the rig is built from, as edited (nullptr: no rig, or a compiled .mrig). A rig
+  // edit (Edit with a kEditRig command, its undo or redo) changes it at once and starts a
+  // rebuild off the UI thread (RigRebuilder: a newer edit supersedes a running build); the
+  // session keeps showing the last good rig until PollRigRebuild swaps the new one in. The
+  // edit is checked first by the rig file's own rules (the spec's text read back).
+  const RigSpec* rig_spec() const { return rig_spec_.get(); }
+  bool rig_dirty() const { return rig_spec_ && history_.dirty(kEditRig); }
+  // A rebuild waits or runs (the UI shows a spinner and rig_rebuild_ms()).
+  bool rig_rebuilding() const { return rebuilder_.busy(); }
+  double rig_rebuild_ms() const { return rebuilder_.elapsed_ms(); }
+  // The spec the shown rig was built from differs from rig_spec() (an edit is not built yet,
+  // or its build failed).
+  bool rig_stale() const { return rig_spec_ && built_generation_ != rebuilder_.requested(); }
+  // On the UI thread between frames: swaps in a finished rebuild (true: the rig changed, so
+  // its mesh must be uploaded again; the pose and the clip stay). A failed build keeps the
+  // last good rig and puts its messages in messages().
+  bool PollRigRebuild();
+  // Blocks until the rebuild is done, then PollRigRebuild (the headless and script path).
+  // False when the last build failed.
+  bool WaitRigRebuild();
+  // Saves the edited spec as a rig file (atomic; `path` empty: the file it was loaded from).
+  bool SaveRigFile(const std::string& path = "", std::string* error = nullptr);
+  // Edit, merging into the previous command when it was an Edit with the same non-empty
+  // `merge` tag and nothing was done since (a continuous drag is one undo step).
+  bool EditMerged(CommandPtr command, const std::string& merge, std::string* error = nullptr);
+  // Ends a merge (the next EditMerged starts a new undo step).
+  void EndMerge() { merge_tag_.clear(); }
+  // Test hook: RigRebuilder::before_build (set before the first rig edit).
+  void SetRebuildHook(std::function<void()> hook) { rebuilder_.before_build = std::move(hook); }
+  // The number of file vertices of the rig's mesh (direction vectors name them).
+  size_t mesh_vertex_count() const { return rig_ ? rig_->mesh.vertex_count() : 0; }
 
   // --- One frame. --------------------------------------------------------------------------
   // Evaluates the pose (EvaluateJob with the pool): positions and normals per output vertex;
@@ -184,6 +220,9 @@ class Session {
   // (nullptr: ignore errors) when the spec breaks a rule or does not build.
   bool Rebuild(unsigned touched, std::string* error);
   bool Fail(const std::string& what, std::string* error);
+  bool CheckRigSpec(std::string* error);
+  void RequestRigRebuild();
+  void AdoptRig();  // the rest positions, contexts and bounds of rig_ (after a load or a swap)
   bool SaveDocument(const char* what, const std::string& path, std::string* current_path,
                     EditDoc document, const std::function<bool(Diagnostics*)>& write,
                     std::string* error);
@@ -195,12 +234,17 @@ class Session {
   ThreadPool pool_;
   std::unique_ptr<LoadedRig> rig_;
   std::string rig_path_;
+  std::unique_ptr<RigSpec> rig_spec_;
+  std::shared_ptr<const MeshData> rig_mesh_;
+  uint64_t built_generation_ = 0;  // the rebuild the shown rig came from
+  std::string merge_tag_;
+  size_t merge_undo_size_ = 0;
   std::unique_ptr<CompiledClip> clip_;
   ClipSpec clip_spec_;
   bool has_clip_spec_ = false;
   unsigned last_touched_ = 0;
   EditHistory history_;
-  uint64_t autosaved_[2] = {0, 0};  // clip, library versions last autosaved
+  uint64_t autosaved_[3] = {0, 0, 0};  // clip, library, rig versions last autosaved
   std::string clip_path_;
   std::vector<TimelineChannel> timeline_;
   std::vector<Expression> library_;
@@ -213,6 +257,7 @@ class Session {
   OverlayField field_;
   double evaluate_ms_ = 0.0, overlay_ms_ = 0.0;
   float3 lo_{}, hi_{};
+  RigRebuilder rebuilder_;  // last: its destructor joins the worker before the rest goes
 };
 
 }  // namespace mimetic::viewer
