@@ -121,6 +121,22 @@ bool Word(const std::string& word, float* out) {
   return true;
 }
 
+// Every word of `args` as a number; false with "WHERE: '...' is not a number" at the first
+// that is not (`where` names the field).
+bool Numbers(const std::vector<std::string>& args, const std::string& where,
+             std::vector<float>* out, std::string* error) {
+  out->clear();
+  for (const std::string& a : args) {
+    float v = 0.f;
+    if (!Word(a, &v)) {
+      *error = where + ": '" + a + "' is not a number";
+      return false;
+    }
+    out->push_back(v);
+  }
+  return true;
+}
+
 std::string Joined(const std::vector<std::string>& args) {
   std::string out;
   for (const std::string& a : args) out += (out.empty() ? "" : " ") + a;
@@ -372,14 +388,7 @@ CommandPtr MakeMuscleEdit(const RigSpec& spec, const std::string& name, const st
     return MakeSetMuscleSpec(uint32_t(m), muscle, w, "muscle " + name + " wrinkles " + text);
   }
   std::vector<float> values;
-  for (const std::string& a : args) {
-    float v = 0.f;
-    if (!Word(a, &v)) {
-      *error = where + ": " + param + ": '" + a + "' is not a number";
-      return nullptr;
-    }
-    values.push_back(v);
-  }
+  if (!Numbers(args, where + ": " + param, &values, error)) return nullptr;
   return MuscleValues(spec, uint32_t(m), param, values, text, error);
 }
 
@@ -431,14 +440,7 @@ CommandPtr MakeCurveEdit(const RigSpec& spec, const std::string& name, const std
     return MakeSetCurveWrinkleSpec(uint32_t(c), curve, "curve " + name + " " + param + " " + text);
   }
   std::vector<float> v;
-  for (const std::string& a : args) {
-    float x = 0.f;
-    if (!Word(a, &x)) {
-      *error = where + ": " + param + ": '" + a + "' is not a number";
-      return nullptr;
-    }
-    v.push_back(x);
-  }
+  if (!Numbers(args, where + ": " + param, &v, error)) return nullptr;
   if (param == "point") {
     if (v.size() != 3 || v[0] != std::floor(v[0])) {
       *error = where + ": point: expected I U V (I a control point index 0 to 3)";
@@ -501,14 +503,7 @@ CommandPtr MakeDirectionEdit(const RigSpec& spec, size_t vertex_count, const std
     return MakeSetDirectionField(uint32_t(f), std::move(edited), what);
   }
   std::vector<float> v;
-  for (const std::string& a : args) {
-    float x = 0.f;
-    if (!Word(a, &x)) {
-      *error = where + ": vector: '" + a + "' is not a number";
-      return nullptr;
-    }
-    v.push_back(x);
-  }
+  if (!Numbers(args, where + ": vector", &v, error)) return nullptr;
   if (v.size() != 4) {
     *error = where + ": expected DX DY DZ MAG or delete";
     return nullptr;
