@@ -22,6 +22,17 @@ convert "$tmp/timeline.png" -crop 905x250+350+700 +repage "$tmp/viewer_timeline.
 mv "$tmp/viewer_timeline.png" docs/images/viewer_timeline.png
 echo "wrote docs/images/viewer_timeline.png"
 
+# The three rig editors (docs/viewer.md "Editing the rig"), each opened by --panel, at 1280x720;
+# the UV view has thousands of faint triangle edges, so it is reduced to 64 colours.
+xvfb-run -a "$viewer" assets/head/sample_head.rig.json --ui --size 1280x720 --panel muscle-editor \
+  --select zygomaticus_major_L --screenshot docs/images/viewer_muscle_editor.png >/dev/null
+xvfb-run -a "$viewer" assets/head/sample_head.rig.json --ui --size 1280x720 --panel uv-curves \
+  --screenshot "$tmp/uv.png" >/dev/null
+convert "$tmp/uv.png" -colors 64 docs/images/viewer_uv_curves.png
+xvfb-run -a "$viewer" assets/head/sample_head.rig.json --ui --size 1280x720 --panel directions \
+  --screenshot docs/images/viewer_directions.png >/dev/null
+echo "wrote docs/images/viewer_muscle_editor.png, viewer_uv_curves.png, viewer_directions.png"
+
 # Fine scale: the rig's maps (mimetic texture, 1024^2) bump-mapped in the viewer's shader, the
 # brows raised (the frontalis compresses the forehead across field 1: its furrows deepen).
 "${1:-build}/mimetic" texture assets/head/sample_head.rig.json --size 1024 --out "$tmp/maps" --seed 1 --quiet

@@ -555,6 +555,7 @@ void DirectionsPanel(App* app, float width, float height) {
     std::string files;
     for (const std::string& w : written) files += (files.empty() ? "" : ", ") + w;
     s.AddMessages(diag, ok ? "maps written: " + files : "the maps were not made");
+    if (ok) app->LoadFineMaps(out_dir);  // drawn at once (docs/viewer.md "Fine scale")
   }
   ImGui::End();
 }
