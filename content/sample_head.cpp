@@ -93,6 +93,11 @@ double LidLineY(double ax) {
 constexpr double kArch = 46.0;
 constexpr double kStomionY = -66.0, kLipFrontZ = 99.0, kMouthHalfWidth = kSampleHeadMouthHalfWidth;
 V3 MouthSpace(V3 q) { return {q.x, q.y, q.z + q.x * q.x / (2 * kArch)}; }
+// The mouth line: y = kStomionY where the lips meet on the midline (z = kSampleHeadMouthZ),
+// rising as the lips curve back with the arch (SampleHeadMouthLineY).
+double MouthLineY(double z) {
+  return kStomionY + kSampleHeadMouthLineRise * std::max(0.0, kSampleHeadMouthZ - z);
+}
 
 double HeadField(V3 p, bool ears) {
   const V3 q{std::fabs(p.x), p.y, p.z};
@@ -151,10 +156,12 @@ double HeadField(V3 p, bool ears) {
   nose = SMax(nose, -Ellipsoid(q - V3{6.0, -46.5, 103}, {3.4, 2.4, 6.0}), 1.5);
   d = SMin(d, nose, 5);
 
-  // Lips and mouth line (in the arch-bent frame).
-  const V3 m = MouthSpace(q);
-  d = SMin(d, Ellipsoid(m - V3{0, -60.5, kLipFrontZ - 7}, {kMouthHalfWidth, 6, 9}), 4);
-  d = SMin(d, Ellipsoid(m - V3{0, -72.0, kLipFrontZ - 9}, {22, 6.5, 10}), 4);
+  // Lips and mouth line (in the arch-bent frame, raised with the mouth line toward the
+  // corners, so the lips keep their shape about the line).
+  V3 m = MouthSpace(q);
+  m.y -= MouthLineY(q.z) - kStomionY;
+  d = SMin(d, Ellipsoid(m - V3{0, -60.5, kLipFrontZ - 7}, {kMouthHalfWidth + 4, 6, 9}), 4);
+  d = SMin(d, Ellipsoid(m - V3{0, -72.0, kLipFrontZ - 9}, {kMouthHalfWidth + 2, 6.5, 10}), 4);
   // The mouth line: a shallow crease where the lips meet (the slit itself is cut in the
   // topology, MakeSampleHead; a deep narrow slot would alias between the grid rows).
   d = SMax(d, -Ellipsoid(m - V3{0, kStomionY, kLipFrontZ}, {kMouthHalfWidth + 1, 1.8, 2.5}), 0.8);
@@ -164,7 +171,7 @@ double HeadField(V3 p, bool ears) {
     // Philtrum.
     d += 0.7 * Gauss(q.x - 0.0, 3.0) * SmoothStep(-47, -50, q.y) * SmoothStep(-60, -57, q.y);
     // Mouth corners (modiolus).
-    d += 0.8 * Gauss(std::hypot(q.x - kMouthHalfWidth - 0.5, q.y - kStomionY), 2.5);
+    d += 0.8 * Gauss(std::hypot(q.x - kMouthHalfWidth - 0.5, q.y - MouthLineY(q.z)), 2.5);
     // Nasolabial folds: from beside the ala down past the mouth corner.
     d += 1.0 * Gauss(Seg2(q.x, q.y, 20, -39, 31, -72), 2.5) * SmoothStep(60, 75, q.z);
   }
@@ -246,7 +253,8 @@ V3 ProjectAlong(V3 p, V3 dir, bool ears) {
 }
 
 // Polar angle at which the ray in azimuth `theta` meets the surface at height y_cut.
-double PhiEnd(double theta, double y_cut, bool ears, double lo = Rad(100), double hi = Rad(179)) {
+double PhiEnd(double theta, double y_cut, bool ears) {
+  double lo = Rad(100), hi = Rad(179);
   for (int k = 0; k < 40; ++k) {
     const double mid = 0.5 * (lo + hi);
     if (SurfacePoint(theta, mid, ears).y > y_cut) lo = mid;
@@ -336,17 +344,24 @@ std::array<LandmarkTarget, 68> LandmarkTargets() {
   t[47] = front(26, LidLineY(26) - 0.6);
   // Outer lip 51 (top centre) .. 54 (left corner) .. 57 (bottom centre); inner lip on the
   // closed mouth line, just above (61-63) and below (65-67) it.
-  t[54] = front(kMouthHalfWidth, kStomionY);
+  // The mouth line's points: at the line's height where it meets the surface (z found by
+  // projecting, a few fixed-point steps).
+  auto on_line = [&](double x, double dy) {
+    double y = kStomionY;
+    for (int k = 0; k < 6; ++k) y = MouthLineY(ProjectAlong({x, y, 200}, {0, 0, -1}, true).z);
+    return front(x, y + dy);
+  };
+  t[54] = on_line(kMouthHalfWidth, 0);
   t[53] = front(16, -60.5);
   t[52] = front(6, -57.5);
   t[51] = front(0, -58.0);
   t[55] = front(16, -72.5);
   t[56] = front(7, -76.0);
   t[57] = front(0, -76.5);
-  t[64] = front(kMouthHalfWidth - 2.5, kStomionY);
-  t[63] = front(10, kStomionY + 0.5);
+  t[64] = on_line(kMouthHalfWidth - 2.5, 0);
+  t[63] = on_line(10, 0.5);
   t[62] = front(0, kStomionY + 0.5);
-  t[65] = front(10, kStomionY - 0.5);
+  t[65] = on_line(10, -0.5);
   t[66] = front(0, kStomionY - 0.5);
   // The subject's right side (-x) mirrors the left (iBUG pairs, IbugMirrorLandmark).
   for (int l = 0; l < 68; ++l) {
@@ -428,11 +443,20 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     const int k = std::min(int(kf), K - 1);
     return wlen[k] + (kf - k) * (wlen[k + 1] - wlen[k]);
   };
-  // The mouth line (y = kStomionY) lies on one grid row, `i_mouth`: in the columns that cross
-  // the mouth that row is moved onto the line (and its neighbours, fading over 4 rows, so the
-  // rows stay ordered); beside the corners the move fades out over 10 mm. The row is the one
+  // The mouth line (MouthLineY) lies on one grid row, `i_mouth`: in the columns that cross
+  // the mouth that row is moved onto the line (and its neighbours, so the
+  // rows stay ordered, fading over 8 rows); beside the corners the move fades out over 10 mm. The row is the one
   // nearest the line on the midline.
-  auto mouth_phi = [&](double th) { return PhiEnd(th, kStomionY, ears, Rad(105), Rad(150)); };
+  auto mouth_phi = [&](double th) {
+    double lo = Rad(105), hi = Rad(150);
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      const V3 sp = SurfacePoint(th, mid, ears);
+      if (sp.y > MouthLineY(sp.z)) lo = mid;
+      else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
   int i_mouth = 0;
   {
     const double pe = PhiEnd(0.0, y_cut, ears);
@@ -454,7 +478,7 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     int k = 0;
     for (int i = 1; i <= M; ++i) {
       const double target =
-          wlen[K] * i / M + delta * std::max(0.0, 1.0 - std::fabs(double(i - i_mouth)) / 4.0);
+          wlen[K] * i / M + delta * std::max(0.0, 1.0 - std::fabs(double(i - i_mouth)) / 8.0);
       while (k < K - 1 && wlen[k + 1] < target) ++k;
       const double t = Clamp01((target - wlen[k]) / std::max(wlen[k + 1] - wlen[k], 1e-300));
       const double ph = i == M ? pe : (i == i_mouth && phi_mouth >= 0 ? phi_mouth : pe * (k + t) / K);
@@ -506,6 +530,7 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
                           kLowerIn[R] = {0.9, 2.0, 3.3, 4.7, 6.0},
                           kLowerUp[R] = {-0.4, -1.0, -1.9, -3.2, -5.0};
   constexpr float kHalfGap = kSampleHeadSlitWidth * 0.5f;
+  constexpr float kSlitInset = kSampleHeadSlitInset;
   const uint32_t first_new = static_cast<uint32_t>(mesh.positions.size());
   const int inner = jr - jc - 1;  // columns strictly between the corners
   mesh.positions.resize(first_new + size_t(inner) * (2 * R + 1));
@@ -526,7 +551,11 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     const float2 uv = mesh.uvs[vid(i_mouth, j)];
     const float3 in = NormalizeOr(float3{-p.x / float(kArch), 0.f, -1.f}, {0.f, 0.f, -1.f});
     const float taper = std::sqrt(std::max(0.f, 1.f - (p.x / corner_x) * (p.x / corner_x)));
-    const float3 pu = p + up * kHalfGap, pl = p - up * kHalfGap;
+    // The slit itself sits kSlitInset behind the surface (less toward the corners, none at
+    // them), so the lips' outer surfaces turn into it: the upper lip's last row faces down and
+    // the lower lip's first row up, which is what the jaw's weight reads to tell them apart.
+    const float inset = kSlitInset;
+    const float3 pu = p + up * kHalfGap + in * inset, pl = p - up * kHalfGap + in * inset;
     mesh.positions[vid(i_mouth, j)] = pu;
     mesh.positions[lower(0, j)] = pl;
     for (int r = 1; r <= R; ++r) {

@@ -22,13 +22,29 @@
 
 namespace mimetic {
 
-// The mouth (x between the corners -26 and +26 mm, on the mouth line y = -66): the lips are
+// The mouth (x between the corners -26 and +26 mm, on the mouth line, y = -66 on the midline): the lips are
 // cut apart by a slit (a real boundary in the topology) between the two corner vertices,
 // kSampleHeadSlitWidth wide at rest, and each lip turns inward in an inner roll of
 // kSampleHeadLipRollRows rows (MakeSampleHead).
 constexpr float kSampleHeadMouthHalfWidth = 26.f;
 constexpr float kSampleHeadSlitWidth = 0.1f;  // mm: above any weld tolerance (geometry/weld.h)
 constexpr int kSampleHeadLipRollRows = 5;
+// The slit sits this far (mm) behind the surface, inward along the dental arch's normal, so
+// the lips' outer surfaces turn into it (MakeSampleHead).
+constexpr float kSampleHeadSlitInset = 1.5f;
+// The mouth line is not level: it rises toward the corners by kSampleHeadMouthLineRise mm per
+// mm the lips lie behind their meeting point on the midline (z = kSampleHeadMouthZ), about
+// 5 mm at the corners, so that it runs a little above the jaw's lip-line plane (docs/model.md
+// §18: through the stomion and the hinge by the condyles, which on this head climbs about
+// 0.3 mm per mm toward the hinge). A level line puts the upper lip by the corners inside the
+// jaw's narrow blend band, where it is partly carried along and its triangles turn over at
+// the full opening (tests/fitting/jaw_sample_head_test.cpp).
+constexpr float kSampleHeadMouthLineRise = 0.4f;
+constexpr float kSampleHeadMouthZ = 96.5f;
+// The mouth line's height (mm) where the lips' surface is at depth z.
+inline float SampleHeadMouthLineY(float z) {
+  return -66.f + kSampleHeadMouthLineRise * (z < kSampleHeadMouthZ ? kSampleHeadMouthZ - z : 0.f);
+}
 
 struct SampleHeadOptions {
   // Grid columns (azimuth steps around the head; the seam column is duplicated, so a row has

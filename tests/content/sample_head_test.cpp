@@ -206,13 +206,18 @@ TEST(SampleHead, TheLipsAreSeparateSurfacesMeetingAtTheCorners) {
       EXPECT_FALSE(rows_touched[u].count(h.mouth_row - 1)) << j;
       EXPECT_NEAR(m.uvs[u].x, m.uvs[v].x, 1e-7f);
     }
-    // On the mouth line (y = -66, the stomion of the proportions) within the slit's width.
-    EXPECT_NEAR(p.y, -66.f + 0.5f * kSampleHeadSlitWidth, 1e-3f) << j;
+    // On the mouth line (through the stomion of the proportions, y = -66 on the midline) half
+    // the slit's width up, kSampleHeadSlitInset behind the surface (inward along the arch's
+    // normal, within 30 degrees of -z across the mouth: 0.1 mm of the line's height).
+    EXPECT_NEAR(p.y, SampleHeadMouthLineY(p.z + kSampleHeadSlitInset) + 0.5f * kSampleHeadSlitWidth,
+                0.1f) << j;
   }
   EXPECT_EQ(twins, SlitColumns(h));
   // The inner-lip landmarks sit on their own lips: 61-63 above the slit, 65-67 below it.
-  for (int l : {61, 62, 63}) EXPECT_GT(h.landmarks[l].y, -66.f + 0.5f * kSampleHeadSlitWidth) << l;
-  for (int l : {65, 66, 67}) EXPECT_LT(h.landmarks[l].y, -66.f - 0.5f * kSampleHeadSlitWidth) << l;
+  for (int l : {61, 62, 63})
+    EXPECT_GT(h.landmarks[l].y, SampleHeadMouthLineY(h.landmarks[l].z) + 0.5f * kSampleHeadSlitWidth) << l;
+  for (int l : {65, 66, 67})
+    EXPECT_LT(h.landmarks[l].y, SampleHeadMouthLineY(h.landmarks[l].z) - 0.5f * kSampleHeadSlitWidth) << l;
   // The twins and rolls lie behind the lips' front (z ~ 99 mm): the rolls turn inward.
   size_t behind = 0;
   for (uint32_t u = uint32_t(1 + o.rows * ring); u < m.vertex_count(); ++u)
