@@ -91,8 +91,13 @@ double LidLineY(double ax) {
 }
 // Mouth: the lips follow the dental arch, a bend of radius kArch about a vertical axis.
 constexpr double kArch = 46.0;
-constexpr double kStomionY = -66.0, kLipFrontZ = 99.0, kMouthHalfWidth = 26.0;
+constexpr double kStomionY = -66.0, kLipFrontZ = 99.0, kMouthHalfWidth = kSampleHeadMouthHalfWidth;
 V3 MouthSpace(V3 q) { return {q.x, q.y, q.z + q.x * q.x / (2 * kArch)}; }
+// The mouth line: y = kStomionY where the lips meet on the midline (z = kSampleHeadMouthZ),
+// rising as the lips curve back with the arch (SampleHeadMouthLineY).
+double MouthLineY(double z) {
+  return kStomionY + kSampleHeadMouthLineRise * std::max(0.0, kSampleHeadMouthZ - z);
+}
 
 double HeadField(V3 p, bool ears) {
   const V3 q{std::fabs(p.x), p.y, p.z};
@@ -151,18 +156,22 @@ double HeadField(V3 p, bool ears) {
   nose = SMax(nose, -Ellipsoid(q - V3{6.0, -46.5, 103}, {3.4, 2.4, 6.0}), 1.5);
   d = SMin(d, nose, 5);
 
-  // Lips and mouth line (in the arch-bent frame).
-  const V3 m = MouthSpace(q);
-  d = SMin(d, Ellipsoid(m - V3{0, -60.5, kLipFrontZ - 7}, {kMouthHalfWidth, 6, 9}), 4);
-  d = SMin(d, Ellipsoid(m - V3{0, -72.0, kLipFrontZ - 9}, {22, 6.5, 10}), 4);
-  d = SMax(d, -Ellipsoid(m - V3{0, kStomionY, kLipFrontZ}, {kMouthHalfWidth + 1, 0.7, 6}), 0.8);
+  // Lips and mouth line (in the arch-bent frame, raised with the mouth line toward the
+  // corners, so the lips keep their shape about the line).
+  V3 m = MouthSpace(q);
+  m.y -= MouthLineY(q.z) - kStomionY;
+  d = SMin(d, Ellipsoid(m - V3{0, -60.5, kLipFrontZ - 7}, {kMouthHalfWidth + 4, 6, 9}), 4);
+  d = SMin(d, Ellipsoid(m - V3{0, -72.0, kLipFrontZ - 9}, {kMouthHalfWidth + 2, 6.5, 10}), 4);
+  // The mouth line: a shallow crease where the lips meet (the slit itself is cut in the
+  // topology, MakeSampleHead; a deep narrow slot would alias between the grid rows).
+  d = SMax(d, -Ellipsoid(m - V3{0, kStomionY, kLipFrontZ}, {kMouthHalfWidth + 1, 1.8, 2.5}), 0.8);
 
   // Grooves as small displacements along the outward field direction.
   if (q.z > 40) {
     // Philtrum.
     d += 0.7 * Gauss(q.x - 0.0, 3.0) * SmoothStep(-47, -50, q.y) * SmoothStep(-60, -57, q.y);
     // Mouth corners (modiolus).
-    d += 0.8 * Gauss(std::hypot(q.x - kMouthHalfWidth - 0.5, q.y - kStomionY), 2.5);
+    d += 0.8 * Gauss(std::hypot(q.x - kMouthHalfWidth - 0.5, q.y - MouthLineY(q.z)), 2.5);
     // Nasolabial folds: from beside the ala down past the mouth corner.
     d += 1.0 * Gauss(Seg2(q.x, q.y, 20, -39, 31, -72), 2.5) * SmoothStep(60, 75, q.z);
   }
@@ -335,17 +344,24 @@ std::array<LandmarkTarget, 68> LandmarkTargets() {
   t[47] = front(26, LidLineY(26) - 0.6);
   // Outer lip 51 (top centre) .. 54 (left corner) .. 57 (bottom centre); inner lip on the
   // closed mouth line, just above (61-63) and below (65-67) it.
-  t[54] = front(kMouthHalfWidth, kStomionY);
+  // The mouth line's points: at the line's height where it meets the surface (z found by
+  // projecting, a few fixed-point steps).
+  auto on_line = [&](double x, double dy) {
+    double y = kStomionY;
+    for (int k = 0; k < 6; ++k) y = MouthLineY(ProjectAlong({x, y, 200}, {0, 0, -1}, true).z);
+    return front(x, y + dy);
+  };
+  t[54] = on_line(kMouthHalfWidth, 0);
   t[53] = front(16, -60.5);
   t[52] = front(6, -57.5);
   t[51] = front(0, -58.0);
   t[55] = front(16, -72.5);
   t[56] = front(7, -76.0);
   t[57] = front(0, -76.5);
-  t[64] = front(kMouthHalfWidth - 2.5, kStomionY);
-  t[63] = front(10, kStomionY + 0.5);
+  t[64] = on_line(kMouthHalfWidth - 2.5, 0);
+  t[63] = on_line(10, 0.5);
   t[62] = front(0, kStomionY + 0.5);
-  t[65] = front(10, kStomionY - 0.5);
+  t[65] = on_line(10, -0.5);
   t[66] = front(0, kStomionY - 0.5);
   // The subject's right side (-x) mirrors the left (iBUG pairs, IbugMirrorLandmark).
   for (int l = 0; l < 68; ++l) {
@@ -409,10 +425,9 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
   double arc_max = 0.0;
   std::vector<V3> pts(K + 1);
   std::vector<double> wlen(K + 1), len(K + 1);
-  for (int j = 0; j <= N / 2; ++j) {
-    const double pe = PhiEnd(theta[j], y_cut, ears);
+  auto sample_column = [&](double th, double pe) {
     for (int k = 0; k <= K; ++k) {
-      pts[k] = SurfacePoint(theta[j], pe * k / K, ears);
+      pts[k] = SurfacePoint(th, pe * k / K, ears);
       if (k == 0) {
         wlen[0] = len[0] = 0.0;
         continue;
@@ -421,12 +436,52 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
       len[k] = len[k - 1] + seg;
       wlen[k] = wlen[k - 1] + seg * row_density(0.5 * (pts[k].y + pts[k - 1].y));
     }
+  };
+  // Weighted arc length at polar angle ph (linear in the samples, as the rows invert it).
+  auto wlen_at = [&](double ph, double pe) {
+    const double kf = std::clamp(ph / pe * K, 0.0, double(K));
+    const int k = std::min(int(kf), K - 1);
+    return wlen[k] + (kf - k) * (wlen[k + 1] - wlen[k]);
+  };
+  // The mouth line (MouthLineY) lies on one grid row, `i_mouth`: in the columns that cross
+  // the mouth that row is moved onto the line (and its neighbours, so the
+  // rows stay ordered, fading over 8 rows); beside the corners the move fades out over 10 mm. The row is the one
+  // nearest the line on the midline.
+  auto mouth_phi = [&](double th) {
+    double lo = Rad(105), hi = Rad(150);
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      const V3 sp = SurfacePoint(th, mid, ears);
+      if (sp.y > MouthLineY(sp.z)) lo = mid;
+      else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  int i_mouth = 0;
+  {
+    const double pe = PhiEnd(0.0, y_cut, ears);
+    sample_column(0.0, pe);
+    i_mouth = int(std::lround(wlen_at(mouth_phi(0.0), pe) / wlen[K] * M));
+  }
+  head.mouth_row = i_mouth;
+  for (int j = 0; j <= N / 2; ++j) {
+    const double pe = PhiEnd(theta[j], y_cut, ears);
+    sample_column(theta[j], pe);
+    double delta = 0.0, phi_mouth = -1.0;
+    if (std::fabs(theta[j]) < Rad(40)) {
+      const double ph = mouth_phi(theta[j]);
+      const double ax = std::fabs(SurfacePoint(theta[j], ph, ears).x);
+      const double fade = 1.0 - SmoothStep(kMouthHalfWidth + 2, kMouthHalfWidth + 12, ax);
+      if (fade > 0) delta = fade * (wlen_at(ph, pe) - wlen[K] * i_mouth / M);
+      if (fade == 1.0) phi_mouth = ph;
+    }
     int k = 0;
     for (int i = 1; i <= M; ++i) {
-      const double target = wlen[K] * i / M;
+      const double target =
+          wlen[K] * i / M + delta * std::max(0.0, 1.0 - std::fabs(double(i - i_mouth)) / 8.0);
       while (k < K - 1 && wlen[k + 1] < target) ++k;
       const double t = Clamp01((target - wlen[k]) / std::max(wlen[k + 1] - wlen[k], 1e-300));
-      const double ph = i == M ? pe : pe * (k + t) / K;
+      const double ph = i == M ? pe : (i == i_mouth && phi_mouth >= 0 ? phi_mouth : pe * (k + t) / K);
       float3 pos = ToF3(SurfacePoint(theta[j], ph, ears));
       if (j == 0 || j == N / 2) pos.x = 0.f;
       const double s_arc = len[k] + t * (len[k + 1] - len[k]);
@@ -451,25 +506,105 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     mesh.uvs[vid(i, N)].x = 1.f;
   }
 
+  // The mouth slit (between the corner columns `jc` and N - jc, on row i_mouth): the lips are
+  // cut apart along the mouth line. The row's vertices strictly between the corners stay with
+  // the upper lip (moved up by half the slit's width) and get a twin for the lower lip (moved
+  // down as much: the two must not weld, geometry/weld.h); the corners are shared. Behind
+  // each lip an inner roll of kSampleHeadLipRollRows rows turns inward (along the dental arch's
+  // normal) and away from the mouth line, up behind the upper lip and down behind the lower
+  // one, tapering to nothing at the corners; each ends in an open boundary, so the hole runs
+  // between the two roll ends and an open mouth shows the rolls' surfaces.
+  const float3 up{0.f, 1.f, 0.f};
+  int jc = N / 2;  // the corner column on the subject's right (x < 0); N - jc the left one
+  while (jc > 0 && mesh.positions[vid(i_mouth, jc)].z > 0 &&
+         std::fabs(mesh.positions[vid(i_mouth, jc)].x) < kSampleHeadMouthHalfWidth)
+    --jc;
+  const int jr = N - jc;
+  const float corner_x = std::fabs(mesh.positions[vid(i_mouth, jc)].x);
+  constexpr int R = kSampleHeadLipRollRows;
+  // Roll profiles (mm; inward along the arch normal, up): the upper one rises faster than the
+  // jaw's lip-line plane (docs/model.md §18: it climbs about 0.3 mm per mm toward the hinge)
+  // so it stays with the skull; the lower one stays below it, so it goes with the jaw.
+  static constexpr double kUpperIn[R] = {0.7, 1.6, 2.6, 3.5, 4.2},
+                          kUpperUp[R] = {0.6, 1.5, 2.8, 4.6, 6.8},
+                          kLowerIn[R] = {0.9, 2.0, 3.3, 4.7, 6.0},
+                          kLowerUp[R] = {-0.4, -1.0, -1.9, -3.2, -5.0};
+  constexpr float kHalfGap = kSampleHeadSlitWidth * 0.5f;
+  constexpr float kSlitInset = kSampleHeadSlitInset;
+  const uint32_t first_new = static_cast<uint32_t>(mesh.positions.size());
+  const int inner = jr - jc - 1;  // columns strictly between the corners
+  mesh.positions.resize(first_new + size_t(inner) * (2 * R + 1));
+  mesh.uvs.resize(mesh.positions.size());
+  // Upper roll row r (0 = the slit row) and lower roll row r (0 = the lower lip's slit twin)
+  // at column j in [jc, jr].
+  auto upper = [&](int r, int j) -> uint32_t {
+    if (j == jc || j == jr) return vid(i_mouth, j);
+    if (r == 0) return vid(i_mouth, j);
+    return first_new + uint32_t(j - jc - 1) * (2 * R + 1) + uint32_t(r);
+  };
+  auto lower = [&](int r, int j) -> uint32_t {
+    if (j == jc || j == jr) return vid(i_mouth, j);
+    return first_new + uint32_t(j - jc - 1) * (2 * R + 1) + uint32_t(r == 0 ? 0 : R + r);
+  };
+  for (int j = jc + 1; j < jr; ++j) {
+    const float3 p = mesh.positions[vid(i_mouth, j)];
+    const float2 uv = mesh.uvs[vid(i_mouth, j)];
+    const float3 in = NormalizeOr(float3{-p.x / float(kArch), 0.f, -1.f}, {0.f, 0.f, -1.f});
+    const float taper = std::sqrt(std::max(0.f, 1.f - (p.x / corner_x) * (p.x / corner_x)));
+    // The slit itself sits kSlitInset behind the surface (less toward the corners, none at
+    // them), so the lips' outer surfaces turn into it: the upper lip's last row faces down and
+    // the lower lip's first row up, which is what the jaw's weight reads to tell them apart.
+    const float inset = kSlitInset;
+    const float3 pu = p + up * kHalfGap + in * inset, pl = p - up * kHalfGap + in * inset;
+    mesh.positions[vid(i_mouth, j)] = pu;
+    mesh.positions[lower(0, j)] = pl;
+    for (int r = 1; r <= R; ++r) {
+      mesh.positions[upper(r, j)] =
+          pu + (in * float(kUpperIn[r - 1]) + up * float(kUpperUp[r - 1])) * taper;
+      mesh.positions[lower(r, j)] =
+          pl + (in * float(kLowerIn[r - 1]) + up * float(kLowerUp[r - 1])) * taper;
+    }
+    // Texture space has no room for the rolls: they get a sliver (kRollDv per row, a tenth of a
+    // texel of a 1024 map) beside the slit, continuing each lip's direction of v, so no
+    // triangle is degenerate in texture space (curve wrinkles and thickness maps need area).
+    constexpr float kRollDv = 1e-4f;
+    for (int r = 0; r <= R; ++r) {
+      mesh.uvs[upper(r, j)] = {uv.x, uv.y + kRollDv * float(r)};
+      mesh.uvs[lower(r, j)] = {uv.x, uv.y - kRollDv * float(r)};
+    }
+  }
+
   // Triangles: a fan at the pole, then quads split along their shorter diagonal;
-  // counter-clockwise seen from outside.
-  mesh.indices.reserve(static_cast<size_t>(N) * (2 * M - 1) * 3);
+  // counter-clockwise seen from outside. A quad with a collapsed side (at a mouth corner) is
+  // one triangle.
+  mesh.indices.reserve((static_cast<size_t>(N) * (2 * M - 1) + size_t(4 * R) * (inner + 1)) * 3);
   for (int j = 0; j < N; ++j) {
     mesh.indices.insert(mesh.indices.end(), {0u, vid(1, j), vid(1, j + 1)});
   }
+  auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t e) {
+    if (a == c) return void(mesh.indices.insert(mesh.indices.end(), {a, e, b}));
+    if (b == e) return void(mesh.indices.insert(mesh.indices.end(), {a, c, e}));
+    const float ad = LengthSquared(mesh.positions[a] - mesh.positions[e]);
+    const float bc = LengthSquared(mesh.positions[b] - mesh.positions[c]);
+    // Mirrored quads compare the same two lengths, so the choice mirrors too.
+    if (ad <= bc) {
+      mesh.indices.insert(mesh.indices.end(), {a, c, e, a, e, b});
+    } else {
+      mesh.indices.insert(mesh.indices.end(), {a, c, b, b, c, e});
+    }
+  };
   for (int i = 1; i < M; ++i) {
     for (int j = 0; j < N; ++j) {
-      const uint32_t a = vid(i, j), b = vid(i, j + 1), c = vid(i + 1, j), e = vid(i + 1, j + 1);
-      const float ad = LengthSquared(mesh.positions[a] - mesh.positions[e]);
-      const float bc = LengthSquared(mesh.positions[b] - mesh.positions[c]);
-      // Mirrored quads compare the same two lengths, so the choice mirrors too.
-      if (ad <= bc) {
-        mesh.indices.insert(mesh.indices.end(), {a, c, e, a, e, b});
-      } else {
-        mesh.indices.insert(mesh.indices.end(), {a, c, b, b, c, e});
-      }
+      uint32_t a = vid(i, j), b = vid(i, j + 1);
+      if (i == i_mouth && j >= jc && j < jr) a = lower(0, j), b = lower(0, j + 1);
+      quad(a, b, vid(i + 1, j), vid(i + 1, j + 1));
     }
   }
+  for (int r = 0; r < R; ++r)
+    for (int j = jc; j < jr; ++j) {
+      quad(upper(r, j), upper(r, j + 1), upper(r + 1, j), upper(r + 1, j + 1));
+      quad(lower(r + 1, j), lower(r + 1, j + 1), lower(r, j), lower(r, j + 1));
+    }
 
   if (options.normals) {
     // Area-weighted; the seam's two columns (the only vertices that share a position) get

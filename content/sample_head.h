@@ -8,7 +8,8 @@
 // head, theta the azimuth about +Y (0 = +Z, the face), phi the polar angle from +Y. The grid
 // rows and columns are spaced non-uniformly (denser over the face, forehead, eyes, mouth and
 // nasolabial region) and triangulated; the crown is one pole vertex with a triangle fan and
-// the mesh ends in an open boundary at the neck, level with the chin.
+// the mesh ends in an open boundary at the neck, level with the chin. The lips are cut apart
+// along the mouth line (a slit with an inner lip roll behind each lip, another boundary).
 //
 // Units millimetres, +Y up, facing +Z, x = +subject's left. Deterministic: no RNG, no
 // threads; the same options give the same bytes. Exactly mirror-symmetric in x.
@@ -21,12 +22,36 @@
 
 namespace mimetic {
 
+// The mouth (x between the corners -26 and +26 mm, on the mouth line, y = -66 on the midline): the lips are
+// cut apart by a slit (a real boundary in the topology) between the two corner vertices,
+// kSampleHeadSlitWidth wide at rest, and each lip turns inward in an inner roll of
+// kSampleHeadLipRollRows rows (MakeSampleHead).
+constexpr float kSampleHeadMouthHalfWidth = 26.f;
+constexpr float kSampleHeadSlitWidth = 0.1f;  // mm: above any weld tolerance (geometry/weld.h)
+constexpr int kSampleHeadLipRollRows = 5;
+// The slit sits this far (mm) behind the surface, inward along the dental arch's normal, so
+// the lips' outer surfaces turn into it (MakeSampleHead).
+constexpr float kSampleHeadSlitInset = 1.5f;
+// The mouth line is not level: it rises toward the corners by kSampleHeadMouthLineRise mm per
+// mm the lips lie behind their meeting point on the midline (z = kSampleHeadMouthZ), about
+// 5 mm at the corners, so that it runs a little above the jaw's lip-line plane (docs/model.md
+// §18: through the stomion and the hinge by the condyles, which on this head climbs about
+// 0.3 mm per mm toward the hinge). A level line puts the upper lip by the corners inside the
+// jaw's narrow blend band, where it is partly carried along and its triangles turn over at
+// the full opening (tests/fitting/jaw_sample_head_test.cpp).
+constexpr float kSampleHeadMouthLineRise = 0.4f;
+constexpr float kSampleHeadMouthZ = 96.5f;
+// The mouth line's height (mm) where the lips' surface is at depth z.
+inline float SampleHeadMouthLineY(float z) {
+  return -66.f + kSampleHeadMouthLineRise * (z < kSampleHeadMouthZ ? kSampleHeadMouthZ - z : 0.f);
+}
+
 struct SampleHeadOptions {
   // Grid columns (azimuth steps around the head; the seam column is duplicated, so a row has
   // `columns + 1` vertices). Even; clamped to [16, 4096].
   int columns = 240;
   // Grid rows below the crown pole (each a ring of `columns + 1` vertices). Clamped to
-  // [8, 4096]. Defaults give 1 + 140 * 241 = 33741 vertices.
+  // [8, 4096]. Defaults give 1 + 140 * 241 = 33741 grid vertices (plus the mouth's).
   int rows = 140;
   // How much denser the face is sampled than the back of the head / the crown (>= 1).
   float face_density = 4.f;
@@ -38,6 +63,11 @@ struct SampleHead {
   MeshData mesh;
   // 68 points in the Multi-PIE / iBUG order (docs/landmarks-format.md), on the mesh surface.
   std::vector<float3> landmarks;
+  // The grid row (1..rows) that carries the mouth line: vertex 1 + (mouth_row - 1) *
+  // (columns + 1) + j is column j's point on it (the upper lip's side of the slit between
+  // the corners). Vertices after 1 + rows * (columns + 1) are the lower lip's slit twins and
+  // the inner lip rolls (2 * kSampleHeadLipRollRows + 1 per column between the corners).
+  int mouth_row = 0;
 };
 
 // Builds the head. UVs: u = 0.5 + theta / (2 pi) (the cylindrical projection of Bando 2001

@@ -419,12 +419,42 @@ void EdgeControlOffset(const float3& pi, const float3& pj, const float3& ni, dou
   out[2] = -w * ni.z / 3.0;
 }
 
+// docs/model.md §14: where the input's normals disagree sharply (a mouth corner, where the
+// outer skin, the slit and the inner lip rolls meet in one point) a PN patch can bulge past its
+// own triangle's plane and turn a new triangle over against the input triangle it lies in. Such
+// a triangle's new points go back to their flat positions (which lie in the input triangle,
+// turned its way), and the check repeats, since a point moved back is shared with other new
+// triangles; it ends because every round moves at least one point back for good.
+void KeepOrientation(State* s, const std::vector<float3>& flat) {
+  const size_t np = s->input_points;
+  std::vector<uint8_t> is_flat(flat.size(), 0);
+  const std::vector<uint32_t>& idx = s->mesh.indices;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (size_t t = 0; 3 * t < idx.size(); ++t) {
+      const uint32_t a = s->pov[idx[3 * t]], b = s->pov[idx[3 * t + 1]], c = s->pov[idx[3 * t + 2]];
+      if (a < np && b < np && c < np) continue;
+      const uint32_t* in = &s->input_triangles[3 * size_t(s->origin[t])];
+      const float3 n_in = Cross(s->points[in[1]] - s->points[in[0]], s->points[in[2]] - s->points[in[0]]);
+      const float3 n = Cross(s->points[b] - s->points[a], s->points[c] - s->points[a]);
+      if (double(n.x) * n_in.x + double(n.y) * n_in.y + double(n.z) * n_in.z > 0) continue;
+      for (uint32_t q : {a, b, c})
+        if (q >= np && !is_flat[q - np]) {
+          s->points[q] = flat[q - np];
+          is_flat[q - np] = 1;
+          changed = true;
+        }
+    }
+  }
+}
+
 // docs/model.md §14: moves every new point from its flat position onto the PN triangle of its
 // input triangle, normals = the input's area-weighted point normals. Input points stay.
 void PlaceOnPnTriangles(State* s) {
   const size_t np = s->input_points;
   const std::vector<float3> normals = ComputeVertexNormals(
       span<const float3>(s->points.data(), np), span<const uint32_t>(s->input_triangles));
+  const std::vector<float3> flat(s->points.begin() + std::ptrdiff_t(np), s->points.end());
   for (size_t i = 0; i < s->params.size(); ++i) {
     const PointParam& q = s->params[i];
     const uint32_t* c = &s->input_triangles[3 * size_t(q.triangle)];
@@ -462,6 +492,7 @@ void PlaceOnPnTriangles(State* s) {
     p = {static_cast<float>(double(p.x) + d[0]), static_cast<float>(double(p.y) + d[1]),
          static_cast<float>(double(p.z) + d[2])};
   }
+  KeepOrientation(s, flat);
   for (size_t v = 0; v < s->mesh.positions.size(); ++v)
     if (s->pov[v] >= np) s->mesh.positions[v] = s->points[s->pov[v]];
 }

@@ -43,15 +43,33 @@ Box Bounds(const std::vector<float3>& pts) {
   return b;
 }
 
+// The columns strictly between the mouth corners: those whose vertex on the mouth row lies in
+// front within the mouth's half width (the construction's definition of the slit).
+size_t SlitColumns(const SampleHead& h, const SampleHeadOptions& o = {}) {
+  size_t n = 0;
+  for (int j = 0; j <= o.columns; ++j) {
+    const float3 p = h.mesh.positions[1 + size_t(h.mouth_row - 1) * (o.columns + 1) + j];
+    if (p.z > 0 && std::fabs(p.x) < kSampleHeadMouthHalfWidth) ++n;
+  }
+  return n;
+}
+
 TEST(SampleHead, VertexCountAndLayout) {
   const MeshData& m = Head().mesh;
   EXPECT_GE(m.vertex_count(), 20000u);
   EXPECT_LE(m.vertex_count(), 40000u);
-  // Defaults: a pole plus 140 rings of 240 + 1 (seam) vertices.
+  // Defaults: a pole plus 140 rings of 240 + 1 (seam) vertices, then per column between the
+  // mouth corners the lower lip's slit twin and the two lip rolls' vertices.
   const SampleHeadOptions o;
-  EXPECT_EQ(m.vertex_count(), 1u + size_t(o.rows) * (o.columns + 1));
-  // A fan of `columns` triangles at the pole, two per quad below.
-  EXPECT_EQ(m.triangle_count(), size_t(o.columns) * (2 * o.rows - 1));
+  const size_t slit = SlitColumns(Head());
+  const size_t R = kSampleHeadLipRollRows;
+  // The mouth is 52 mm wide; the face's columns there are about 1.1 mm apart.
+  EXPECT_GT(slit, 35u);
+  EXPECT_LT(slit, 60u);
+  EXPECT_EQ(m.vertex_count(), 1u + size_t(o.rows) * (o.columns + 1) + slit * (2 * R + 1));
+  // A fan of `columns` triangles at the pole, two per quad below; each roll row has `slit + 1`
+  // quads, the two at the corners collapsed to one triangle.
+  EXPECT_EQ(m.triangle_count(), size_t(o.columns) * (2 * o.rows - 1) + 2 * R * (2 * slit));
   EXPECT_EQ(m.uvs.size(), m.vertex_count());
   EXPECT_EQ(m.normals.size(), m.vertex_count());
   for (uint32_t i : m.indices) ASSERT_LT(i, m.vertex_count());
@@ -111,7 +129,7 @@ TEST(SampleHead, MirrorSymmetric) {
   EXPECT_EQ(missing, 0u);
 }
 
-TEST(SampleHead, WeldsWithoutErrorsIntoAClosedTopWithOneOpenRing) {
+TEST(SampleHead, WeldsWithoutErrorsIntoAClosedTopWithTheNeckAndMouthOpen) {
   const MeshData& m = Head().mesh;
   WeldedMesh w;
   Diagnostics diag;
@@ -121,20 +139,90 @@ TEST(SampleHead, WeldsWithoutErrorsIntoAClosedTopWithOneOpenRing) {
   const SampleHeadOptions o;
   // Only the seam column is split: one duplicate per ring.
   EXPECT_EQ(w.points.size(), m.vertex_count() - size_t(o.rows));
-  // Edge use on the welded surface: every edge in 1 or 2 triangles; the only boundary is
-  // the ring at the neck (`columns` edges), so the crown and the seam are closed.
-  std::map<std::pair<uint32_t, uint32_t>, int> uses;
+  // Edge use on the welded surface: every edge in 1 or 2 triangles, and consistently
+  // oriented (a directed edge in at most one triangle, so a shared edge is walked both ways);
+  // the boundary is the ring at the neck (`columns` edges) and the mouth: the ends of the two
+  // lip rolls, `slit + 1` edges each from corner to corner. The crown and the seam are closed.
+  std::map<std::pair<uint32_t, uint32_t>, int> uses, directed;
   for (size_t t = 0; t < w.triangles.size(); t += 3)
     for (int k = 0; k < 3; ++k) {
       uint32_t a = w.triangles[t + k], b = w.triangles[t + (k + 1) % 3];
       uses[{std::min(a, b), std::max(a, b)}]++;
+      directed[{a, b}]++;
     }
-  size_t boundary = 0;
+  for (const auto& [e, n] : directed) ASSERT_EQ(n, 1) << "edge " << e.first << "-" << e.second;
+  size_t neck = 0, mouth = 0, other = 0;
+  std::map<uint32_t, int> mouth_degree;
   for (const auto& [e, n] : uses) {
     ASSERT_LE(n, 2);
-    if (n == 1) ++boundary;
+    if (n != 1) continue;
+    const float3 a = w.points[e.first], b = w.points[e.second];
+    if (a.y < -100 && b.y < -100) {
+      ++neck;
+    } else if (std::fabs(a.x) <= kSampleHeadMouthHalfWidth + 2 && std::fabs(a.y + 66) < 10 &&
+               a.z > 60) {
+      ++mouth;
+      mouth_degree[e.first]++;
+      mouth_degree[e.second]++;
+    } else {
+      ++other;
+    }
   }
-  EXPECT_EQ(boundary, size_t(o.columns));
+  EXPECT_EQ(neck, size_t(o.columns));
+  EXPECT_EQ(mouth, 2 * (SlitColumns(Head()) + 1));
+  EXPECT_EQ(other, 0u);
+  // The mouth's boundary is one simple loop: every point on it has two boundary edges.
+  for (const auto& [p, d] : mouth_degree) EXPECT_EQ(d, 2) << "point " << p;
+}
+
+// The lips are cut apart between the corners (docs: assets/head/README.md): on the mouth row
+// every vertex strictly between the corners has a twin kSampleHeadSlitWidth below it that
+// shares no triangle with the upper lip's rows, and the corners are shared.
+TEST(SampleHead, TheLipsAreSeparateSurfacesMeetingAtTheCorners) {
+  const SampleHead& h = Head();
+  const MeshData& m = h.mesh;
+  const SampleHeadOptions o;
+  const size_t ring = o.columns + 1;
+  auto row_of = [&](uint32_t v) { return v == 0 ? 0 : int((v - 1) / ring) + 1; };
+  std::vector<std::set<int>> rows_touched(m.vertex_count());  // grid rows in a vertex's triangles
+  for (size_t t = 0; t < m.indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l)
+        if (m.indices[t + l] <= size_t(o.rows) * ring)
+          rows_touched[m.indices[t + k]].insert(row_of(m.indices[t + l]));
+  size_t twins = 0;
+  for (int j = 0; j <= o.columns; ++j) {
+    const uint32_t v = uint32_t(1 + size_t(h.mouth_row - 1) * ring + j);
+    const float3 p = m.positions[v];
+    if (!(p.z > 0 && std::fabs(p.x) < kSampleHeadMouthHalfWidth)) continue;
+    // The upper side touches the row above, never the row below.
+    EXPECT_TRUE(rows_touched[v].count(h.mouth_row - 1)) << j;
+    EXPECT_FALSE(rows_touched[v].count(h.mouth_row + 1)) << j;
+    // Its twin: the vertex beyond the grid at (x, y - width, z), touching the row below only.
+    for (uint32_t u = uint32_t(1 + o.rows * ring); u < m.vertex_count(); ++u) {
+      if (Length(m.positions[u] - float3{p.x, p.y - kSampleHeadSlitWidth, p.z}) > 1e-4f) continue;
+      ++twins;
+      EXPECT_TRUE(rows_touched[u].count(h.mouth_row + 1)) << j;
+      EXPECT_FALSE(rows_touched[u].count(h.mouth_row - 1)) << j;
+      EXPECT_NEAR(m.uvs[u].x, m.uvs[v].x, 1e-7f);
+    }
+    // On the mouth line (through the stomion of the proportions, y = -66 on the midline) half
+    // the slit's width up, kSampleHeadSlitInset behind the surface (inward along the arch's
+    // normal, within 30 degrees of -z across the mouth: 0.1 mm of the line's height).
+    EXPECT_NEAR(p.y, SampleHeadMouthLineY(p.z + kSampleHeadSlitInset) + 0.5f * kSampleHeadSlitWidth,
+                0.1f) << j;
+  }
+  EXPECT_EQ(twins, SlitColumns(h));
+  // The inner-lip landmarks sit on their own lips: 61-63 above the slit, 65-67 below it.
+  for (int l : {61, 62, 63})
+    EXPECT_GT(h.landmarks[l].y, SampleHeadMouthLineY(h.landmarks[l].z) + 0.5f * kSampleHeadSlitWidth) << l;
+  for (int l : {65, 66, 67})
+    EXPECT_LT(h.landmarks[l].y, SampleHeadMouthLineY(h.landmarks[l].z) - 0.5f * kSampleHeadSlitWidth) << l;
+  // The twins and rolls lie behind the lips' front (z ~ 99 mm): the rolls turn inward.
+  size_t behind = 0;
+  for (uint32_t u = uint32_t(1 + o.rows * ring); u < m.vertex_count(); ++u)
+    if (m.positions[u].z < 99.f) ++behind;  // the lips' front is at z ~ 99
+  EXPECT_EQ(behind, m.vertex_count() - (1 + o.rows * ring));
 }
 
 TEST(SampleHead, NoDegenerateTrianglesAndOutwardOrientation) {
@@ -315,7 +403,8 @@ TEST(SampleHead, SmallerOptionsStillGiveAValidMesh) {
   o.rows = 30;
   o.ears = false;
   const SampleHead h = MakeSampleHead(o);
-  EXPECT_EQ(h.mesh.vertex_count(), 1u + 30u * 41u);
+  EXPECT_EQ(h.mesh.vertex_count(),
+            1u + 30u * 41u + SlitColumns(h, o) * (2 * kSampleHeadLipRollRows + 1));
   WeldedMesh w;
   Diagnostics diag;
   const bool ok = WeldMesh(h.mesh, 0.f, &w, &diag);
@@ -327,7 +416,9 @@ TEST(SampleHeadTool, MakeHeadWritesMeshAndLandmarks) {
   const test::ToolResult r = test::RunTool(
       {"make-head", "--out", dir + "/head.glb", "--landmarks", dir + "/head.landmarks.json"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("33741 vertices"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(std::to_string(Head().mesh.vertex_count()) + " vertices"),
+            std::string::npos)
+      << r.output;
   MeshData m;
   Diagnostics diag;
   ASSERT_TRUE(ImportMesh(dir + "/head.glb", "", &m, &diag)) << diag.Format();

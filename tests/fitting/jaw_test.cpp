@@ -22,6 +22,7 @@
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "test_support.h"
+#include "jaw_checks.h"
 
 namespace mimetic {
 namespace {
@@ -72,12 +73,7 @@ CompareResult Measure(const Ict& ict, const std::vector<float3>& posed) {
 }
 double Ratio(const Ict& ict, const std::vector<float3>& posed) { return Measure(ict, posed).ratio; }
 
-std::vector<float3> Posed(const Rig& rig, float jaw) {
-  MeshData m;
-  const std::vector<float> zero(rig.muscle_count(), 0.f);
-  EXPECT_TRUE(PosedMesh(rig, zero, SkinLayers{}, &m, jaw));
-  return m.positions;
-}
+std::vector<float3> Posed(const Rig& rig, float jaw) { return test::PosedAtJaw(rig, jaw); }
 
 // The jaw value in [0, 1] with the smallest ratio: a grid of 21, then golden-section search
 // around the best.
@@ -162,18 +158,9 @@ TEST_F(JawOnIct, RealJawOpenIsMatchedWithinTheIssuesRatio) {
 TEST_F(JawOnIct, NoTriangleTurnsOverAtTheFullOpening) {
   const MeshData rest = RestMesh(*rig_);
   for (float jaw : {0.5f, 1.f}) {
-    const std::vector<float3> open = Posed(*rig_, jaw);
-    size_t flipped = 0, first = 0;
-    for (size_t t = 0; t < rest.triangle_count(); ++t) {
-      const uint32_t* i = &rest.indices[3 * t];
-      const float3 n0 = Cross(rest.positions[i[1]] - rest.positions[i[0]],
-                              rest.positions[i[2]] - rest.positions[i[0]]);
-      const float3 n1 = Cross(open[i[1]] - open[i[0]], open[i[2]] - open[i[0]]);
-      if (!(Length(n0) > 0.f)) continue;
-      if (!(Dot(n0, n1) > 0.f) && flipped++ == 0) first = t;
-    }
-    const float3 at = ict_->frame.ToLocal(rest.positions[rest.indices[3 * first]]);
-    EXPECT_EQ(flipped, 0u) << "jaw " << jaw << ": first turned-over triangle " << first
+    const test::TurnedOver over = test::CountTurnedOver(rest, Posed(*rig_, jaw));
+    const float3 at = ict_->frame.ToLocal(rest.positions[rest.indices[3 * over.first]]);
+    EXPECT_EQ(over.count, 0u) << "jaw " << jaw << ": first turned-over triangle " << over.first
                            << " at face-frame (" << at.x << ", " << at.y << ", " << at.z << ")";
   }
 }
@@ -201,12 +188,7 @@ TEST_F(JawOnIct, TheLipsSeparateAsTheJawOpens) {
   }
   ASSERT_GT(upper.size(), 10u);
   ASSERT_GT(lower.size(), 10u);
-  auto gap_of = [&](const std::vector<float3>& x) {
-    float best = 1e30f;
-    for (uint32_t a : upper)
-      for (uint32_t b : lower) best = std::min(best, Length(x[a] - x[b]));
-    return best;
-  };
+  auto gap_of = [&](const std::vector<float3>& x) { return test::SmallestDistance(x, upper, lower); };
   auto gap = [&](float jaw) { return gap_of(Posed(*rig_, jaw)); };
   const float real = gap_of(ict_->open.positions);
   float last = gap(0.f);

@@ -11,6 +11,7 @@
 #include "geometry/mesh.h"
 #include "io/clip_file.h"
 #include "io/mesh_io.h"
+#include "sample_rig.h"
 #include "test_support.h"
 #include "tools/mesh_expect.h"
 
@@ -116,7 +117,7 @@ TEST(ImportArkit, JawOpenDrivesTheJaw) {
     EXPECT_EQ(jaw->keys[size_t(k)].v, v[k]) << k;
   }
 
-  const auto n = RunTool({"import-arkit", Data("take.csv"), "--rig", HeadRig(), "--map", map,
+  const auto n = RunTool({"import-arkit", Data("take.csv"), "--rig", test::SampleRigWithoutJaw(), "--map", map,
                           "--fps", "30", "--out", dir + "/nojaw.clip.json"});
   ASSERT_EQ(n.exit_code, 0) << n.output;
   EXPECT_NE(n.output.find("JawOpen (2 non-zero frames) (the map drives the jaw with them, and "

@@ -10,6 +10,7 @@
 
 #include "geometry/mesh.h"
 #include "io/mesh_io.h"
+#include "sample_rig.h"
 #include "test_support.h"
 #include "tools/mesh_expect.h"
 
@@ -141,7 +142,7 @@ TEST(Play, JawChannelsAndExpressionsPoseTheJaw) {
                      dir + "/closed.obj"}).exit_code, 0);
   EXPECT_NE(ReadText(dir + "/play.obj"), ReadText(dir + "/closed.obj"));
   // No jaw in the rig: a warning, and the jaw values do nothing.
-  const auto w = RunTool({"play", src + "/assets/head/sample_head.rig.json", clip, "--expression",
+  const auto w = RunTool({"play", test::SampleRigWithoutJaw(), clip, "--expression",
                           open, "--time", "1", "--out", dir + "/nojaw.obj"});
   ASSERT_EQ(w.exit_code, 0) << w.output;
   EXPECT_TRUE(Contains(w.output, "animates the jaw, but")) << w.output;

@@ -13,6 +13,7 @@
 
 #include "io/mesh_io.h"
 #include "io/rig_file.h"
+#include "sample_rig.h"
 #include "test_support.h"
 
 namespace mimetic {
@@ -36,14 +37,7 @@ MeshData Grid(uint32_t n) {
 
 // The sample head's rig with absolute paths, changed by `edit`, saved under the temp dir.
 std::string SampleRig(const std::string& name, const std::function<void(json&)>& edit) {
-  std::ifstream in(test::SourceDir() + "/assets/head/sample_head.rig.json");
-  json j = json::parse(in);
-  j["mesh"]["path"] = test::SourceDir() + "/assets/head/sample_head.glb";
-  j["thickness"]["path"] = test::SourceDir() + "/assets/head/sample_head.thickness.png";
-  edit(j);
-  const std::string path = test::TempDir() + "/" + name + ".rig.json";
-  std::ofstream(path) << j.dump(1);
-  return path;
+  return test::EditedSampleRig(name, edit);
 }
 
 void ExpectRefused(const std::vector<std::string>& args, const std::string& message) {
@@ -93,9 +87,14 @@ TEST(RigChecksCli, MeshCoordinatesAt1e38AreRefused) {
 
 TEST(RigChecksCli, TinyWrinkleValuesAreRefusedBeforeRefining) {
   const std::string narrow = SampleRig("narrow", [](json& j) { j["curve_wrinkles"][0]["width"] = 0.01; });
+  // "from N": the triangles of the sample head's mesh file.
+  MeshData head;
+  Diagnostics diag;
+  ASSERT_TRUE(ImportMesh(test::SourceDir() + "/assets/head/sample_head.glb", "", &head, &diag))
+      << diag.Format();
   ExpectRefused({"validate", narrow},
                 narrow + ": curve_wrinkles[0].width: refinement where wrinkles act would grow "
-                         "the mesh from 66960 to about ");
+                         "the mesh from " + std::to_string(head.triangle_count()) + " to about ");
   const std::string many = SampleRig("many", [](json& j) {
     j["muscles"][0]["wrinkles"]["count"] = 2147483647;
   });

@@ -79,14 +79,18 @@ void main() {
     vec3 dpx = dFdx(v_position), dpy = dFdy(v_position);
     vec2 tx = dFdx(v_uv), ty = dFdy(v_uv);
     float det = tx.x * ty.y - tx.y * ty.x;
-    if (abs(det) > 1e-20) {
+    vec2 g = (v_amplitude.x * Slope(u_height1) + v_amplitude.y * Slope(u_height2)) * u_fine_depth;
+    // No slope (a flat map, depth 0, amplitude 0) leaves the normal as it is, bit for bit, also
+    // where texture space is a sliver (the inner lip rolls) and P_u x P_v is huge.
+    if (abs(det) > 1e-20 && (g.x != 0.0 || g.y != 0.0)) {
       vec3 pu = (dpx * ty.y - dpy * tx.y) / det;
       vec3 pv = (dpy * tx.x - dpx * ty.x) / det;
-      vec2 g = (v_amplitude.x * Slope(u_height1) + v_amplitude.y * Slope(u_height2)) * u_fine_depth;
-      // (P_u + H_u n) x (P_v + H_v n) to first order, turned outward; n keeps |P_u x P_v|.
+      // (P_u + H_u n) x (P_v + H_v n) to first order, turned outward, divided by |P_u x P_v|.
       vec3 base = cross(pu, pv);
+      float area = length(base);
       float sgn = dot(base, n) < 0.0 ? -1.0 : 1.0;
-      n = normalize(n * length(base) + (cross(n, pv) * g.x + cross(pu, n) * g.y) * sgn);
+      if (area > 0.0 && !isinf(area))
+        n = normalize(n + (cross(n, pv) * g.x + cross(pu, n) * g.y) * (sgn / area));
     }
   }
   vec3 v = normalize(-v_position);
