@@ -198,6 +198,8 @@ const Object kJaw = {
             .About("blend half-width a mouth width beyond the corners; default 12"),
         Number("cheek_drop_deg", "a number in [0, 45] (degrees)").Min(0).Max(45)
             .About("how far the blend's centre drops beyond the corners; default 0"),
+        Number("corner_fade", "a number in [0, 0.5] (a fraction of the mouth width)").Min(0).Max(0.5)
+            .About("where the lips' side term fades out before each mouth corner; default 0.2"),
         Numbers("back", 2, "array of 2 numbers [b0, b1] in [-1, 1], b0 < b1 (fractions of the "
                            "hinge-to-mouth distance)")
             .About("forward distance from the hinge where the weight fades in; default [0.2, 0.6]"),
@@ -507,6 +509,7 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
   j.Read("lip_blend_deg", &jaw.lip_blend_deg);
   j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
   j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
+  j.Read("corner_fade", &jaw.corner_fade);
   if (const json* back = j.Get("back")) {
     jaw.back[0] = static_cast<float>((*back)[0].get<double>());
     jaw.back[1] = static_cast<float>((*back)[1].get<double>());
@@ -866,6 +869,7 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       j["lip_blend_deg"] = ShortestDecimal(jw.lip_blend_deg);
       j["cheek_blend_deg"] = ShortestDecimal(jw.cheek_blend_deg);
       j["cheek_drop_deg"] = ShortestDecimal(jw.cheek_drop_deg);
+      j["corner_fade"] = ShortestDecimal(jw.corner_fade);
       j["back"] = ordered_json::array({ShortestDecimal(jw.back[0]), ShortestDecimal(jw.back[1])});
       j["neck_deg"] =
           ordered_json::array({ShortestDecimal(jw.neck_deg[0]), ShortestDecimal(jw.neck_deg[1])});

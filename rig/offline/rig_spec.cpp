@@ -37,7 +37,10 @@ float JawRegionWeight(const JawSpec& jaw, const JawFrame& f, float3 p, float3 n)
   const float e = jaw.mouth_width > 0.f ? Smoothstep(0.f, 1.f, (std::fabs(x) - half) / jaw.mouth_width)
                                         : 1.f;
   const float beta = jaw.lip_blend_deg + (jaw.cheek_blend_deg - jaw.lip_blend_deg) * e;
-  const float side = std::fmin(std::fmax(2.f * Dot(n, f.up), -1.f), 1.f);
+  const float corner = jaw.corner_fade > 0.f
+                           ? Smoothstep(half - jaw.corner_fade * jaw.mouth_width, half, std::fabs(x))
+                           : (std::fabs(x) >= half ? 1.f : 0.f);
+  const float side = std::fmin(std::fmax(2.f * Dot(n, f.up), -1.f), 1.f) * (1.f - corner);
   const float phi0 = -jaw.cheek_drop_deg * e + beta * (1.f - e) * side;
   const float open = 1.f - Smoothstep(phi0 - beta, phi0 + beta, phi);
   const float front = Smoothstep(jaw.back[0] * f.reach, jaw.back[1] * f.reach, z);

@@ -68,6 +68,9 @@ struct JawSpec {
   float lip_blend_deg = 2.f;     // blend half-width about the lip line between the corners
   float cheek_blend_deg = 12.f;  // blend half-width a mouth width beyond the corners
   float cheek_drop_deg = 0.f;    // the blend's centre lowered by this beyond the corners
+  // Where the lips' side term fades out toward each corner, a fraction of the mouth width:
+  // full at |x| <= W/2 - corner_fade W, none at the corners and beyond (docs/model.md §18).
+  float corner_fade = 0.2f;
   float back[2] = {0.2f, 0.6f};  // forward distance from the hinge (fractions of the
                                  // hinge-to-mouth distance) where w fades in: 0 -> 1
   float neck_deg[2] = {90.f, 180.f};  // angles below the lip line where w fades out toward the
@@ -96,9 +99,12 @@ bool MakeJawFrame(const JawSpec& jaw, JawFrame* out);
 // neck angles: the throat below the chin stays).
 // `n`, the unit rest normal at p (or zero where unknown), decides the side on the lip line of a
 // mesh whose lips are separate surfaces: between the corners phi is moved by
-// -beta (1 - e) clamp(2 n.up, -1, 1), so a point facing up (the lower lip's top) joins the jaw
-// and one facing down (the upper lip's underside) stays, however thin the slit; on a closed lip
-// line the normal faces forward (n.up ~ 0) and nothing moves.
+// -beta (1 - e) (1 - k) clamp(2 n.up, -1, 1), so a point facing up (the lower lip's top) joins
+// the jaw and one facing down (the upper lip's underside) stays, however thin the slit; on a
+// closed lip line the normal faces forward (n.up ~ 0) and nothing moves. k = smoothstep(W/2 -
+// c W, W/2, |x|) (c = corner_fade) takes the term away toward the corners, where the slit ends
+// and the skin is one surface again (a normal there is no side: the creases beside a mouth
+// corner face up and down and would tear the weight).
 float JawRegionWeight(const JawSpec& jaw, const JawFrame& frame, float3 p, float3 n = {});
 float Smoothstep(float lo, float hi, float x);
 

@@ -408,6 +408,8 @@ std::vector<BadCase> BadCases() {
        {"jaw.cheek_blend_deg: expected a number in (0, 90] (degrees), got 100"}},
       {"jaw cheek_drop_deg -1", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "cheek_drop_deg": -1)"),
        {"jaw.cheek_drop_deg: expected a number in [0, 45] (degrees), got -1"}},
+      {"jaw corner_fade 0.6", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "corner_fade": 0.6)"),
+       {"jaw.corner_fade: expected a number in [0, 0.5] (a fraction of the mouth width), got 0.6"}},
       {"jaw back reversed", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "back": [0.6, 0.2])"),
        {"jaw.back: is [0.6, 0.2]; expected [b0, b1] in [-1, 1] with b0 < b1"}},
       {"jaw back of 3", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "back": [0, 0.2, 0.4])"),

@@ -712,6 +712,39 @@ TEST(EvaluateJobJaw, RegionWeightTakesTheLipSideFromTheNormalAndFadesTowardTheNe
   EXPECT_NEAR(JawRegionWeight(jaw, f, at(-40)), float(u * u * (3 - 2 * u)), 1e-5f);
 }
 
+// The side term fades out toward the mouth corners (docs/model.md §18, corner_fade): with the
+// mouth 40 wide and corner_fade 0.2 it is whole up to |x| = 12 and gone at the corner, x = 20,
+// where the slit ends; halfway (x = 16, smoothstep 1/2) an upward-facing point on the lip line
+// is moved by beta / 2: w = 1 - smoothstep(-1, 3, 0) = 1 - smoothstep(1/4).
+TEST(EvaluateJobJaw, RegionWeightsLipSideFadesOutTowardTheCorners) {
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 0.f, 0.f};
+  jaw.condyles[1] = {60.f, 0.f, 0.f};
+  jaw.range_deg = 20.f;
+  jaw.mouth = {0.f, 0.f, 100.f};
+  jaw.mouth_width = 40.f;
+  jaw.lip_blend_deg = 2.f;
+  jaw.corner_fade = 0.2f;
+  jaw.back[0] = -1.f, jaw.back[1] = -0.5f;
+  JawFrame f;
+  ASSERT_TRUE(MakeJawFrame(jaw, &f));
+  const float3 up{0.f, 1.f, 0.f}, down{0.f, -1.f, 0.f};
+  for (float x : {0.f, 12.f, -12.f}) {
+    EXPECT_NEAR(JawRegionWeight(jaw, f, {x, 0.f, 100.f}, up), 1.f, 1e-6f) << x;
+    EXPECT_NEAR(JawRegionWeight(jaw, f, {x, 0.f, 100.f}, down), 0.f, 1e-6f) << x;
+  }
+  const double t = 0.25, ss = t * t * (3 - 2 * t);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, {16.f, 0.f, 100.f}, up), float(1 - ss), 1e-5f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, {-16.f, 0.f, 100.f}, down), float(ss), 1e-5f);
+  for (float x : {20.f, -20.f}) {  // at the corner the normal no longer matters
+    EXPECT_NEAR(JawRegionWeight(jaw, f, {x, 0.f, 100.f}, up), 0.5f, 1e-6f) << x;
+    EXPECT_NEAR(JawRegionWeight(jaw, f, {x, 0.f, 100.f}, down), 0.5f, 1e-6f) << x;
+  }
+  jaw.corner_fade = 0.f;  // no fade: the side term stops at the corners
+  EXPECT_NEAR(JawRegionWeight(jaw, f, {19.9f, 0.f, 100.f}, up), 1.f, 1e-6f);
+  EXPECT_NEAR(JawRegionWeight(jaw, f, {20.f, 0.f, 100.f}, up), 0.5f, 1e-6f);
+}
+
 TEST(EvaluateJobJaw, MuscleDisplacementAtACarriedPointTurnsWithTheJaw) {
   const Surface s = MakeJawSurface();
   const std::vector<float> act = SomeActivations(s.rig);
