@@ -166,6 +166,16 @@ std::vector<LibraryEntry> LibraryTable() {
        "labii inferioris or a relaxed mentalis / orbicularis oris for AU25, and the jaw for "
        "AU26/27).",
        kFacs, {}, Both({{"depressor_labii_inferioris", 0.6f}, {"levator_labii_superioris", 0.3f}})},
+      {"AU26",
+       "Jaw drop: the jaw at 0.5 of its opening, the muscles at rest (set by hand from anatomy; "
+       "FACS: the mandible lowered by relaxing the masseter and temporalis, the lips parted by "
+       "it; the jaw input, docs/model.md §18).",
+       kFacs, {}, {{kJawInputName, 0.5f}}},
+      {"AU27",
+       "Mouth stretch: the jaw at its full opening, the muscles at rest (set by hand from "
+       "anatomy; FACS: the mandible pulled far down by the lateral pterygoid and digastric; "
+       "the jaw input, docs/model.md §18).",
+       kFacs, {}, {{kJawInputName, 1.f}}},
       {"AU38", "Nostril dilator (nasalis, pars alaris) at 0.8 (set by hand from anatomy: no "
                "matching ICT shape).",
        kFacs, {}, Both({{"nasalis", 0.8f}})},

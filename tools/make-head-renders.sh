@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # tools/make-head-renders.sh: the README's and docs/wrinkles.md's four pictures of the default
-# rig (neutral, surprise, frown, smile), every skin layer on. Run from the repository root
+# rig (neutral, surprise, frown, smile), every skin layer on, and docs/fidelity.md's two of its
+# jaw (the mouth open at jaw 0.6; surprise with the jaw: the library's Surprise, AU1, AU2 and
+# AU26 together, each muscle at the largest of their values). Run from the repository root
 # after building `mimetic` (MIMETIC=path to use another build):
 #
 #   bash tools/make-head-renders.sh
 #
-# Writes docs/images/head_{neutral,surprise,frown,smile}.png (the face, cropped from a 2.2
-# times larger render of the whole head; `mimetic render --help`).
+# Writes docs/images/head_{neutral,surprise,frown,smile,jaw_open,surprise_jaw}.png (the face,
+# cropped from a 2.2 times larger render of the whole head; `mimetic render --help`).
 set -euo pipefail
 mimetic=${MIMETIC:-./build/mimetic}
 rig=assets/head/sample_head.rig.json
@@ -18,7 +20,19 @@ trap 'rm -rf "$tmp"' EXIT
 "$mimetic" eval "$rig" --set corrugator_supercilii=1 --set procerus=0.6 --out "$tmp/frown.glb"
 "$mimetic" eval "$rig" --set zygomaticus_major=1 --set zygomaticus_minor=0.5 \
   --out "$tmp/smile.glb"
-for e in neutral surprise frown smile; do
+"$mimetic" eval "$rig" --set jaw=0.6 --out "$tmp/jaw_open.glb"
+# shellcheck disable=SC2046  # one --set argument per word
+"$mimetic" eval "$rig" $(python3 - assets/expressions/default.library.json <<'PY'
+import json, sys
+lib = {e["name"]: e["activations"] for e in json.load(open(sys.argv[1]))["expressions"]}
+a = {}
+for name in ("Surprise", "AU1", "AU2", "AU26"):
+    for m, v in lib[name].items():
+        a[m] = max(a.get(m, 0.0), v)
+print(" ".join(f"--set {m}={v}" for m, v in sorted(a.items())))
+PY
+) --out "$tmp/surprise_jaw.glb"
+for e in neutral surprise frown smile jaw_open surprise_jaw; do
   "$mimetic" render "$tmp/$e.glb" --zoom 2.2 --focus 0.5,0.5 --out "docs/images/head_$e.png"
 done
-echo "wrote docs/images/head_{neutral,surprise,frown,smile}.png"
+echo "wrote docs/images/head_{neutral,surprise,frown,smile,jaw_open,surprise_jaw}.png"

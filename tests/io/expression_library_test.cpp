@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "expressions/runtime/clip.h"
 #include "io/expression_library.h"
 #include "io/rig_loader.h"
 #include "test_support.h"
@@ -187,12 +188,46 @@ TEST(ExpressionLibrary, TheDefaultLibraryFitsTheSampleHead) {
   for (const Expression& e : lib) {
     std::map<std::string, float> a(e.activations.begin(), e.activations.end());
     for (const auto& [m, v] : a) {
+      if (m == kJawInputName) continue;  // the jaw input has no sides
       const std::string side = m.substr(m.size() - 2), base = m.substr(0, m.size() - 2);
       const std::string other = base + (side == "_L" ? "_R" : "_L");
       ASSERT_TRUE(a.count(other)) << e.name << ": " << m << " without " << other;
       EXPECT_EQ(a[other], v) << e.name << ": " << m;
     }
     EXPECT_FALSE(e.description.empty() && e.name != "neutral") << e.name;
+  }
+}
+
+// docs/facs.md: AU26 (jaw drop) is the jaw input at half its opening and AU27 (mouth stretch) at
+// its full opening, the muscles at rest; on the sample head's rig (which has a jaw) the name
+// resolves to the jaw, not to a muscle.
+TEST(ExpressionLibrary, TheJawPresetsSetTheJawAsDocumented) {
+  std::vector<Expression> lib;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadExpressionLibrary(
+      test::SourceDir() + "/assets/expressions/default.library.json", &lib, &diag))
+      << diag.Format();
+  auto find = [&](const std::string& name) -> const Expression* {
+    for (const Expression& e : lib)
+      if (e.name == name) return &e;
+    return nullptr;
+  };
+  const Expression* au26 = find("AU26");
+  const Expression* au27 = find("AU27");
+  ASSERT_NE(au26, nullptr);
+  ASSERT_NE(au27, nullptr);
+  using A = std::vector<std::pair<std::string, float>>;
+  EXPECT_EQ(au26->activations, (A{{"jaw", 0.5f}}));
+  EXPECT_EQ(au27->activations, (A{{"jaw", 1.f}}));
+  LoadedRig loaded;
+  ASSERT_TRUE(LoadRig(test::SourceDir() + "/assets/head/sample_head.rig.json", &loaded, &diag))
+      << diag.Format();
+  EXPECT_FALSE(loaded.rig.jaw().empty());
+  for (const std::string& m : loaded.rig.muscle_names()) EXPECT_NE(m, "jaw");
+  // No other preset touches the jaw (the Surprise + AU26 render adds it on purpose).
+  for (const Expression& e : lib) {
+    if (e.name == "AU26" || e.name == "AU27") continue;
+    for (const auto& [m, v] : e.activations) EXPECT_NE(m, "jaw") << e.name;
   }
 }
 

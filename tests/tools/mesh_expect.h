@@ -10,16 +10,12 @@
 
 #include "geometry/mesh.h"
 #include "io/mesh_io.h"
+#include "test_support.h"
 
 namespace mimetic::test {
 
 // The whole file as text ("" when it cannot be read).
-inline std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+inline std::string ReadText(const std::string& path) { return ReadFileBytes(path); }
 
 // Both files read as meshes with the same vertices, normals and triangles, and the same bytes.
 inline void ExpectSameMesh(const std::string& a, const std::string& b) {

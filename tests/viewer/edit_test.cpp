@@ -29,13 +29,6 @@ namespace {
 
 std::string Surface() { return test::SourceDir() + "/assets/surface/surface.rig.json"; }
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A rig (surface: zygomatic, frontalis), a library {A, B} and a clip of two channels, in a
 // folder of its own.
 struct Fixture {
@@ -335,7 +328,7 @@ TEST(ViewerEdit, ASavedClipAndLibraryReloadEqual) {
 
 TEST(ViewerEdit, ASaveKilledBeforeTheRenameLeavesTheOldFile) {
   Fixture f("killed");
-  const std::string old_bytes = Slurp(f.clip), old_lib = Slurp(f.lib);
+  const std::string old_bytes = test::ReadFileBytes(f.clip), old_lib = test::ReadFileBytes(f.lib);
   for (int which = 0; which < 2; ++which) {
     const pid_t child = fork();
     ASSERT_GE(child, 0);
@@ -355,12 +348,12 @@ TEST(ViewerEdit, ASaveKilledBeforeTheRenameLeavesTheOldFile) {
     ASSERT_EQ(waitpid(child, &status, 0), child);
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 86);
-    EXPECT_EQ(Slurp(f.clip), old_bytes);
-    EXPECT_EQ(Slurp(f.lib), old_lib);
+    EXPECT_EQ(test::ReadFileBytes(f.clip), old_bytes);
+    EXPECT_EQ(test::ReadFileBytes(f.lib), old_lib);
     // The child's complete temporary file is there, holding the new text.
     const std::string tmp = (which == 0 ? f.clip : f.lib) + ".tmp" + std::to_string(child);
     ASSERT_TRUE(std::filesystem::exists(tmp));
-    EXPECT_NE(Slurp(tmp).find(which == 0 ? "frontalis" : "\"X\""), std::string::npos);
+    EXPECT_NE(test::ReadFileBytes(tmp).find(which == 0 ? "frontalis" : "\"X\""), std::string::npos);
   }
   // The next save of the same file removes the dead process's temporary file.
   Session s(1);
@@ -369,7 +362,7 @@ TEST(ViewerEdit, ASaveKilledBeforeTheRenameLeavesTheOldFile) {
   ASSERT_TRUE(s.SaveClipFile());
   for (const auto& e : std::filesystem::directory_iterator(f.dir))
     EXPECT_EQ(e.path().string().find("two.clip.json.tmp"), std::string::npos) << e.path();
-  EXPECT_NE(Slurp(f.clip), old_bytes);
+  EXPECT_NE(test::ReadFileBytes(f.clip), old_bytes);
 }
 
 TEST(ViewerEdit, AFailedSaveSaysWhyAndKeepsTheEdits) {
@@ -394,7 +387,7 @@ TEST(ViewerEdit, AFailedSaveSaysWhyAndKeepsTheEdits) {
 
 TEST(ViewerEdit, AnAutosaveRecoversTheEditsInANewSession) {
   Fixture f("autosave");
-  const std::string old_clip = Slurp(f.clip), old_lib = Slurp(f.lib);
+  const std::string old_clip = test::ReadFileBytes(f.clip), old_lib = test::ReadFileBytes(f.lib);
   State edited;
   {
     Session s(1);
@@ -407,8 +400,8 @@ TEST(ViewerEdit, AnAutosaveRecoversTheEditsInANewSession) {
     EXPECT_EQ(s.PendingAutosaves().size(), 2u);
     edited = Capture(s);
   }  // the session ends without saving (a crash)
-  EXPECT_EQ(Slurp(f.clip), old_clip);
-  EXPECT_EQ(Slurp(f.lib), old_lib);
+  EXPECT_EQ(test::ReadFileBytes(f.clip), old_clip);
+  EXPECT_EQ(test::ReadFileBytes(f.lib), old_lib);
   Session t(1);
   f.Load(&t);
   ASSERT_EQ(t.PendingAutosaves().size(), 2u);
@@ -423,7 +416,7 @@ TEST(ViewerEdit, AnAutosaveRecoversTheEditsInANewSession) {
   ASSERT_TRUE(t.SaveClipFile());
   ASSERT_TRUE(t.SaveLibraryFile());
   EXPECT_TRUE(t.PendingAutosaves().empty());
-  EXPECT_EQ(Slurp(f.clip), edited.clip_json);
+  EXPECT_EQ(test::ReadFileBytes(f.clip), edited.clip_json);
 }
 
 }  // namespace

@@ -226,12 +226,22 @@ struct Gate {
   }
 };
 
-TEST(ViewerRigEdit, TheEditReturnsWhileItsRebuildRunsOnAnotherThread) {
-  Fixture f("thread");
-  Session s(1);
-  Load(&s, f);
+// A session with the fixture's rig loaded whose rebuilds wait at `gate` (declared first, so
+// the session, and any build it still holds, goes before the gate does).
+struct HeldSession {
+  explicit HeldSession(const char* name) : f(name), s(1) {
+    Load(&s, f);
+    s.SetRebuildHook([this] { gate.Hook(); });
+  }
   Gate gate;
-  s.SetRebuildHook([&] { gate.Hook(); });
+  Fixture f;
+  Session s;
+};
+
+TEST(ViewerRigEdit, TheEditReturnsWhileItsRebuildRunsOnAnotherThread) {
+  HeldSession held("thread");
+  Session& s = held.s;
+  Gate& gate = held.gate;
   const std::string out0 = Output(&s);
   std::string error;
   ASSERT_TRUE(s.Edit(MakeMuscleEdit(*s.rig_spec(), "zygomatic", "strength", {"12"}, &error), &error))
@@ -256,11 +266,10 @@ TEST(ViewerRigEdit, TheEditReturnsWhileItsRebuildRunsOnAnotherThread) {
 }
 
 TEST(ViewerRigEdit, LoadingARigDropsTheRebuildOfTheOldOne) {
-  Fixture f("reload");
-  Session s(1);
-  Load(&s, f);
-  Gate gate;
-  s.SetRebuildHook([&] { gate.Hook(); });
+  HeldSession held("reload");
+  Session& s = held.s;
+  Gate& gate = held.gate;
+  const Fixture& f = held.f;
   std::string error;
   ASSERT_TRUE(s.Edit(MakeMuscleEdit(*s.rig_spec(), "zygomatic", "strength", {"12"}, &error), &error));
   gate.WaitForBuilds(1);

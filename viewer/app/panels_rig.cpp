@@ -109,20 +109,36 @@ void MuscleChoice(App* app, const MuscleSpec& muscle, const char* label, const s
   }
 }
 
-void MuscleEditorPanel(App* app, float width, float height) {
-  // Over the Clip panel's place (bottom centre), opaque.
-  ImGui::SetNextWindowPos(ImVec2(345, std::max(10.f, height - 310)), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(std::max(300.f, std::min(600.f, width - 690.f)), 300),
-                           ImGuiCond_FirstUseEver);
+// Opens one of the rig editors' windows (opaque; `pos` and `size` on first use) and returns
+// the rig's spec, or nullptr with the window closed again when it is folded or there is nothing
+// to edit (no rig, or a compiled .mrig, which keeps no `what`: the message says so).
+const RigSpec* BeginRigEditor(App* app, const char* title, bool* open, ImVec2 pos, ImVec2 size,
+                              const char* what) {
+  ImGui::SetNextWindowPos(pos, ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(size, ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(1.f);
-  if (!ImGui::Begin("Muscle editor", &app->show_muscle_editor)) return ImGui::End();
-  Session& s = app->session;
-  const RigSpec* spec = s.rig_spec();
-  if (!spec) {
-    ImGui::TextWrapped(s.has_rig() ? "a compiled .mrig keeps no muscle parameters: open its .rig.json"
-                                   : "no rig loaded");
-    return ImGui::End();
+  if (!ImGui::Begin(title, open)) {
+    ImGui::End();
+    return nullptr;
   }
+  const RigSpec* spec = app->session.rig_spec();
+  if (!spec) {
+    if (app->session.has_rig())
+      ImGui::TextWrapped("a compiled .mrig keeps no %s: open its .rig.json", what);
+    else
+      ImGui::TextWrapped("no rig loaded");
+    ImGui::End();
+  }
+  return spec;
+}
+
+void MuscleEditorPanel(App* app, float width, float height) {
+  // Over the Clip panel's place (bottom centre).
+  const RigSpec* spec = BeginRigEditor(
+      app, "Muscle editor", &app->show_muscle_editor, ImVec2(345, std::max(10.f, height - 310)),
+      ImVec2(std::max(300.f, std::min(600.f, width - 690.f)), 300), "muscle parameters");
+  if (!spec) return;
+  Session& s = app->session;
   if (app->selected_muscle < 0 || size_t(app->selected_muscle) >= spec->muscles.size()) {
     ImGui::TextWrapped("select a muscle (the round button before its slider in Muscles)");
     return ImGui::End();
@@ -288,18 +304,11 @@ void CurveChoice(App* app, uint32_t c, const char* label, const std::string& par
 }
 
 void UvCurvesPanel(App* app, float width, float height) {
-  ImGui::SetNextWindowPos(ImVec2(345, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(std::max(300.f, std::min(600.f, width - 690.f)), height - 20),
-                           ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowBgAlpha(1.f);
-  if (!ImGui::Begin("UV curve wrinkles", &app->show_uv_curves)) return ImGui::End();
+  const RigSpec* spec = BeginRigEditor(
+      app, "UV curve wrinkles", &app->show_uv_curves, ImVec2(345, 10),
+      ImVec2(std::max(300.f, std::min(600.f, width - 690.f)), height - 20), "curve wrinkles to edit");
+  if (!spec) return;
   Session& s = app->session;
-  const RigSpec* spec = s.rig_spec();
-  if (!spec) {
-    ImGui::TextWrapped(s.has_rig() ? "a compiled .mrig keeps no curve wrinkles to edit: open its .rig.json"
-                                   : "no rig loaded");
-    return ImGui::End();
-  }
   if (app->uv_texture_stale) MakeUvTexture(app);
   if (app->selected_curve < 0 && !spec->curve_wrinkles.empty()) app->selected_curve = 0;
   RebuildStatus(app);
@@ -444,17 +453,14 @@ void DirectionEdit(App* app, const std::string& field, uint32_t vertex, std::vec
 }
 
 void DirectionsPanel(App* app, float width, float height) {
-  ImGui::SetNextWindowPos(ImVec2(std::max(10.f, width - 540), std::max(10.f, height - 430)),
-                          ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(530, 420), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowBgAlpha(1.f);
-  if (!ImGui::Begin("Fine-scale directions", &app->show_directions)) return ImGui::End();
+  const RigSpec* spec = BeginRigEditor(
+      app, "Fine-scale directions", &app->show_directions,
+      ImVec2(std::max(10.f, width - 540), std::max(10.f, height - 430)), ImVec2(530, 420),
+      "direction fields");
+  if (!spec) return;
   Session& s = app->session;
-  const RigSpec* spec = s.rig_spec();
-  if (!spec || !spec->fine_scale) {
-    ImGui::TextWrapped(!s.has_rig() ? "no rig loaded"
-                       : !spec      ? "a compiled .mrig keeps no direction fields: open its .rig.json"
-                                    : "the rig has no fine_scale block (docs/rig-format.md)");
+  if (!spec->fine_scale) {
+    ImGui::TextWrapped("the rig has no fine_scale block (docs/rig-format.md)");
     return ImGui::End();
   }
   RebuildStatus(app);

@@ -304,6 +304,21 @@ CommandPtr MakeSetDirectionField(uint32_t field, DirectionFieldSpec spec, std::s
   return std::make_unique<SetField>(field, std::move(spec), std::move(what));
 }
 
+// The index of the element called `name` in `items` (each has a `name`), or -1 with `error`
+// saying "KIND NAME: the rig has no WHAT 'NAME'" and the closest names (or that there is none).
+template <class T>
+int FindNamedOrSay(const std::vector<T>& items, const std::string& name, const char* kind,
+                   const char* what, std::string* error) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (items[i].name == name) return int(i);
+    names.push_back(items[i].name);
+  }
+  *error = std::string(kind) + " " + name + ": the rig has no " + what + " '" + name + "'" +
+           (names.empty() ? " (it has none)" : "; the closest: " + ClosestNames(names, name));
+  return -1;
+}
+
 int FindSpecMuscle(const RigSpec& spec, const std::string& name) {
   for (size_t i = 0; i < spec.muscles.size(); ++i)
     if (spec.muscles[i].name == name) return int(i);
@@ -341,14 +356,8 @@ CommandPtr MakeMuscleValueEdit(const RigSpec& spec, uint32_t muscle, const std::
 
 CommandPtr MakeMuscleEdit(const RigSpec& spec, const std::string& name, const std::string& param,
                           const std::vector<std::string>& args, std::string* error) {
-  const int m = FindSpecMuscle(spec, name);
-  if (m < 0) {
-    std::vector<std::string> names;
-    for (const MuscleSpec& s : spec.muscles) names.push_back(s.name);
-    *error = "muscle " + name + ": the rig has no muscle '" + name + "'; the closest: " +
-             ClosestNames(names, name);
-    return nullptr;
-  }
+  const int m = FindNamedOrSay(spec.muscles, name, "muscle", "muscle", error);
+  if (m < 0) return nullptr;
   const MuscleSpec& muscle = spec.muscles[size_t(m)];
   const std::string where = "muscles[" + std::to_string(m) + "] " + name;
   const std::string text = Joined(args);
@@ -417,14 +426,8 @@ CommandPtr MakeCurvePointEdit(const RigSpec& spec, uint32_t c, int point, float2
 
 CommandPtr MakeCurveEdit(const RigSpec& spec, const std::string& name, const std::string& param,
                          const std::vector<std::string>& args, std::string* error) {
-  const int c = FindSpecCurve(spec, name);
-  if (c < 0) {
-    std::vector<std::string> names;
-    for (const NamedCurveWrinkle& w : spec.curve_wrinkles) names.push_back(w.name);
-    *error = "curve " + name + ": the rig has no curve wrinkle '" + name + "'" +
-             (names.empty() ? " (it has none)" : "; the closest: " + ClosestNames(names, name));
-    return nullptr;
-  }
+  const int c = FindNamedOrSay(spec.curve_wrinkles, name, "curve", "curve wrinkle", error);
+  if (c < 0) return nullptr;
   const std::string where = "curve_wrinkles[" + std::to_string(c) + "] " + name;
   const std::string text = Joined(args);
   CurveWrinkleSpec curve = spec.curve_wrinkles[size_t(c)].spec;
