@@ -20,7 +20,7 @@ namespace mimetic::tools {
 
 static const char* kRenderUsage =
     "usage: mimetic render MESH|RIG --out IMAGE.png [--yaw DEG] [--pitch DEG] [--size N]\n"
-    "                      [--zoom Z] [--focus X,Y] [--wireframe]\n"
+    "                      [--zoom Z] [--focus X,Y] [--wireframe] [--skin-inside]\n"
     "                      [--fine DIR [--fine-depth D]] [--activate MUSCLE=A ...]\n\n"
     "Renders MESH (.obj, .gltf, .glb) with skin shading (docs/model.md §12) on grey,\n"
     "seen from +Z turned by --yaw about +Y (toward +X) and --pitch (from above), fitted to\n"
@@ -34,7 +34,9 @@ static const char* kRenderUsage =
     "--fine DIR bump-maps DIR/fine_height_1.png and fine_height_2.png (`mimetic texture`)\n"
     "over the shading, each scaled by its per-vertex amplitude (EvaluateJob\n"
     "out_fine_amplitudes, docs/model.md §23; 1 for a plain MESH); --fine-depth D is a full\n"
-    "furrow's depth at amplitude 1 in mesh units (default 0.15).\n";
+    "furrow's depth at amplitude 1 in mesh units (default 0.15).\n"
+    "Back faces are the skin seen from inside (through an open mouth, the eye openings, a\n"
+    "scan's holes) and are shaded dark, as a cavity; --skin-inside shades them as skin.\n";
 
 // Parses "X,Y" with both in [0, 1].
 static bool ParseFocus(const std::string& text, double* x, double* y) {
@@ -55,7 +57,7 @@ static bool ParseFocus(const std::string& text, double* x, double* y) {
 int CmdRender(const Args& args) {
   const ParsedArgs parsed =
       ParseArgs(args, {"out", "yaw", "pitch", "size", "zoom", "focus", "fine", "fine-depth", "activate"},
-                {"wireframe"});
+                {"wireframe", "skin-inside"});
   if (parsed.help) return std::fputs(kRenderUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("render", parsed.error, kRenderUsage);
   if (parsed.positional.size() != 1)
@@ -172,6 +174,7 @@ int CmdRender(const Args& args) {
   options.yaw_deg = static_cast<float>(yaw);
   options.pitch_deg = static_cast<float>(pitch);
   options.wireframe = parsed.flags.count("wireframe") > 0;
+  options.shade_inside = parsed.flags.count("skin-inside") == 0;
   const Image image = RenderCloseUp(mesh, options, n, zoom, focus_x, focus_y);
   if (diag.HasErrors()) std::fputs(diag.Format().c_str(), stderr);
   if (!SavePng(out, image, &diag)) {

@@ -3,6 +3,8 @@
 // Expected colours are computed by hand from docs/model.md §12 (b = (0.97, 0.87, 0.67), ambient
 // 0.3, light 0.7) and expected coverage from the camera fit documented in render.h.
 #include <gtest/gtest.h>
+
+#include <utility>
 #include <stb/stb_image.h>
 
 #include <cmath>
@@ -49,6 +51,25 @@ TEST(Render, CentrePixelHasTheHandComputedSkinColour) {
   EXPECT_NEAR(c[0], 212.7, 0.6);
   EXPECT_NEAR(c[1], 190.8, 0.6);
   EXPECT_NEAR(c[2], 146.9, 0.6);
+}
+
+// A square turned away from the camera is the skin seen from inside: shaded with the flipped
+// normal (toward the camera, n.l = 0.8) and the inside colour; with shade_inside off, as skin.
+TEST(Render, BackFacesAreShadedAsTheInside) {
+  MeshData quad;
+  AddQuad(&quad, 1.f, 0.f);
+  for (size_t t = 0; t < quad.indices.size(); t += 3) std::swap(quad.indices[t + 1], quad.indices[t + 2]);
+  RenderOptions o = Plain(200);
+  const Image inside = RenderMesh(quad, o);
+  const float3 want = ShadeColor({0.f, 0.f, 1.f}, o.inside_color, o);
+  const uint8_t* c = Pixel(inside, 100, 100);
+  EXPECT_NEAR(c[0], 255.f * want.x, 0.6f);
+  EXPECT_NEAR(c[1], 255.f * want.y, 0.6f);
+  EXPECT_NEAR(c[2], 255.f * want.z, 0.6f);
+  EXPECT_NEAR(want.x, 0.23f * 0.86f, 1e-6f);  // (0.3 + 0.7 * 0.8) of the albedo
+  o.shade_inside = false;
+  const Image skin = RenderMesh(quad, o);
+  EXPECT_NEAR(Pixel(skin, 100, 100)[0], 212.7, 0.6);  // as CentrePixelHasTheHandComputedSkinColour
 }
 
 TEST(Render, SpecularHighlightAddsWhite) {
@@ -121,7 +142,7 @@ TEST(Render, YawTurnsTheCameraTowardPlusX) {
   // A quad facing +X is invisible edge-on from the front and fully lit from yaw 90.
   MeshData m;
   m.positions = {{0, -0.5f, -0.5f}, {0, -0.5f, 0.5f}, {0, 0.5f, 0.5f}, {0, 0.5f, -0.5f}};
-  m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +X
+  m.indices = {0, 2, 1, 0, 3, 2};  // counter-clockwise seen from +X (a front face there)
   RenderOptions o = Plain(100);
   o.yaw_deg = 90.f;
   const Image img = RenderMesh(m, o);

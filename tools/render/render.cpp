@@ -216,7 +216,8 @@ Image RenderMesh(const MeshData& mesh, const RenderOptions& o) {
           n = Normalized(n * Length(base) + (Cross(n, pv_) * hu + Cross(pu, n) * hv) * sign);
         }
         if (back_facing) n = -n;
-        const float3 albedo = (alb_a * qa + alb_b * qb + alb_c * qc) * z;
+        const float3 albedo = back_facing && o.shade_inside ? o.inside_color
+                                                            : (alb_a * qa + alb_b * qb + alb_c * qc) * z;
         float3 col = ShadeColor(n, albedo, o);
         if (o.wireframe) {
           const float two_area = std::fabs(area);

@@ -53,6 +53,11 @@ struct RenderOptions {
   float3 background{0.5f, 0.5f, 0.5f};  // neutral grey
   float3 wire_color{0.15f, 0.15f, 0.15f};
   bool two_sided = true;  // shade back faces with the flipped normal
+  // Back faces are the skin seen from inside (through an open mouth, the head's inside behind
+  // the lip rolls; through the eye openings or a scan's holes): shaded with this dark albedo,
+  // as a cavity would look, instead of as skin. Off: the same albedo as the front.
+  bool shade_inside = true;
+  float3 inside_color{0.23f, 0.09f, 0.08f};
   const FineScaleShading* fine = nullptr;  // optional fine-scale bump maps
 };
 

@@ -72,7 +72,9 @@ vec2 Slope(sampler2D m) {
 }
 void main() {
   if (u_flat == 1) { frag = vec4(u_flat_color, 1.0); return; }
-  vec3 c = u_overlay == 1 ? v_color : u_albedo;
+  // A back face is the skin seen from inside (the head's inside through the open mouth):
+  // shaded dark, as a cavity, like `mimetic render` (RenderOptions::shade_inside).
+  vec3 c = !gl_FrontFacing ? vec3(0.23, 0.09, 0.08) : u_overlay == 1 ? v_color : u_albedo;
   vec3 n = normalize(v_normal);
   if (u_fine == 1) {
     // P_u, P_v from dp/dx = P_u du/dx + P_v dv/dx and the same in y (a 2x2 solve).
