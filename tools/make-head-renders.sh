@@ -33,6 +33,8 @@ print(" ".join(f"--set {m}={v}" for m, v in sorted(a.items())))
 PY
 ) --out "$tmp/surprise_jaw.glb"
 for e in neutral surprise frown smile jaw_open surprise_jaw; do
-  "$mimetic" render "$tmp/$e.glb" --zoom 2.2 --focus 0.5,0.5 --out "docs/images/head_$e.png"
+  focus=0.5,0.5
+  [[ $e == *jaw* ]] && focus=0.5,0.56  # the dropped chin stays in the picture
+  "$mimetic" render "$tmp/$e.glb" --zoom 2.2 --focus "$focus" --out "docs/images/head_$e.png"
 done
 echo "wrote docs/images/head_{neutral,surprise,frown,smile,jaw_open,surprise_jaw}.png"
