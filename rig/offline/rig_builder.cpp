@@ -787,8 +787,19 @@ bool DenseTensionRegions(const RigSpec& spec, size_t vertex_count, RigSpec* out,
   return ok;
 }
 
+// BuildOptions::progress: each stage's share of BuildRig on the sample head (its default rig,
+// measured with the progress hook's own time stamps, 1.36 s in all on one core: checks 18 ms,
+// refining 331, welding 44, each muscle pass 237-240, ordering 4, fine scale 434; the rest,
+// "tables", is Rig::Build, 46 ms).
+constexpr float kShareChecks = 0.013f, kShareRefine = 0.245f, kShareWeld = 0.033f,
+                kSharePass = 0.175f, kShareOrder = 0.003f, kShareFine = 0.32f;
+
 bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
               const BuildOptions& options, Rig* out, Diagnostics* diag) {
+  auto stage = [&](float done, const char* name) {
+    if (options.progress) options.progress(done, name);
+  };
+  stage(0.f, "checks");
   RigSpec dense_spec;
   const bool sparse = std::any_of(spec_original.tension_regions.begin(),
                                   spec_original.tension_regions.end(),
@@ -844,6 +855,7 @@ bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
   RefineResult refined;
   RigSpec carried;
   if (NeedsRefinement(spec_in)) {
+    stage(kShareChecks, "refining");
     if (spec_in.thickness.kind == ThicknessSpec::Kind::kPerVertex &&
         spec_in.thickness.per_vertex.size() != file_mesh.vertex_count()) {
       diag->Error("thickness.values",
@@ -884,6 +896,8 @@ bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
   const MeshData& mesh = *mesh_ptr;
   const RigSpec& spec = *spec_ptr;
 
+  float done = kShareChecks + kShareRefine;
+  stage(done, "welding");
   WeldedMesh welded;
   Diagnostics weld_diag;
   const bool welded_ok = WeldMesh(mesh, options.weld_tolerance, &welded, &weld_diag);
@@ -898,26 +912,32 @@ bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
     return v;
   }();
   RigData first;
+  stage(done += kShareWeld, "muscles");
   if (!BuildOnWelded(spec, mesh, welded, identity, &first, diag)) return false;
+  stage(done += kSharePass, "ordering");
   WeldedMesh ordered;
   std::vector<uint32_t> file_triangle;
   RigData data;
   Diagnostics repeat;  // the same diagnostics again: already reported
   const RigActiveRanges active = ActiveOrder(first, welded, &ordered, &file_triangle);
+  stage(done += kShareOrder, "muscles (ordered)");
   if (!BuildOnWelded(spec, mesh, ordered, file_triangle, &data, &repeat)) {
     diag->Append(repeat);
     return false;
   }
   data.active = active;
+  stage(done += kSharePass, "fine scale");
   if (spec.fine_scale && !CompileFineScale(*spec.fine_scale, file_mesh.vertex_count(), &data, diag))
     return false;
   // The runtime derives its tables and checks everything once (rig/runtime/rig_tables.h).
+  stage(done += kShareFine, "tables");
   Rig rig;
   if (!Rig::Build(std::move(data), &rig)) {
     diag->Error("rig", "internal error: the compiled tables failed the runtime's check");
     return false;
   }
   *out = std::move(rig);
+  stage(1.f, "done");
   return true;
 }
 

@@ -1,6 +1,7 @@
 // rig/offline/rig_builder.h: RigSpec + mesh -> runtime Rig (the offline "builder").
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/diagnostics.h"
@@ -33,6 +34,12 @@ struct BuildOptions {
   // The magnitude checks above (kMaxCoordinateMm, kMaxLengthFactor). Only tests of the
   // evaluation's own guard (CheckPosedFinite) turn them off.
   bool check_magnitudes = true;
+  // Called from the building thread as each stage starts, with the share of the build done
+  // before it (0 before the checks, 1 when the rig is built) and the stage's name ("refining",
+  // "welding", "muscles", "ordering", "muscles (ordered)", "fine scale", "tables"). The shares
+  // are the sample head's measured stage times (rig/offline/rig_builder.cpp), so a bar moves
+  // about evenly on any head. Empty: no calls. It must not throw.
+  std::function<void(float done, const char* stage)> progress;
 };
 
 // Welds and validates the mesh (weld.h), resolves the skin thickness per point (constant;

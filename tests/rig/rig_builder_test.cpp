@@ -357,3 +357,39 @@ TEST(CheckPosedFinite, OverflowingSkinLayersNeverReachTheOutput) {
 
 }  // namespace
 }  // namespace mimetic
+
+namespace mimetic {
+namespace {
+
+// BuildOptions::progress: called once per stage in the order BuildRig runs them, with shares
+// that never go back, from 0 (the checks) to 1 (done); the rig is the same with or without it.
+TEST(BuildRig, ReportsItsStagesInOrderFromZeroToOne) {
+  RigSpec spec = Spec();
+  spec.refinement.enabled = false;
+  std::vector<std::pair<float, std::string>> calls;
+  BuildOptions options;
+  options.progress = [&](float done, const char* stage) { calls.emplace_back(done, stage); };
+  Rig with, without;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, Surface(), options, &with, &diag)) << diag.Format();
+  ASSERT_TRUE(BuildRig(spec, Surface(), BuildOptions{}, &without, &diag)) << diag.Format();
+  const std::vector<std::string> want = {"checks", "welding", "muscles", "ordering",
+                                         "muscles (ordered)", "fine scale", "tables", "done"};
+  ASSERT_EQ(calls.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(calls[i].second, want[i]) << i;
+    if (i > 0) {
+      EXPECT_GE(calls[i].first, calls[i - 1].first) << want[i];
+    }
+  }
+  EXPECT_EQ(calls.front().first, 0.f);
+  EXPECT_EQ(calls.back().first, 1.f);
+  EXPECT_LT(calls[calls.size() - 2].first, 1.f);  // the tables are not free
+  EXPECT_EQ(with.vertex_count(), without.vertex_count());
+  ASSERT_EQ(with.point_count(), without.point_count());
+  for (uint32_t p = 0; p < with.point_count(); ++p)
+    ASSERT_EQ(with.rest_points()[p], without.rest_points()[p]) << p;
+}
+
+}  // namespace
+}  // namespace mimetic

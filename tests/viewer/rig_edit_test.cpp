@@ -251,6 +251,9 @@ TEST(ViewerRigEdit, TheEditReturnsWhileItsRebuildRunsOnAnotherThread) {
   EXPECT_NE(gate.build_thread, gate.test_thread);
   EXPECT_TRUE(s.rig_rebuilding());
   EXPECT_TRUE(s.rig_stale());
+  // Held before BuildRig starts: queued at 0 (BuildRig's own stages: rig_builder_test).
+  EXPECT_EQ(s.rig_rebuild_progress(), 0.f);
+  EXPECT_STREQ(s.rig_rebuild_stage(), "queued");
   EXPECT_FALSE(s.PollRigRebuild());
   EXPECT_TRUE(Output(&s) == out0);
   EXPECT_EQ(s.rig_spec()->muscles[0].strength, 12.f);  // the spec has the edit already
@@ -260,6 +263,8 @@ TEST(ViewerRigEdit, TheEditReturnsWhileItsRebuildRunsOnAnotherThread) {
   ASSERT_TRUE(s.Edit(MakeMuscleEdit(*s.rig_spec(), "zygomatic", "strength", {"16"}, &error), &error));
   gate.Open();
   ASSERT_TRUE(s.WaitRigRebuild());
+  EXPECT_EQ(s.rig_rebuild_progress(), 1.f);
+  EXPECT_STREQ(s.rig_rebuild_stage(), "done");
   EXPECT_EQ(gate.builds, 2);
   EXPECT_EQ(s.loaded().spec.muscles[0].strength, 16.f);
   EXPECT_FALSE(s.rig_stale());

@@ -111,7 +111,7 @@ struct App {
 // Messages, Stats, the legend and the hover tooltip.
 void DrawPanels(App* app, float width, float height);
 // The rig editors (viewer/app/panels_rig.cpp): Muscle editor, UV curve wrinkles, Directions;
-// RigFilesRow is the Files panel's rig line (Save rig, the rebuild's spinner, the editors'
+// RigFilesRow is the Files panel's rig line (Save rig, the rebuild's progress bar, the editors'
 // toggles). ReleaseRigPanels frees their GL texture.
 void DrawRigPanels(App* app, float width, float height);
 void RigFilesRow(App* app);

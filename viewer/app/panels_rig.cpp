@@ -3,7 +3,7 @@
 // in texture space, depth, width and profile) and the fine-scale Directions (vectors at
 // vertices, Regenerate maps off the UI thread). Every change is one command of
 // viewer/core/rig_edit.h; a drag is merged into one undo step (Session::EditMerged). The rig is
-// rebuilt off the UI thread; the Files panel's rig line shows a spinner while it runs.
+// rebuilt off the UI thread; the Files panel's rig line shows its progress bar while it runs.
 #include <GL/glcorearb.h>
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -57,15 +57,15 @@ void EndOfWidget(App* app) {
   if (ImGui::IsItemDeactivated()) app->session.EndMerge();
 }
 
-const char* Spinner() { return &"|\0/\0-\0\\\0"[2 * (int(ImGui::GetTime() * 8.0) % 4)]; }
 
-// The rebuild's state, one line (a spinner and the time it has run: BuildRig reports no
-// fraction).
+// The rebuild's state: a progress bar with BuildRig's stage and the time it has run.
 void RebuildStatus(App* app) {
   Session& s = app->session;
   if (s.rig_rebuilding()) {
-    ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.f, 1.f), "%s rebuilding the rig... %.1f s (showing the last one)",
-                       Spinner(), s.rig_rebuild_ms() / 1000.0);
+    char text[96];
+    std::snprintf(text, sizeof text, "rebuilding the rig: %s, %.1f s (showing the last one)",
+                  s.rig_rebuild_stage(), s.rig_rebuild_ms() / 1000.0);
+    ImGui::ProgressBar(s.rig_rebuild_progress(), ImVec2(-1, 0), text);
   } else if (s.rig_stale()) {
     ImGui::TextColored(ImVec4(1.f, 0.45f, 0.4f, 1.f), "the edited rig did not build (Messages); showing the last good one");
   }

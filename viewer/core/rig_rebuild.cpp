@@ -19,6 +19,7 @@ uint64_t RigRebuilder::Request(RigSpec spec, std::shared_ptr<const MeshData> mes
     std::lock_guard<std::mutex> lock(mutex_);
     generation = ++latest_;
     pending_ = Pending{generation, std::move(spec), std::move(mesh)};  // replaces a waiting one
+    if (!running_) progress_.store(0.f), stage_.store("queued");
     done_.reset();  // an older finished build is stale now
     if (!worker_.joinable()) worker_ = std::thread([this] { Loop(); });
   }
@@ -78,7 +79,14 @@ void RigRebuilder::Loop() {
     if (before_build) before_build();
     auto result = std::make_unique<Result>();
     result->generation = job.generation;
-    result->ok = BuildRig(job.spec, *job.mesh, BuildOptions{}, &result->rig, &result->diag);
+    BuildOptions options;
+    options.progress = [this](float done, const char* stage) {
+      progress_.store(done);
+      stage_.store(stage);
+    };
+    result->ok = BuildRig(job.spec, *job.mesh, options, &result->rig, &result->diag);
+    progress_.store(1.f);
+    stage_.store("done");
     result->spec = std::move(job.spec);
     const auto end = std::chrono::steady_clock::now();
 

@@ -7,6 +7,7 @@
 // the newest build once it is done; the Session swaps it in on the UI thread between frames.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -52,6 +53,10 @@ class RigRebuilder {
   bool busy() const;
   // Milliseconds the running build has taken so far (0 when none runs).
   double elapsed_ms() const;
+  // How far the newest build has got (BuildOptions::progress): the share done in [0, 1] and
+  // the stage's name; 0 and "queued" from a request until its build starts, 1 and "done" after.
+  float progress() const { return progress_.load(); }
+  const char* stage() const { return stage_.load(); }
   // Blocks until nothing waits or builds.
   void Wait();
   // The generation of the newest request (0: none yet).
@@ -76,6 +81,8 @@ class RigRebuilder {
   std::optional<Pending> pending_;
   std::unique_ptr<Result> done_;
   std::chrono::steady_clock::time_point started_{};
+  std::atomic<float> progress_{1.f};
+  std::atomic<const char*> stage_{"done"};  // string literals only
 };
 
 }  // namespace mimetic::viewer

@@ -164,9 +164,12 @@ class Session {
   // edit is checked first by the rig file's own rules (the spec's text read back).
   const RigSpec* rig_spec() const { return rig_spec_.get(); }
   bool rig_dirty() const { return rig_spec_ && history_.dirty(kEditRig); }
-  // A rebuild waits or runs (the UI shows a spinner and rig_rebuild_ms()).
+  // A rebuild waits or runs (the UI shows its progress bar and rig_rebuild_ms()).
   bool rig_rebuilding() const { return rebuilder_.busy(); }
   double rig_rebuild_ms() const { return rebuilder_.elapsed_ms(); }
+  // The running rebuild's share done and stage (RigRebuilder::progress, stage).
+  float rig_rebuild_progress() const { return rebuilder_.progress(); }
+  const char* rig_rebuild_stage() const { return rebuilder_.stage(); }
   // The spec the shown rig was built from differs from rig_spec() (an edit is not built yet,
   // or its build failed).
   bool rig_stale() const { return rig_spec_ && built_generation_ != rebuilder_.requested(); }
