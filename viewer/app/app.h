@@ -9,6 +9,7 @@
 #include "viewer/core/camera.h"
 #include "viewer/core/map_job.h"
 #include "viewer/core/session.h"
+#include "viewer/core/uv_scale.h"
 
 namespace mimetic::viewer {
 
@@ -68,6 +69,7 @@ struct App {
   float uv_center[2] = {0.5f, 0.5f}, uv_zoom = 0.f;  // uv_zoom 0: frame the curves first
   unsigned uv_texture = 0;              // the UV triangles drawn once (GL texture name)
   bool uv_texture_stale = true;         // a new rig's mesh: draw them again
+  UvScaleGrid uv_scale;                 // mesh units per uv (the curves' widths), with it
   int direction_field = 0;
   int new_direction_vertex = 0;
   float new_direction[4] = {1.f, 0.f, 0.f, 0.5f};  // x y z, magnitude

@@ -215,6 +215,7 @@ constexpr int kUvTextureSize = 2048;
 void MakeUvTexture(App* app) {
   app->uv_texture_stale = false;
   const MeshData& mesh = app->session.loaded().mesh;
+  app->uv_scale = MakeUvScaleGrid(mesh);
   if (mesh.uvs.empty()) return;
   const int n = kUvTextureSize;
   std::vector<uint8_t> alpha(size_t(n) * n, 0);
@@ -344,11 +345,37 @@ void UvCurvesPanel(App* app, float width, float height) {
   for (size_t c = 0; c < spec->curve_wrinkles.size(); ++c) {
     const CurveWrinkleSpec& cw = spec->curve_wrinkles[c].spec;
     const bool sel = int(c) == app->selected_curve;
-    ImVec2 pts[49];
-    for (int i = 0; i <= 48; ++i) pts[i] = to_screen(Bezier(cw.control, float(i) / 48.f));
-    // The furrow's width (mesh units) has no uv size: the line's weight follows the depth.
+    ImVec2 pts[49], left[49], right[49];
+    bool band = app->uv_scale.whole > 0.f && cw.width > 0.f;
+    for (int i = 0; i <= 48; ++i) {
+      const float t = float(i) / 48.f;
+      const float2 p = Bezier(cw.control, t);
+      pts[i] = to_screen(p);
+      // The furrow's width: mesh units -> uv by the local texture-to-mesh scale (the one the
+      // curve-wrinkle builder uses, viewer/core/uv_scale.h), across the curve's uv tangent.
+      const float2 d0 = Bezier(cw.control, std::max(0.f, t - 1e-3f)), d1 = Bezier(cw.control, std::min(1.f, t + 1e-3f));
+      const float2 d{d1.x - d0.x, d1.y - d0.y};
+      const float len = std::hypot(d.x, d.y), scale = app->uv_scale.At(p);
+      if (!(len > 0.f) || !(scale > 0.f)) {
+        band = false;
+        continue;
+      }
+      const float half = 0.5f * cw.width / scale;
+      const float2 n{-d.y / len * half, d.x / len * half};
+      left[i] = to_screen({p.x + n.x, p.y + n.y});
+      right[i] = to_screen({p.x - n.x, p.y - n.y});
+    }
+    if (band) {
+      const ImU32 fill = sel ? IM_COL32(255, 220, 80, 60) : IM_COL32(240, 130, 70, 40);
+      for (int i = 0; i < 48; ++i) {
+        dl->AddQuadFilled(left[i], left[i + 1], right[i + 1], right[i], fill);
+      }
+      const ImU32 edge = sel ? IM_COL32(255, 220, 80, 170) : IM_COL32(240, 130, 70, 120);
+      dl->AddPolyline(left, 49, edge, ImDrawFlags_None, 1.f);
+      dl->AddPolyline(right, 49, edge, ImDrawFlags_None, 1.f);
+    }
     dl->AddPolyline(pts, 49, sel ? IM_COL32(255, 220, 80, 255) : IM_COL32(240, 130, 70, 230),
-                    ImDrawFlags_None, sel ? 3.f : 2.f);
+                    ImDrawFlags_None, sel ? 2.f : 1.5f);
     for (int k = 0; k < 3; ++k)
       dl->AddLine(to_screen(cw.control[k]), to_screen(cw.control[k + 1]), IM_COL32(150, 150, 170, sel ? 200 : 90));
     for (int k = 0; k < 4; ++k) {
