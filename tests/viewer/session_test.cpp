@@ -13,6 +13,7 @@
 #include "io/expression_library.h"
 #include "rig/offline/rig_builder.h"
 #include "test_support.h"
+#include "viewer/core/rig_edit.h"
 
 namespace mimetic::viewer {
 namespace {
@@ -146,6 +147,57 @@ TEST(ViewerSession, ALibraryForAnotherRigWarnsInAFewLines) {
                              " expressions, " + std::to_string(muscles.size()) + " muscles: ";
   EXPECT_NE(summary.find(counts), std::string::npos) << summary << "\nexpected: " << counts;
   EXPECT_NE(summary.find(*muscles.begin()), std::string::npos) << summary;
+}
+
+}  // namespace
+}  // namespace mimetic::viewer
+
+namespace mimetic::viewer {
+namespace {
+
+// StartRigLoad (the Files panel's Load): the load runs on another thread, PollRigLoad adopts
+// it; a broken rig keeps the one shown; two loads in a row show the newer; an edit made
+// while a load runs keeps the edit and drops the load, with a message.
+TEST(ViewerSession, RigLoadsRunOffTheUiThreadAndTheNewestWins) {
+  const std::string surface = test::SourceDir() + "/assets/surface/surface.rig.json";
+  const std::string dir = test::TempDir();
+  const std::string broken = dir + "/broken.rig.json";
+  std::ofstream(broken) << R"({"format": "mimetic-rig", "version": 1, "muscles": 3})";
+  Session s(1);
+  EXPECT_FALSE(s.PollRigLoad());  // nothing started
+  s.StartRigLoad(surface);
+  EXPECT_EQ(s.rig_loading_path(), surface);
+  ASSERT_TRUE(s.WaitRigLoad());
+  ASSERT_TRUE(s.has_rig());
+  EXPECT_FALSE(s.rig_loading());
+  const uint32_t vertices = s.rig().vertex_count();
+  // Loaded alone, the same rig.
+  LoadedRig direct;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadRig(surface, &direct, &diag)) << diag.Format();
+  EXPECT_EQ(vertices, direct.rig.vertex_count());
+
+  const size_t before = s.messages().size();
+  s.StartRigLoad(broken);
+  EXPECT_FALSE(s.WaitRigLoad());
+  EXPECT_TRUE(s.has_rig());  // the surface is still shown
+  ASSERT_GT(s.messages().size(), before);
+  EXPECT_NE(s.messages().back().text.find("the rig was not loaded (still showing"), std::string::npos)
+      << s.messages().back().text;
+
+  s.StartRigLoad(broken);
+  s.StartRigLoad(surface);  // supersedes the broken one
+  EXPECT_TRUE(s.WaitRigLoad());
+  EXPECT_FALSE(s.PollRigLoad());  // the broken one's result was dropped, not reported later
+
+  s.StartRigLoad(surface);
+  std::string error;
+  ASSERT_TRUE(s.Edit(MakeMuscleEdit(*s.rig_spec(), s.rig_spec()->muscles[0].name, "strength", {"5"}, &error), &error))
+      << error;
+  EXPECT_FALSE(s.WaitRigLoad());
+  EXPECT_NE(s.messages().back().text.find("loaded, but not shown"), std::string::npos)
+      << s.messages().back().text;
+  EXPECT_EQ(s.rig_spec()->muscles[0].strength, 5.f);  // the edit stays
 }
 
 }  // namespace

@@ -285,6 +285,7 @@ void Interactive(App* app, GLFWwindow* window) {
     HandleEditShortcuts(app);
     // A finished rebuild of the edited rig is swapped in here, between frames.
     if (s.PollRigRebuild()) app->OnRigRebuilt();
+    if (s.PollRigLoad()) app->OnRigLoaded();
     app->Update();
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);

@@ -17,7 +17,7 @@ ImVec4 Color(const float3& c) { return ImVec4(c.x, c.y, c.z, 1.f); }
 // Loads the file of the Files panel's field `which` (1 rig, 2 library, 3 clip).
 void LoadField(App* app, int which) {
   Session& s = app->session;
-  if (which == 1 && s.LoadRigFile(app->rig_field)) app->OnRigLoaded();
+  if (which == 1) s.StartRigLoad(app->rig_field);  // adopted by the frame loop's PollRigLoad
   if (which == 2 && s.LoadLibraryFile(app->library_field)) app->OnEdited();
   if (which == 3 && s.LoadClipFile(app->clip_field)) {
     app->clip_time = 0.f;
@@ -45,6 +45,9 @@ void FilesPanel(App* app) {
   ImGui::InputText("rig", app->rig_field, sizeof app->rig_field);
   ImGui::SameLine();
   if (ImGui::Button("Load##rig")) AskLoad(app, 1);
+  if (s.rig_loading())
+    ImGui::TextColored(ImVec4(0.5f, 0.8f, 1.f, 1.f), "loading %s... (%s)", s.rig_loading_path().c_str(),
+                       s.has_rig() ? "showing the last rig" : "no rig yet");
   ImGui::InputText("library", app->library_field, sizeof app->library_field);
   ImGui::SameLine();
   if (ImGui::Button("Load##lib")) AskLoad(app, 2);

@@ -60,7 +60,94 @@ void Session::AddMessages(const Diagnostics& diag, const std::string& closing) {
 bool Session::LoadRigFile(const std::string& path) {
   auto loaded = std::make_unique<LoadedRig>();
   Diagnostics diag;
-  if (!LoadRig(path, loaded.get(), &diag)) {
+  const bool ok = LoadRig(path, loaded.get(), &diag);
+  return AdoptLoadedRig(path, ok ? std::move(loaded) : nullptr, diag);
+}
+
+Session::~Session() { JoinFinishedLoaders(true); }
+
+void Session::StartRigLoad(const std::string& path) {
+  JoinFinishedLoaders(false);
+  auto job = std::make_shared<PendingLoad>();
+  job->path = path;
+  load_ = job;
+  loading_path_ = path;
+  load_versions_[0] = history_.version(kEditClip);
+  load_versions_[1] = history_.version(kEditRig);
+  std::thread worker([job] {
+    auto loaded = std::make_unique<LoadedRig>();
+    Diagnostics diag;
+    const bool ok = LoadRig(job->path, loaded.get(), &diag);
+    std::lock_guard<std::mutex> lock(job->mutex);
+    job->ok = ok;
+    job->rig = std::move(loaded);
+    job->diag = std::move(diag);
+    job->done = true;
+  });
+  loaders_.emplace_back(std::move(worker), job);
+}
+
+void Session::JoinFinishedLoaders(bool all) {
+  for (size_t i = 0; i < loaders_.size();) {
+    bool done = all;
+    if (!done) {
+      std::lock_guard<std::mutex> lock(loaders_[i].second->mutex);
+      done = loaders_[i].second->done;
+    }
+    if (done) {
+      if (loaders_[i].first.joinable()) loaders_[i].first.join();
+      loaders_.erase(loaders_.begin() + std::ptrdiff_t(i));
+    } else {
+      ++i;
+    }
+  }
+}
+
+bool Session::rig_loading() const {
+  if (!load_) return false;
+  std::lock_guard<std::mutex> lock(load_->mutex);
+  return !load_->done;
+}
+
+bool Session::PollRigLoad() {
+  if (!load_) return false;
+  std::unique_ptr<LoadedRig> rig;
+  Diagnostics diag;
+  bool ok = false;
+  {
+    std::lock_guard<std::mutex> lock(load_->mutex);
+    if (!load_->done) return false;
+    ok = load_->ok;
+    rig = std::move(load_->rig);
+    diag = std::move(load_->diag);
+  }
+  const std::string path = load_->path;
+  load_.reset();
+  loading_path_.clear();
+  JoinFinishedLoaders(false);
+  if (ok && (history_.version(kEditClip) != load_versions_[0] ||
+             history_.version(kEditRig) != load_versions_[1])) {
+    messages_.push_back({true, path + ": loaded, but not shown: the clip or the rig was edited "
+                                      "while it loaded, and showing it would drop those edits; "
+                                      "load it again to replace them"});
+    return false;
+  }
+  return AdoptLoadedRig(path, ok ? std::move(rig) : nullptr, diag);
+}
+
+bool Session::WaitRigLoad() {
+  if (!load_) return false;
+  for (auto& [thread, job] : loaders_)
+    if (job == load_) {
+      thread.join();
+      thread = std::thread();
+    }
+  return PollRigLoad();
+}
+
+bool Session::AdoptLoadedRig(const std::string& path, std::unique_ptr<LoadedRig> loaded,
+                             const Diagnostics& diag) {
+  if (!loaded) {
     AddMessages(diag, path + ": " + std::to_string(diag.ErrorCount()) +
                           " error(s); the rig was not loaded" +
                           (rig_ ? " (still showing " + rig_path_ + ")" : ""));

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -47,11 +49,25 @@ class Session {
  public:
   // `threads`: evaluation threads in total (0: std::thread::hardware_concurrency()).
   explicit Session(unsigned threads = 0);
+  ~Session();  // waits for rig loads still running (StartRigLoad)
 
   // --- Loading (false: nothing changed, messages added). ---------------------------------
   // A rig replaces the current one; the pose is reset, the clip dropped (it was built for the
   // old rig's muscles) and the library rechecked against the new muscles.
   bool LoadRigFile(const std::string& path);
+  // The same off the UI thread (a rig file takes a second or more to build): the load runs on
+  // its own thread and the session keeps showing the current rig; PollRigLoad, called once a
+  // frame, adopts the newest load's rig when it is done (true: a new rig is shown; false: none
+  // finished, or it failed and its messages were added). A newer StartRigLoad supersedes an
+  // older one still running (its result is dropped). A load that finishes after the clip or
+  // the rig was edited (edits the prompt before loading did not see) is not shown: a message
+  // says so and the edits stay.
+  void StartRigLoad(const std::string& path);
+  bool PollRigLoad();
+  bool rig_loading() const;
+  const std::string& rig_loading_path() const { return loading_path_; }
+  // Blocks until the newest load is done, then PollRigLoad's answer (false when none).
+  bool WaitRigLoad();
   // Needs a rig; a .clip.json is built with the library's expressions.
   bool LoadClipFile(const std::string& path);
   bool LoadLibraryFile(const std::string& path);
@@ -260,6 +276,21 @@ class Session {
   OverlayField field_;
   double evaluate_ms_ = 0.0, overlay_ms_ = 0.0;
   float3 lo_{}, hi_{};
+  // Rig loads off the UI thread (StartRigLoad): each its own thread and result; the newest is
+  // `load_`, older ones are only joined.
+  struct PendingLoad {
+    std::string path;
+    std::mutex mutex;
+    bool done = false, ok = false;
+    std::unique_ptr<LoadedRig> rig;
+    Diagnostics diag;
+  };
+  std::shared_ptr<PendingLoad> load_;
+  std::string loading_path_;
+  uint64_t load_versions_[2] = {0, 0};  // the clip's and the rig's edit versions at the start
+  std::vector<std::pair<std::thread, std::shared_ptr<PendingLoad>>> loaders_;
+  void JoinFinishedLoaders(bool all);
+  bool AdoptLoadedRig(const std::string& path, std::unique_ptr<LoadedRig> loaded, const Diagnostics& diag);
   RigRebuilder rebuilder_;  // last: its destructor joins the worker before the rest goes
 };
 
