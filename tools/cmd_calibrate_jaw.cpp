@@ -1,5 +1,5 @@
 // tools/cmd_calibrate_jaw.cpp: `mimetic calibrate-jaw`, how the default template's jaw block
-// was found (docs/model.md §18, docs/fidelity.md "Jaw"). The template's jaw is placed on
+// was found (docs/model.md §18, docs/jaw.md). The template's jaw is placed on
 // ICT-FaceKit's neutral (fitting/fit.h PlaceJaw) and compared with ICT's real jawOpen. The jaw
 // stage is a closed-form function of the weights, the hinge, the angle and the glide, so no rig
 // is built here:

@@ -289,7 +289,8 @@ int CmdFidelity(const Args& args) {
   }
   md += "\n\"train\" marks the shapes `mimetic calibrate` fitted the default template on; the "
         "others it never saw. What the numbers show, where the residual is and why the ratio "
-        "target is out of reach: docs/calibration.md.\n\n";
+        "target is out of reach: docs/calibration.md. The jaw (not a muscle; calibrated on "
+        "ICT's jawOpen, its figures and renders): docs/jaw.md.\n\n";
   if (!not_claimed.empty()) {
     md += "## Shapes the rig does not claim\n\n| shape | why |\n|---|---|\n";
     for (const IctShape* s : not_claimed) md += "| " + std::string(s->name) + " | " + s->why_not + " |\n";

@@ -196,7 +196,7 @@ constexpr const char* kLook = "the eyeballs turn and the lids follow: no eyes or
 constexpr const char* kWide = "levator palpebrae lifts the upper lid: no lids in the rig";
 constexpr const char* kJawOpen =
     "the jaw stage (\"jaw\", docs/model.md §18) opens the mouth: the default template's jaw is "
-    "calibrated on ICT-FaceKit's jawOpen (docs/fidelity.md \"Jaw\"; ratio 0.38)";
+    "calibrated on ICT-FaceKit's jawOpen (docs/jaw.md; ratio 0.38)";
 constexpr const char* kJawOther =
     "the jaw glides only with the opening: no separate protrusion or lateral input yet "
     "(docs/model.md §18)";

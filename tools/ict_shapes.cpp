@@ -17,7 +17,12 @@ constexpr const char* kSphincterOris =
     "orbicularis oris, a sphincter (the rig has linear and sheet muscles only)";
 constexpr const char* kSphincterOculi =
     "orbicularis oculi, a sphincter, and the eyelids (the rig has neither)";
-constexpr const char* kJaw = "the jaw turns (no jaw stage yet: the jaw issue adds it)";
+constexpr const char* kJawOpen =
+    "the jaw, not a muscle: the jaw stage makes it, measured in docs/jaw.md (ratio 0.38)";
+constexpr const char* kJawOther =
+    "the jaw's protrusion or lateral turn: not modelled (its glide is tied to the opening, docs/jaw.md)";
+constexpr const char* kMouthClose =
+    "the jaw opens with the lips kept shut: orbicularis oris, a sphincter";
 constexpr const char* kEyes = "the eyeballs turn; the lids follow (no eyes or lids in the rig)";
 const IctShape kShapes[] = {
     {"browRaise (AU1+2)", "ict-facekit/ict_skin_browRaise_AU1+AU2.obj", nullptr, true},
@@ -64,11 +69,11 @@ const IctShape kShapes[] = {
     {"eyeLookOut_R", "ict-facekit/arkit/eyeLookOut_R.obj", kEyes},
     {"eyeLookUp_L", "ict-facekit/arkit/eyeLookUp_L.obj", kEyes},
     {"eyeLookUp_R", "ict-facekit/arkit/eyeLookUp_R.obj", kEyes},
-    {"jawOpen", "ict-facekit/arkit/jawOpen.obj", kJaw},
-    {"jawForward", "ict-facekit/arkit/jawForward.obj", kJaw},
-    {"jawLeft", "ict-facekit/arkit/jawLeft.obj", kJaw},
-    {"jawRight", "ict-facekit/arkit/jawRight.obj", kJaw},
-    {"mouthClose", "ict-facekit/arkit/mouthClose.obj", kJaw},
+    {"jawOpen", "ict-facekit/arkit/jawOpen.obj", kJawOpen},
+    {"jawForward", "ict-facekit/arkit/jawForward.obj", kJawOther},
+    {"jawLeft", "ict-facekit/arkit/jawLeft.obj", kJawOther},
+    {"jawRight", "ict-facekit/arkit/jawRight.obj", kJawOther},
+    {"mouthClose", "ict-facekit/arkit/mouthClose.obj", kMouthClose},
     {"mouthFunnel", "ict-facekit/arkit/mouthFunnel.obj", kSphincterOris},
     {"mouthPucker", "ict-facekit/arkit/mouthPucker.obj", kSphincterOris},
     {"mouthPress_L", "ict-facekit/arkit/mouthPress_L.obj", kSphincterOris},

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # docs/images/fidelity/jaw_open.png: ICT-FaceKit's real jawOpen next to the default template's
-# jaw at 1 on the ICT head (docs/fidelity.md "Jaw"). Needs ../shared and ImageMagick's montage.
+# jaw at 1 on the ICT head (docs/jaw.md). Needs ../shared and ImageMagick's montage.
 #   bash tools/make-jaw-render.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,4 +1,4 @@
-// The jaw on ICT-FaceKit (docs/model.md §18, docs/fidelity.md "Jaw"): the default template (its
+// The jaw on ICT-FaceKit (docs/model.md §18, docs/jaw.md): the default template (its
 // jaw block calibrated by `mimetic calibrate-jaw`) fitted to the ICT neutral and built with
 // every skin layer and the fold limiter on, the jaw opened by the best value of a 1-D search
 // (muscles at 0) and compared with ICT's real jawOpen (mimetic compare's ratio over the moved
