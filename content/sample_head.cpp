@@ -535,17 +535,22 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
       const double out = std::max({kInnerCanthusX - ax, ax - kOuterCanthusX, 0.0});
       const double w = 1.0 - SmoothStep(0.0, 8.0, out);
       const double ph_row = row_ph[i_lid];
-      const double ph_top = phi_at(theta[j], [](double x) { return LidLineY(x) + 14.0; });
-      const double ph_bot = phi_at(theta[j], [](double x) { return LidLineY(x) - 10.0; });
-      if (w > 0 && ph_top < ph_row && ph_row < ph_bot) {
-        const bool cut = ax > kInnerCanthusX && ax < kOuterCanthusX;
-        double ph_u = ph_lid, ph_l = ph_lid;
-        if (cut) {
-          ph_u = phi_at(theta[j], [](double x) { return UpperLidY(x); });
-          ph_l = phi_at(theta[j], [](double x) { return LowerLidY(x); });
-        }
-        ph_u = ph_row + w * (ph_u - ph_row);
-        ph_l = ph_row + w * (ph_l - ph_row);
+      // The band reaches 14 mm above and 10 mm below the lid line, and at least 4 degrees
+      // beyond the row itself (toward the nose the rows run well below the lid line), so that
+      // every column the fade touches is mapped and the map fades out smoothly.
+      const double ph_top =
+          std::min(phi_at(theta[j], [](double x) { return LidLineY(x) + 14.0; }), ph_row - Rad(4));
+      const double ph_bot =
+          std::max(phi_at(theta[j], [](double x) { return LidLineY(x) - 10.0; }), ph_row + Rad(4));
+      const bool cut = ax > kInnerCanthusX && ax < kOuterCanthusX;
+      double ph_u = ph_lid, ph_l = ph_lid;
+      if (w > 0 && cut) {
+        ph_u = phi_at(theta[j], [](double x) { return UpperLidY(x); });
+        ph_l = phi_at(theta[j], [](double x) { return LowerLidY(x); });
+      }
+      ph_u = ph_row + w * (ph_u - ph_row);
+      ph_l = ph_row + w * (ph_l - ph_row);
+      if (w > 0 && ph_top < ph_u && ph_u <= ph_l && ph_l < ph_bot) {
         for (int i = 1; i < M; ++i) {
           const double ph = row_ph[i];
           if (i == i_lid) {
