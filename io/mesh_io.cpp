@@ -1545,8 +1545,28 @@ bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
       diag->Error("", "binary glTF in a .gltf file (expected JSON text; rename it .glb)");
       return false;
     }
-    bool ok = ext == ".obj" ? ImportObj(bytes, out, diag)
-                            : ImportGltf(base_dir, bytes, ext == ".glb", mesh_name, out, diag);
+    // An OBJ with several objects (`o` lines): the first object alone, as a glTF's first mesh
+    // (mimetic writes a rig's companion meshes, the sample head's eyes, as further objects).
+    size_t second_object = std::string::npos;
+    if (ext == ".obj") {
+      int objects = 0;
+      for (size_t at = 0; at < bytes.size();) {
+        if (bytes.compare(at, 2, "o ") == 0 || bytes.compare(at, 2, "o\t") == 0) {
+          if (++objects == 2) {
+            second_object = at;
+            break;
+          }
+        }
+        const size_t nl = bytes.find('\n', at);
+        if (nl == std::string::npos) break;
+        at = nl + 1;
+      }
+    }
+    bool ok = ext == ".obj"
+                  ? (second_object == std::string::npos
+                         ? ImportObj(bytes, out, diag)
+                         : ImportObj(bytes.substr(0, second_object), out, diag))
+                  : ImportGltf(base_dir, bytes, ext == ".glb", mesh_name, out, diag);
     if (ok && ext == ".obj" && !mesh_name.empty()) {
       diag->Warning("", "mesh name '" + mesh_name + "' ignored: OBJ files hold one mesh");
     }
@@ -1668,7 +1688,7 @@ bool ExportMeshes(const std::string& path, const std::vector<NamedMesh>& meshes,
       if (meshes.size() == 1) {
         bytes = ObjText(*meshes[0].mesh);
       } else {
-        // One object per mesh (`o NAME`); ImportMesh reads an OBJ as one mesh, all objects.
+        // One object per mesh (`o NAME`); ImportMesh reads the first object.
         size_t base = 0;
         for (const NamedMesh& m : meshes) {
           char head[200];

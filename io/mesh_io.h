@@ -36,7 +36,10 @@ namespace mimetic {
 // imported (`normals` stays empty; the rig computes normals from the geometry). Texture v is
 // flipped (v = 1 - v_obj: OBJ's v runs up, MeshData's as glTF's down). `mtllib` lines are
 // ignored with a warning (OpenMesh would open the named file). Faces must use
-// distinct vertices and either v/vt on every corner or on none. `mesh_name` is ignored.
+// distinct vertices and either v/vt on every corner or on none. `mesh_name` is ignored. A file
+// with several objects (two or more `o` lines) is read up to its second `o` line: the first
+// object alone (as a glTF's first mesh; mimetic writes a rig's companion meshes as further
+// objects), whose faces must then use only the vertices written before that line.
 //
 // Returns false and records every problem in `diag` (capped at 20 messages per kind), naming
 // the element: unreadable or empty file, unknown extension, invalid glTF (tinygltf's message),
@@ -71,7 +74,7 @@ bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag
 // Several meshes in one file, in order (the first is the one ImportMesh reads when no name is
 // given). GLB: one mesh per entry, named as given, each placed by its own node (scaled as
 // ExportMesh's), all in the one scene; OBJ: one object (`o NAME`) per entry, indices running
-// on (ImportMesh reads all the objects of an OBJ as one mesh). Names must be distinct and not
+// on (ImportMesh reads the first object). Names must be distinct and not
 // empty; each mesh is checked as ExportMesh's (errors name the mesh: `mesh 1 'eyes'`).
 // ExportMesh is the one-mesh case, named "mesh".
 struct NamedMesh {
