@@ -593,7 +593,9 @@ TEST(SampleHead, WritesAssetsOnRequest) {
   const char* dir = std::getenv("MIMETIC_HEAD_ASSET_DIR");
   if (!dir) GTEST_SKIP() << "set MIMETIC_HEAD_ASSET_DIR to write sample_head.glb there";
   Diagnostics d;
-  ASSERT_TRUE(ExportMesh(std::string(dir) + "/sample_head.glb", Head().mesh, &d)) << d.Format();
+  const MeshData eyes = MakeSampleHeadEyes();
+  ASSERT_TRUE(ExportMeshes(std::string(dir) + "/sample_head.glb", {{"head", &Head().mesh}, {"eyes", &eyes}}, &d))
+      << d.Format();
   Landmarks lm;
   lm.points = Head().landmarks;
   ASSERT_TRUE(SaveLandmarks(std::string(dir) + "/sample_head.landmarks.json", lm, &d))
