@@ -80,15 +80,20 @@ double Seg2(double x, double y, double ax, double ay, double bx, double by) {
 constexpr double kMenton = -114.0;
 constexpr V3 kRayCentre{0.0, 0.0, 10.0};
 
-// Eyes: eyeball (closed lid) centre, lid radius; canthi.
-constexpr V3 kEye{31.0, -0.5, 66.0};
+// Eyes: eyeball centre, lid radius (the lids are skin over a sphere about the eyeball);
+// canthi.
+constexpr V3 kEye{kSampleHeadEyeCentre.x, kSampleHeadEyeCentre.y, kSampleHeadEyeCentre.z};
 constexpr double kLidRadius = 13.2;
-constexpr double kInnerCanthusX = 16.0, kOuterCanthusX = 45.0;
+constexpr double kInnerCanthusX = kSampleHeadInnerCanthusX, kOuterCanthusX = kSampleHeadOuterCanthusX;
+double FissureT(double ax) { return Clamp01((ax - kInnerCanthusX) / (kOuterCanthusX - kInnerCanthusX)); }
 // Closed-lid line: y of the fissure as a function of x (slightly lower in the middle).
 double LidLineY(double ax) {
-  const double t = Clamp01((ax - kInnerCanthusX) / (kOuterCanthusX - kInnerCanthusX));
+  const double t = FissureT(ax);
   return -1.5 + 1.5 * t - 2.0 * std::sin(kPiD * t);
 }
+// The open lids' margins (SampleHeadUpperLidY / SampleHeadLowerLidY in double).
+double UpperLidY(double ax) { return LidLineY(ax) + kSampleHeadLidOpenUp * std::sin(kPiD * FissureT(ax)); }
+double LowerLidY(double ax) { return LidLineY(ax) - kSampleHeadLidOpenDown * std::sin(kPiD * FissureT(ax)); }
 // Mouth: the lips follow the dental arch, a bend of radius kArch about a vertical axis.
 constexpr double kArch = 46.0;
 constexpr double kStomionY = -66.0, kLipFrontZ = 99.0, kMouthHalfWidth = kSampleHeadMouthHalfWidth;
@@ -125,7 +130,8 @@ double HeadField(V3 p, bool ears) {
   // Brow ridge (two arcs meeting at the glabella).
   d = SMin(d, Ellipsoid(q - V3{20, 16, 83}, {24, 8, 11}), 12);
 
-  // Eye sockets and closed lids.
+  // Eye sockets and the lids over the eyeballs (the fissure between them is cut in the
+  // topology, MakeSampleHead: the grid's rows are drawn apart there).
   d = SMax(d, -Ellipsoid(q - V3{kEye.x, 0.0, 87}, {19, 11, 17}), 8);
   double lid = Len(q - kEye) - kLidRadius;
   {
@@ -133,7 +139,7 @@ double HeadField(V3 p, bool ears) {
                           Clamp01((kOuterCanthusX + 1 - q.x) / 3.0);
     const double front = SmoothStep(kEye.z, kEye.z + 6, q.z);
     lid += 0.9 * Gauss(q.y - LidLineY(q.x), 0.9) * across * front;              // lid line
-    lid += 0.35 * Gauss(q.y - (LidLineY(q.x) + 7.5), 1.4) * across * front;     // lid crease
+    lid += 0.35 * Gauss(q.y - (UpperLidY(q.x) + 4.0), 1.4) * across * front;    // lid crease
   }
   d = SMin(d, lid, 3);
 
@@ -334,8 +340,9 @@ std::array<LandmarkTarget, 68> LandmarkTargets() {
   t[33] = {{0, -60, 130}, {0, 0.5, -0.866}};  // seen a little from below: the columella base
   t[34] = {{7, -59, 127}, {0, 0.5, -0.866}};
   t[35] = front(15.5, -42.5);
-  // Left eye: 42 inner corner, 43-44 upper lid, 45 outer corner, 46-47 lower lid. Closed
-  // lids: the upper and lower points sit just above and below the lid line.
+  // Left eye: 42 inner corner, 43-44 upper lid, 45 outer corner, 46-47 lower lid. These
+  // targets only seed the projection: MakeSampleHead puts the eye's points on the open lids'
+  // margins.
   t[42] = front(kInnerCanthusX + 0.5, LidLineY(kInnerCanthusX + 0.5));
   t[43] = front(26, LidLineY(26) + 0.6);
   t[44] = front(36, LidLineY(36) + 0.6);
@@ -464,6 +471,43 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     i_mouth = int(std::lround(wlen_at(mouth_phi(0.0), pe) / wlen[K] * M));
   }
   head.mouth_row = i_mouth;
+  auto len_at = [&](double ph, double pe) {  // unweighted arc length at polar angle ph
+    const double kf = std::clamp(ph / pe * K, 0.0, double(K));
+    const int k = std::min(int(kf), K - 1);
+    return len[k] + (kf - k) * (len[k + 1] - len[k]);
+  };
+  // The eyes: the lid line (LidLineY) lies on one grid row, `i_lid` (the row nearest it at the
+  // eyeball's centre). In the columns that cross an eye the row is moved onto the line, and
+  // between the canthi it is cut: the row's vertex moves up to the upper lid's margin
+  // (UpperLidY) and its twin down to the lower one's (LowerLidY), all on the field's surface
+  // (the lids over the eyeball); the rows above, up to 14 mm over the line, and below, down to
+  // 10 mm under it, are drawn along in polar angle (a monotone piecewise-linear map, so the
+  // rows stay ordered). Beside the canthi the move onto the line fades out over 8 mm.
+  auto phi_at = [&](double th, auto target_y) {  // where the column meets y = target_y(|x|)
+    double lo = Rad(60), hi = Rad(120);
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      const V3 sp = SurfacePoint(th, mid, ears);
+      if (sp.y > target_y(std::fabs(sp.x))) lo = mid;
+      else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  auto lid_line = [](double ax) { return LidLineY(ax); };
+  int i_lid = 0;
+  {
+    const double th = -std::atan2(kEye.x, kEye.z - kRayCentre.z);  // the right eye's centre
+    const double pe = PhiEnd(th, y_cut, ears);
+    sample_column(th, pe);
+    i_lid = int(std::lround(wlen_at(phi_at(th, lid_line), pe) / wlen[K] * M));
+  }
+  head.lid_row = i_lid;
+  // Per column (j <= N / 2, the right eye's; mirrored below): whether it lies strictly
+  // between the canthi, and then its lower-lid margin point.
+  std::vector<char> lid_cut(ring, 0);
+  std::vector<float3> lid_twin(ring);
+  std::vector<double> lid_twin_arc(ring, 0.0);
+  std::vector<double> row_ph(M + 1), row_arc(M + 1);
   for (int j = 0; j <= N / 2; ++j) {
     const double pe = PhiEnd(theta[j], y_cut, ears);
     sample_column(theta[j], pe);
@@ -481,10 +525,57 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
           wlen[K] * i / M + delta * std::max(0.0, 1.0 - std::fabs(double(i - i_mouth)) / 8.0);
       while (k < K - 1 && wlen[k + 1] < target) ++k;
       const double t = Clamp01((target - wlen[k]) / std::max(wlen[k + 1] - wlen[k], 1e-300));
-      const double ph = i == M ? pe : (i == i_mouth && phi_mouth >= 0 ? phi_mouth : pe * (k + t) / K);
+      row_ph[i] = i == M ? pe : (i == i_mouth && phi_mouth >= 0 ? phi_mouth : pe * (k + t) / K);
+      row_arc[i] = len[k] + t * (len[k + 1] - len[k]);
+    }
+    const double ath = std::fabs(theta[j]);
+    if (ath > Rad(2) && ath < Rad(70)) {
+      const double ph_lid = phi_at(theta[j], lid_line);
+      const double ax = std::fabs(SurfacePoint(theta[j], ph_lid, ears).x);
+      const double out = std::max({kInnerCanthusX - ax, ax - kOuterCanthusX, 0.0});
+      const double w = 1.0 - SmoothStep(0.0, 8.0, out);
+      const double ph_row = row_ph[i_lid];
+      // The band reaches 14 mm above and 10 mm below the lid line, and at least 4 degrees
+      // beyond the row itself (toward the nose the rows run well below the lid line), so that
+      // every column the fade touches is mapped and the map fades out smoothly.
+      const double ph_top =
+          std::min(phi_at(theta[j], [](double x) { return LidLineY(x) + 14.0; }), ph_row - Rad(4));
+      const double ph_bot =
+          std::max(phi_at(theta[j], [](double x) { return LidLineY(x) - 10.0; }), ph_row + Rad(4));
+      const bool cut = ax > kInnerCanthusX && ax < kOuterCanthusX;
+      double ph_u = ph_lid, ph_l = ph_lid;
+      if (w > 0 && cut) {
+        ph_u = phi_at(theta[j], [](double x) { return UpperLidY(x); });
+        ph_l = phi_at(theta[j], [](double x) { return LowerLidY(x); });
+      }
+      ph_u = ph_row + w * (ph_u - ph_row);
+      ph_l = ph_row + w * (ph_l - ph_row);
+      if (w > 0 && ph_top < ph_u && ph_u <= ph_l && ph_l < ph_bot) {
+        for (int i = 1; i < M; ++i) {
+          const double ph = row_ph[i];
+          if (i == i_lid) {
+            row_ph[i] = ph_u;
+          } else if (ph > ph_top && ph < ph_row) {
+            row_ph[i] = ph_top + (ph - ph_top) * (ph_u - ph_top) / (ph_row - ph_top);
+          } else if (ph > ph_row && ph < ph_bot) {
+            row_ph[i] = ph_bot - (ph_bot - ph) * (ph_bot - ph_l) / (ph_bot - ph_row);
+          } else {
+            continue;
+          }
+          row_arc[i] = len_at(row_ph[i], pe);
+        }
+        if (cut) {
+          lid_cut[j] = 1;
+          lid_twin[j] = ToF3(SurfacePoint(theta[j], ph_l, ears));
+          lid_twin_arc[j] = len_at(ph_l, pe);
+        }
+      }
+    }
+    for (int i = 1; i <= M; ++i) {
+      const double ph = row_ph[i];
       float3 pos = ToF3(SurfacePoint(theta[j], ph, ears));
       if (j == 0 || j == N / 2) pos.x = 0.f;
-      const double s_arc = len[k] + t * (len[k + 1] - len[k]);
+      const double s_arc = row_arc[i];
       arc_max = std::max(arc_max, s_arc);
       const float u = static_cast<float>(0.5 + theta[j] / (2 * kPiD));
       mesh.positions[vid(i, j)] = pos;
@@ -574,6 +665,80 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     }
   }
 
+  // The lid fissures: on row i_lid, between the corner columns ec0 < ec1 of each eye (the
+  // last columns outside the canthi; the right eye's from the outer canthus to the inner one,
+  // the left's mirrored), the row's vertices are the upper lids' margin and get a twin on the
+  // lower lid's margin; the corners are shared. Behind each margin an inner roll of
+  // kSampleHeadLidRollRows rows turns in toward the eyeball's centre, ending
+  // kSampleHeadLidRollGap outside the eyeball (less toward the canthi, tapering to nothing at
+  // them), so the lid edge has a thickness and the hole's boundary runs round the eyeball.
+  constexpr int RL = kSampleHeadLidRollRows;
+  int ec0 = -1, ec1 = -1;  // the right eye's corner columns
+  for (int j = 1; j < N / 2; ++j)
+    if (lid_cut[size_t(j)]) {
+      if (ec0 < 0) ec0 = j - 1;
+      ec1 = j + 1;
+    }
+  for (int j = ec0 + 1; j < ec1; ++j) lid_cut[size_t(j)] = 1;  // contiguous (x is monotone along a row)
+  const int eye_inner = ec0 < 0 ? 0 : ec1 - ec0 - 1;
+  const uint32_t eye_first = static_cast<uint32_t>(mesh.positions.size());
+  mesh.positions.resize(eye_first + 2 * size_t(eye_inner) * (2 * RL + 1));
+  mesh.uvs.resize(mesh.positions.size());
+  // Eye e (0 = the right, x < 0, columns ec0..ec1; 1 = the left, columns N - ec1..N - ec0).
+  auto eye_c0 = [&](int e) { return e == 0 ? ec0 : N - ec1; };
+  auto eye_c1 = [&](int e) { return e == 0 ? ec1 : N - ec0; };
+  auto eye_base = [&](int e, int j) {
+    return eye_first + uint32_t(e * eye_inner + (j - eye_c0(e) - 1)) * uint32_t(2 * RL + 1);
+  };
+  auto lid_upper = [&](int e, int r, int j) -> uint32_t {
+    if (r == 0 || j == eye_c0(e) || j == eye_c1(e)) return vid(i_lid, j);
+    return eye_base(e, j) + uint32_t(r);
+  };
+  auto lid_lower = [&](int e, int r, int j) -> uint32_t {
+    if (j == eye_c0(e) || j == eye_c1(e)) return vid(i_lid, j);
+    return eye_base(e, j) + uint32_t(r == 0 ? 0 : RL + r);
+  };
+  for (int j = ec0 + 1; j < ec1 && ec0 >= 0; ++j) {
+    const float3 c{-kSampleHeadEyeCentre.x, kSampleHeadEyeCentre.y, kSampleHeadEyeCentre.z};
+    const float3 pu = mesh.positions[vid(i_lid, j)], pl = lid_twin[size_t(j)];
+    const float2 uvu = mesh.uvs[vid(i_lid, j)];
+    const float vl = static_cast<float>(lid_twin_arc[size_t(j)] / arc_max);
+    const float half = 0.5f * (kSampleHeadOuterCanthusX - kSampleHeadInnerCanthusX);
+    const float xm = -(kSampleHeadInnerCanthusX + half);
+    const float s = (pu.x - xm) / half;
+    const float taper = std::sqrt(std::max(0.f, 1.f - s * s));
+    mesh.positions[lid_lower(0, 0, j)] = pl;
+    mesh.uvs[lid_lower(0, 0, j)] = {uvu.x, vl};
+    for (int r = 1; r <= RL; ++r) {
+      const float f = taper * float(r) / float(RL);
+      const float3 eu = c + NormalizeOr(pu - c, {0.f, 0.f, 1.f}) * (kSampleHeadEyeballRadius + kSampleHeadLidRollGap);
+      const float3 el = c + NormalizeOr(pl - c, {0.f, 0.f, 1.f}) * (kSampleHeadEyeballRadius + kSampleHeadLidRollGap);
+      mesh.positions[lid_upper(0, r, j)] = pu + (eu - pu) * f;
+      mesh.positions[lid_lower(0, r, j)] = pl + (el - pl) * f;
+      // Texture space: the fissure between the two margins is unused; each roll takes a strip
+      // of it (up to 0.4 of the gap) beside its margin, so no roll triangle is degenerate there.
+      const float dv = (vl - uvu.y) * 0.4f * float(r) / float(RL);
+      mesh.uvs[lid_upper(0, r, j)] = {uvu.x, uvu.y + dv};
+      mesh.uvs[lid_lower(0, r, j)] = {uvu.x, vl - dv};
+    }
+    // The left eye: the mirror image (column N - j; u mirrored as the grid's).
+    for (int r = 0; r <= RL; ++r)
+      for (int side = 0; side < 2; ++side) {
+        const uint32_t a = side == 0 ? lid_upper(0, r, j) : lid_lower(0, r, j);
+        const uint32_t b = side == 0 ? lid_upper(1, r, N - j) : lid_lower(1, r, N - j);
+        if (a < eye_first) continue;  // a grid vertex, mirrored with the grid
+        const float3 p = mesh.positions[a];
+        mesh.positions[b] = {-p.x, p.y, p.z};
+        mesh.uvs[b] = {1.f - mesh.uvs[a].x, mesh.uvs[a].y};
+      }
+  }
+  auto eye_of = [&](int j) {  // the eye whose slit spans quad column j (j .. j + 1), or -1
+    if (ec0 < 0) return -1;
+    for (int e = 0; e < 2; ++e)
+      if (j >= eye_c0(e) && j < eye_c1(e)) return e;
+    return -1;
+  };
+
   // Triangles: a fan at the pole, then quads split along their shorter diagonal;
   // counter-clockwise seen from outside. A quad with a collapsed side (at a mouth corner) is
   // one triangle.
@@ -597,9 +762,16 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     for (int j = 0; j < N; ++j) {
       uint32_t a = vid(i, j), b = vid(i, j + 1);
       if (i == i_mouth && j >= jc && j < jr) a = lower(0, j), b = lower(0, j + 1);
+      if (i == i_lid && eye_of(j) >= 0) a = lid_lower(eye_of(j), 0, j), b = lid_lower(eye_of(j), 0, j + 1);
       quad(a, b, vid(i + 1, j), vid(i + 1, j + 1));
     }
   }
+  for (int e = 0; e < 2 && ec0 >= 0; ++e)
+    for (int r = 0; r < RL; ++r)
+      for (int j = eye_c0(e); j < eye_c1(e); ++j) {
+        quad(lid_upper(e, r, j), lid_upper(e, r, j + 1), lid_upper(e, r + 1, j), lid_upper(e, r + 1, j + 1));
+        quad(lid_lower(e, r + 1, j), lid_lower(e, r + 1, j + 1), lid_lower(e, r, j), lid_lower(e, r, j + 1));
+      }
   for (int r = 0; r < R; ++r)
     for (int j = jc; j < jr; ++j) {
       quad(upper(r, j), upper(r, j + 1), upper(r + 1, j), upper(r + 1, j + 1));
@@ -642,6 +814,28 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     head.landmarks[l] = ToF3(best);
     if (targets[l].from.x == 0) head.landmarks[l].x = 0.f;
   }
+  // The left eye's landmarks lie on its lid margins (on the margin's polyline, between the
+  // two margin points whose x brackets theirs): 42 and 45 on the upper margin 0.5 mm inside
+  // the canthi (where the lids meet; the closed-lid head's corner targets, so the face frame,
+  // whose scale is |45 - 36|, stays), 43-44 on the upper margin and 47-46 on the lower one at
+  // x = 26 and 36.
+  if (ec0 >= 0) {
+    const int c_in = N - ec1, c_out = N - ec0;
+    auto on_margin = [&](bool upper_lid, float x) {
+      for (int j = c_in; j < c_out; ++j) {
+        const float3 a = mesh.positions[upper_lid ? lid_upper(1, 0, j) : lid_lower(1, 0, j)];
+        const float3 b = mesh.positions[upper_lid ? lid_upper(1, 0, j + 1) : lid_lower(1, 0, j + 1)];
+        if (a.x <= x && x <= b.x && b.x > a.x) return a + (b - a) * ((x - a.x) / (b.x - a.x));
+      }
+      return mesh.positions[vid(i_lid, c_in)];
+    };
+    head.landmarks[42] = on_margin(true, kSampleHeadInnerCanthusX + 0.5f);
+    head.landmarks[45] = on_margin(true, kSampleHeadOuterCanthusX - 0.5f);
+    head.landmarks[43] = on_margin(true, 26.f);
+    head.landmarks[44] = on_margin(true, 36.f);
+    head.landmarks[47] = on_margin(false, 26.f);
+    head.landmarks[46] = on_margin(false, 36.f);
+  }
   for (int l = 0; l < 68; ++l) {
     const int r = IbugMirrorLandmark(l);
     if (r == l || !(targets[size_t(l)].from.x > 0)) continue;
@@ -649,6 +843,51 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options) {
     head.landmarks[size_t(r)] = {-p.x, p.y, p.z};
   }
   return head;
+}
+
+MeshData MakeSampleHeadEyes(int rings, int segments) {
+  rings = std::clamp(rings, 3, 256);
+  segments = std::clamp(segments, 3, 1024);
+  const uint32_t per_eye = uint32_t(2 + (rings - 1) * segments);
+  MeshData left;  // the subject's left eye (+x)
+  const V3 c = kEye;
+  const double r = kSampleHeadEyeballRadius;
+  auto add = [&](V3 n) {
+    left.positions.push_back(ToF3(c + n * r));
+    left.normals.push_back(ToF3(n));
+  };
+  add({0, 0, 1});
+  for (int k = 1; k < rings; ++k) {
+    const double a = kPiD * k / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double b = 2 * kPiD * s / segments;
+      add({std::sin(a) * std::cos(b), std::sin(a) * std::sin(b), std::cos(a)});
+    }
+  }
+  add({0, 0, -1});
+  auto ring = [&](int k, int s) { return uint32_t(1 + (k - 1) * segments + (s % segments)); };
+  for (int s = 0; s < segments; ++s) left.indices.insert(left.indices.end(), {0u, ring(1, s), ring(1, s + 1)});
+  for (int k = 1; k + 1 < rings; ++k)
+    for (int s = 0; s < segments; ++s) {
+      const uint32_t a = ring(k, s), b = ring(k, s + 1), cc = ring(k + 1, s), d = ring(k + 1, s + 1);
+      left.indices.insert(left.indices.end(), {b, a, cc, b, cc, d});
+    }
+  for (int s = 0; s < segments; ++s)
+    left.indices.insert(left.indices.end(), {per_eye - 1, ring(rings - 1, s + 1), ring(rings - 1, s)});
+  // Both eyes: the right one mirrored (x -> -x, each triangle's order reversed so that it still
+  // faces out), then the left one.
+  MeshData eyes;
+  for (size_t v = 0; v < left.positions.size(); ++v) {
+    const float3 p = left.positions[v], n = left.normals[v];
+    eyes.positions.push_back({-p.x, p.y, p.z});
+    eyes.normals.push_back({-n.x, n.y, n.z});
+  }
+  for (size_t t = 0; t < left.indices.size(); t += 3)
+    eyes.indices.insert(eyes.indices.end(), {left.indices[t], left.indices[t + 2], left.indices[t + 1]});
+  eyes.positions.insert(eyes.positions.end(), left.positions.begin(), left.positions.end());
+  eyes.normals.insert(eyes.normals.end(), left.normals.begin(), left.normals.end());
+  for (uint32_t i : left.indices) eyes.indices.push_back(i + per_eye);
+  return eyes;
 }
 
 }  // namespace mimetic

@@ -2,19 +2,23 @@
 // Debian, so mimetic makes its own).
 //
 // The head is a smooth implicit solid built from anatomical parts (cranium, brow ridge, eye
-// sockets with closed lids, nose with alae and nostrils, cheekbones and cheek pads, nasolabial
+// sockets with lids over the eyeballs, nose with alae and nostrils, cheekbones and cheek pads, nasolabial
 // folds, lips with a mouth line, chin, mandible, ears, a neck stump). It is sampled the way a
 // range scanner sees a head: one ray per (theta, phi) grid node from a centre inside the
 // head, theta the azimuth about +Y (0 = +Z, the face), phi the polar angle from +Y. The grid
 // rows and columns are spaced non-uniformly (denser over the face, forehead, eyes, mouth and
 // nasolabial region) and triangulated; the crown is one pole vertex with a triangle fan and
 // the mesh ends in an open boundary at the neck, level with the chin. The lips are cut apart
-// along the mouth line (a slit with an inner lip roll behind each lip, another boundary).
+// along the mouth line (a slit with an inner lip roll behind each lip, another boundary), and
+// each eye is open: an almond-shaped fissure between the canthi on the lid row, the upper and
+// lower lid margins drawn apart on the lid surface, each with a short inner roll turning in
+// toward the eyeball (one more boundary loop per eye).
 //
 // Units millimetres, +Y up, facing +Z, x = +subject's left. Deterministic: no RNG, no
 // threads; the same options give the same bytes. Exactly mirror-symmetric in x.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "core/math.h"
@@ -46,6 +50,36 @@ inline float SampleHeadMouthLineY(float z) {
   return -66.f + kSampleHeadMouthLineRise * (z < kSampleHeadMouthZ ? kSampleHeadMouthZ - z : 0.f);
 }
 
+// The eyes (the subject's left, +x; the right mirrors it). The palpebral fissure runs between
+// the canthi (|x| = kSampleHeadInnerCanthusX .. kSampleHeadOuterCanthusX); the closed lid
+// line is SampleHeadLidLineY, and the open lids' margins lie at SampleHeadUpperLidY above it
+// and SampleHeadLowerLidY below it (an almond: sin-shaped, meeting at the canthi), on the lid
+// surface (the skin over a sphere about the eyeball centre). Behind each margin an inner
+// roll of kSampleHeadLidRollRows rows turns in toward the eyeball, ending kSampleHeadLidRollGap
+// outside it (the lid edge's thickness). The eyeball (kSampleHeadEyeCentre, radius
+// kSampleHeadEyeballRadius) is not part of the skin.
+constexpr float kSampleHeadInnerCanthusX = 16.f, kSampleHeadOuterCanthusX = 45.f;
+constexpr float kSampleHeadLidOpenUp = 6.5f, kSampleHeadLidOpenDown = 3.5f;  // mm, at mid-fissure
+constexpr int kSampleHeadLidRollRows = 3;
+constexpr float kSampleHeadLidRollGap = 0.2f;  // mm between the roll's end and the eyeball
+constexpr float kSampleHeadEyeballRadius = 12.f;
+constexpr float3 kSampleHeadEyeCentre{31.f, -0.5f, 66.f};
+// Fraction of the way from the inner to the outer canthus at |x| = ax (clamped to [0, 1]).
+inline float SampleHeadFissureT(float ax) {
+  const float t = (ax - kSampleHeadInnerCanthusX) / (kSampleHeadOuterCanthusX - kSampleHeadInnerCanthusX);
+  return t < 0 ? 0.f : (t > 1 ? 1.f : t);
+}
+inline float SampleHeadLidLineY(float ax) {
+  const float t = SampleHeadFissureT(ax);
+  return -1.5f + 1.5f * t - 2.f * std::sin(3.14159265358979f * t);
+}
+inline float SampleHeadUpperLidY(float ax) {
+  return SampleHeadLidLineY(ax) + kSampleHeadLidOpenUp * std::sin(3.14159265358979f * SampleHeadFissureT(ax));
+}
+inline float SampleHeadLowerLidY(float ax) {
+  return SampleHeadLidLineY(ax) - kSampleHeadLidOpenDown * std::sin(3.14159265358979f * SampleHeadFissureT(ax));
+}
+
 struct SampleHeadOptions {
   // Grid columns (azimuth steps around the head; the seam column is duplicated, so a row has
   // `columns + 1` vertices). Even; clamped to [16, 4096].
@@ -68,6 +102,11 @@ struct SampleHead {
   // the corners). Vertices after 1 + rows * (columns + 1) are the lower lip's slit twins and
   // the inner lip rolls (2 * kSampleHeadLipRollRows + 1 per column between the corners).
   int mouth_row = 0;
+  // The grid row that carries the lid margins: in the columns between each eye's canthi its
+  // vertex is the upper lid's margin point; the lower lid's margin point (a twin) and the two
+  // lid rolls (2 * kSampleHeadLidRollRows + 1 vertices per column between the canthi) follow
+  // the mouth's extra vertices, the subject's right eye (x < 0) first.
+  int lid_row = 0;
 };
 
 // Builds the head. UVs: u = 0.5 + theta / (2 pi) (the cylindrical projection of Bando 2001
@@ -76,5 +115,15 @@ struct SampleHead {
 // column, 0 at the crown as glTF's top row (a plain height t = y would fold under the chin
 // and at the crown).
 SampleHead MakeSampleHead(const SampleHeadOptions& options = {});
+
+// The eyeballs, a separate rigid mesh (the file's second mesh, "eyes": the skin's rig neither
+// reads nor moves it). Two spheres of kSampleHeadEyeballRadius about kSampleHeadEyeCentre and
+// its mirror image, the subject's right (x < 0) first; each a latitude-longitude sphere about
+// the z axis: its front pole (the cornea's centre, looking along +z), `rings - 1` rings of
+// `segments` vertices (ring k at the polar angle pi k / rings from +z), its back pole; so
+// 2 + (rings - 1) * segments vertices and 2 * (rings - 1) * segments triangles per eye,
+// counter-clockwise seen from outside. Normals: the exact outward ones; no uvs. The right eye
+// is the left one's exact mirror image. rings clamped to [3, 256], segments to [3, 1024].
+MeshData MakeSampleHeadEyes(int rings = 24, int segments = 48);
 
 }  // namespace mimetic

@@ -23,6 +23,7 @@
 #include <limits>
 #include <functional>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -674,8 +675,11 @@ bool ApplyPlacement(const tinygltf::Model& model, size_t mesh_index, const std::
   return true;
 }
 
+// `names` (when given) receives every mesh's name once the file has loaded; `index` (>= 0)
+// chooses the mesh by its number instead of `mesh_name`.
 bool ImportGltf(const std::string& base_dir, const std::string& bytes, bool binary,
-                const std::string& mesh_name, MeshData* out, Diagnostics* diag) {
+                const std::string& mesh_name, MeshData* out, Diagnostics* diag,
+                std::vector<std::string>* names = nullptr, int index = -1) {
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
     diag->Error("", "file is larger than 4 GiB (tinygltf cannot read it)");
     return false;
@@ -728,8 +732,19 @@ bool ImportGltf(const std::string& base_dir, const std::string& bytes, bool bina
     diag->Error("", "the file has no meshes (expected at least one mesh)");
     return false;
   }
+  if (names) {
+    names->clear();
+    for (const tinygltf::Mesh& m : model.meshes) names->push_back(m.name);
+  }
   size_t mesh_index = 0;
-  if (!mesh_name.empty()) {
+  if (index >= 0) {
+    if (size_t(index) >= model.meshes.size()) {
+      diag->Error("", "no mesh #" + std::to_string(index) + " (the file has " +
+                          std::to_string(model.meshes.size()) + ")");
+      return false;
+    }
+    mesh_index = size_t(index);
+  } else if (!mesh_name.empty()) {
     mesh_index = model.meshes.size();
     for (size_t i = 0; i < model.meshes.size(); ++i) {
       if (model.meshes[i].name == mesh_name) {
@@ -1332,13 +1347,19 @@ bool CheckExportable(const MeshData& mesh, Diagnostics* diag) {
   return ok;
 }
 
-std::string ObjText(const MeshData& mesh) {
+// One OBJ object: `header` (a comment, or `o NAME`) then its elements; `base` is the number
+// of vertices written before it (OBJ indices are global and 1-based).
+std::string ObjText(const MeshData& mesh, const std::string& header = "", size_t base = 0) {
   std::string s;
   s.reserve(mesh.positions.size() * 80 + mesh.indices.size() * 12);
   char buf[160];
-  std::snprintf(buf, sizeof(buf), "# mimetic: %zu vertices, %zu triangles\n",
-                mesh.vertex_count(), mesh.triangle_count());
-  s += buf;
+  if (header.empty()) {
+    std::snprintf(buf, sizeof(buf), "# mimetic: %zu vertices, %zu triangles\n",
+                  mesh.vertex_count(), mesh.triangle_count());
+    s += buf;
+  } else {
+    s += header;
+  }
   for (const float3& p : mesh.positions) {
     std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
     s += buf;
@@ -1357,7 +1378,7 @@ std::string ObjText(const MeshData& mesh) {
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
     s += 'f';
     for (int c = 0; c < 3; ++c) {
-      const unsigned i = mesh.indices[3 * t + c] + 1;
+      const unsigned i = static_cast<unsigned>(mesh.indices[3 * t + c] + base + 1);
       if (vt && vn) std::snprintf(buf, sizeof(buf), " %u/%u/%u", i, i, i);
       else if (vt) std::snprintf(buf, sizeof(buf), " %u/%u", i, i);
       else if (vn) std::snprintf(buf, sizeof(buf), " %u//%u", i, i);
@@ -1369,7 +1390,7 @@ std::string ObjText(const MeshData& mesh) {
   return s;
 }
 
-bool GlbBytes(const MeshData& mesh, double metres_per_unit, std::string* out,
+bool GlbBytes(const std::vector<NamedMesh>& meshes, double metres_per_unit, std::string* out,
               Diagnostics* diag) {
   tinygltf::Model model;
   model.asset.version = "2.0";
@@ -1396,6 +1417,8 @@ bool GlbBytes(const MeshData& mesh, double metres_per_unit, std::string* out,
     model.accessors.push_back(a);
     return static_cast<int>(model.accessors.size()) - 1;
   };
+  for (const NamedMesh& named : meshes) {
+  const MeshData& mesh = *named.mesh;
   const size_t nv = mesh.positions.size();
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
@@ -1425,21 +1448,24 @@ bool GlbBytes(const MeshData& mesh, double metres_per_unit, std::string* out,
                                  TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                           TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, mesh.indices.size(),
                           TINYGLTF_TYPE_SCALAR);
-  model.buffers.push_back(std::move(buffer));
   tinygltf::Mesh gmesh;
-  gmesh.name = "mesh";
+  gmesh.name = named.name;
   gmesh.primitives.push_back(prim);
   model.meshes.push_back(gmesh);
-  tinygltf::Node node;
-  node.mesh = 0;
-  if (metres_per_unit != 1.0) {
-    // glTF's unit is the metre: the positions stay in mesh units, the node scales them.
-    node.name = "mimetic_units";
-    node.scale = {metres_per_unit, metres_per_unit, metres_per_unit};
   }
-  model.nodes.push_back(node);
+  model.buffers.push_back(std::move(buffer));
   tinygltf::Scene scene;
-  scene.nodes.push_back(0);
+  for (size_t k = 0; k < meshes.size(); ++k) {
+    tinygltf::Node node;
+    node.mesh = static_cast<int>(k);
+    if (metres_per_unit != 1.0) {
+      // glTF's unit is the metre: the positions stay in mesh units, the node scales them.
+      node.name = k == 0 ? "mimetic_units" : "mimetic_units_" + meshes[k].name;
+      node.scale = {metres_per_unit, metres_per_unit, metres_per_unit};
+    }
+    model.nodes.push_back(node);
+    scene.nodes.push_back(static_cast<int>(k));
+  }
   model.scenes.push_back(scene);
   model.defaultScene = 0;
 
@@ -1519,8 +1545,28 @@ bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
       diag->Error("", "binary glTF in a .gltf file (expected JSON text; rename it .glb)");
       return false;
     }
-    bool ok = ext == ".obj" ? ImportObj(bytes, out, diag)
-                            : ImportGltf(base_dir, bytes, ext == ".glb", mesh_name, out, diag);
+    // An OBJ with several objects (`o` lines): the first object alone, as a glTF's first mesh
+    // (mimetic writes a rig's companion meshes, the sample head's eyes, as further objects).
+    size_t second_object = std::string::npos;
+    if (ext == ".obj") {
+      int objects = 0;
+      for (size_t at = 0; at < bytes.size();) {
+        if (bytes.compare(at, 2, "o ") == 0 || bytes.compare(at, 2, "o\t") == 0) {
+          if (++objects == 2) {
+            second_object = at;
+            break;
+          }
+        }
+        const size_t nl = bytes.find('\n', at);
+        if (nl == std::string::npos) break;
+        at = nl + 1;
+      }
+    }
+    bool ok = ext == ".obj"
+                  ? (second_object == std::string::npos
+                         ? ImportObj(bytes, out, diag)
+                         : ImportObj(bytes.substr(0, second_object), out, diag))
+                  : ImportGltf(base_dir, bytes, ext == ".glb", mesh_name, out, diag);
     if (ok && ext == ".obj" && !mesh_name.empty()) {
       diag->Warning("", "mesh name '" + mesh_name + "' ignored: OBJ files hold one mesh");
     }
@@ -1535,6 +1581,62 @@ bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
   return false;
 }
 
+bool ImportOtherMeshes(const std::string& path, const std::string& mesh_name,
+                       std::vector<NamedMeshData>* out, Diagnostics* diag,
+                       std::string* chosen_name) {
+  Diagnostics local;
+  if (!diag) diag = &local;
+  if (!out) {
+    diag->Error("", "ImportOtherMeshes: no output given");
+    return false;
+  }
+  out->clear();
+  const std::string ext = LowerExtension(path);
+  if (ext == ".obj") return true;  // one mesh only
+  if (ext != ".gltf" && ext != ".glb") {
+    diag->Error("", "unknown mesh file extension '" + ext + "' (expected .gltf, .glb or .obj)");
+    return false;
+  }
+  std::string bytes;
+  Diagnostics read;
+  if (!ReadFile(path, &bytes, &read, kMaxMeshFileBytes, ext.substr(1) + " mesh file")) {
+    for (const Diagnostic& d : read.items()) diag->Error("", d.what);
+    return false;
+  }
+  try {
+    std::vector<std::string> names;
+    MeshData first;
+    if (!ImportGltf(DirectoryOf(path), bytes, ext == ".glb", mesh_name, &first, diag, &names))
+      return false;
+    size_t skip = 0;
+    for (size_t i = 0; i < names.size() && !mesh_name.empty(); ++i)
+      if (names[i] == mesh_name) {
+        skip = i;
+        break;
+      }
+    if (chosen_name && skip < names.size()) *chosen_name = names[skip];
+    for (size_t i = 0; i < names.size(); ++i) {
+      if (i == skip) continue;
+      NamedMeshData named;
+      named.name = names[i].empty() ? "mesh_" + std::to_string(i) : names[i];
+      Diagnostics one;
+      if (!ImportGltf(DirectoryOf(path), bytes, ext == ".glb", "", &named.mesh, &one, nullptr,
+                      int(i))) {
+        diag->Append(one, "mesh " + named.name);
+        out->clear();
+        return false;
+      }
+      named.mesh.source = path;
+      out->push_back(std::move(named));
+    }
+  } catch (const std::exception& e) {
+    diag->Error("", std::string("internal error while importing: ") + e.what());
+    out->clear();
+    return false;
+  }
+  return true;
+}
+
 double MetresPerUnit(const std::string& units) {
   if (units == "mm") return 0.001;
   if (units == "cm") return 0.01;
@@ -1546,6 +1648,11 @@ double MetresPerUnit(const std::string& units) {
 
 bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag,
                 double metres_per_unit) {
+  return ExportMeshes(path, {{"mesh", &mesh}}, diag, metres_per_unit);
+}
+
+bool ExportMeshes(const std::string& path, const std::vector<NamedMesh>& meshes,
+                  Diagnostics* diag, double metres_per_unit) {
   Diagnostics local;
   if (!diag) diag = &local;
   try {
@@ -1554,15 +1661,48 @@ bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag
       diag->Error("", "unknown export extension '" + ext + "' (expected .obj or .glb)");
       return false;
     }
-    if (!CheckExportable(mesh, diag)) return false;
+    if (meshes.empty()) {
+      diag->Error("", "nothing to write: no meshes (expected at least one)");
+      return false;
+    }
+    bool ok = true;
+    std::set<std::string> names;
+    for (size_t k = 0; k < meshes.size(); ++k) {
+      const std::string where = "mesh " + std::to_string(k) + " '" + meshes[k].name + "'";
+      if (!meshes[k].mesh) {
+        diag->Error(where, "no mesh data");
+        ok = false;
+        continue;
+      }
+      if (meshes[k].name.empty() || !names.insert(meshes[k].name).second) {
+        diag->Error(where, "mesh names must be distinct and not empty");
+        ok = false;
+      }
+      Diagnostics one;
+      if (!CheckExportable(*meshes[k].mesh, &one)) ok = false;
+      diag->Append(one, meshes.size() == 1 ? "" : where);
+    }
+    if (!ok) return false;
     std::string bytes;
     if (ext == ".obj") {
-      bytes = ObjText(mesh);
+      if (meshes.size() == 1) {
+        bytes = ObjText(*meshes[0].mesh);
+      } else {
+        // One object per mesh (`o NAME`); ImportMesh reads the first object.
+        size_t base = 0;
+        for (const NamedMesh& m : meshes) {
+          char head[200];
+          std::snprintf(head, sizeof(head), "# mimetic: %zu vertices, %zu triangles\no %s\n",
+                        m.mesh->vertex_count(), m.mesh->triangle_count(), m.name.c_str());
+          bytes += ObjText(*m.mesh, head, base);
+          base += m.mesh->vertex_count();
+        }
+      }
     } else if (!(metres_per_unit > 0 && std::isfinite(metres_per_unit))) {
       diag->Error("", "metres per mesh unit is " + FormatG(metres_per_unit) +
                           " (expected a finite number > 0)");
       return false;
-    } else if (!GlbBytes(mesh, metres_per_unit, &bytes, diag)) {
+    } else if (!GlbBytes(meshes, metres_per_unit, &bytes, diag)) {
       return false;
     }
     return WriteFileAtomic(path, bytes, diag);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/diagnostics.h"
 #include "geometry/mesh.h"
@@ -35,7 +36,10 @@ namespace mimetic {
 // imported (`normals` stays empty; the rig computes normals from the geometry). Texture v is
 // flipped (v = 1 - v_obj: OBJ's v runs up, MeshData's as glTF's down). `mtllib` lines are
 // ignored with a warning (OpenMesh would open the named file). Faces must use
-// distinct vertices and either v/vt on every corner or on none. `mesh_name` is ignored.
+// distinct vertices and either v/vt on every corner or on none. `mesh_name` is ignored. A file
+// with several objects (two or more `o` lines) is read up to its second `o` line: the first
+// object alone (as a glTF's first mesh; mimetic writes a rig's companion meshes as further
+// objects), whose faces must then use only the vertices written before that line.
 //
 // Returns false and records every problem in `diag` (capped at 20 messages per kind), naming
 // the element: unreadable or empty file, unknown extension, invalid glTF (tinygltf's message),
@@ -66,6 +70,33 @@ bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
 // The file is written to a temporary name and renamed (WriteFileAtomic).
 bool ExportMesh(const std::string& path, const MeshData& mesh, Diagnostics* diag,
                 double metres_per_unit = 0.001);
+
+// Several meshes in one file, in order (the first is the one ImportMesh reads when no name is
+// given). GLB: one mesh per entry, named as given, each placed by its own node (scaled as
+// ExportMesh's), all in the one scene; OBJ: one object (`o NAME`) per entry, indices running
+// on (ImportMesh reads the first object). Names must be distinct and not
+// empty; each mesh is checked as ExportMesh's (errors name the mesh: `mesh 1 'eyes'`).
+// ExportMesh is the one-mesh case, named "mesh".
+struct NamedMesh {
+  std::string name;
+  const MeshData* mesh = nullptr;
+};
+bool ExportMeshes(const std::string& path, const std::vector<NamedMesh>& meshes,
+                  Diagnostics* diag, double metres_per_unit = 0.001);
+
+// The other meshes of a glTF file: every mesh but `mesh_name` (the first when it is empty),
+// in file order, each read as ImportMesh reads one (an unnamed mesh is called `mesh_N`, N its
+// number). An OBJ holds one mesh: none, and true. The rig tools carry these along unchanged
+// (the sample head's eyeballs: `mimetic eval`, `play`, `render`). Errors as ImportMesh's,
+// prefixed `mesh NAME` for the mesh they concern; on failure `out` is empty. `chosen_name`
+// (when given) receives the name of the mesh left out (the rig's), as the file spells it.
+struct NamedMeshData {
+  std::string name;
+  MeshData mesh;
+};
+bool ImportOtherMeshes(const std::string& path, const std::string& mesh_name,
+                       std::vector<NamedMeshData>* out, Diagnostics* diag,
+                       std::string* chosen_name = nullptr);
 
 // Metres per unit of a rig's `units` ("mm" 0.001, "cm" 0.01, "dm" 0.1, "m" 1, "in" 0.0254);
 // 0 for anything else.

@@ -15,8 +15,9 @@ namespace mimetic::tools {
 
 static const char* kHeadUsage =
     "usage: mimetic make-head --out FILE [--landmarks FILE.json]\n\n"
-    "Writes the procedural sample head (millimetres, +Y up, facing +Z, ~34k vertices) as\n"
-    ".glb or .obj, and optionally its 68 iBUG landmarks (docs/landmarks-format.md).\n"
+    "Writes the procedural sample head (millimetres, +Y up, facing +Z, ~34k vertices; the\n"
+    "skin, mesh \"head\", then the eyeballs, mesh \"eyes\") as .glb or .obj (objects \"head\"\n"
+    "and \"eyes\"), and optionally its 68 iBUG landmarks (docs/landmarks-format.md).\n"
     "Deterministic: the same build writes the same bytes. The bundled copy was made with\n"
     "  mimetic make-head --out assets/head/sample_head.glb \\\n"
     "                    --landmarks assets/head/sample_head.landmarks.json\n";
@@ -35,8 +36,10 @@ int CmdMakeHead(const Args& args) {
   const std::string landmarks_path = parsed.Get("landmarks");
 
   const SampleHead head = MakeSampleHead();
+  const MeshData eyes = MakeSampleHeadEyes();
   Diagnostics diag;
-  if (!ExportMesh(out, head.mesh, &diag)) {
+  // The skin first (what every reader takes when the rig names no mesh), then the eyeballs.
+  if (!ExportMeshes(out, {{"head", &head.mesh}, {"eyes", &eyes}}, &diag)) {
     std::fputs(diag.Format().c_str(), stderr);
     return 1;
   }
@@ -45,9 +48,10 @@ int CmdMakeHead(const Args& args) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  std::printf("wrote %s: %zu vertices, %zu triangles, %.1f x %.1f x %.1f mm (w x h x d)\n",
+  std::printf("wrote %s: %zu vertices, %zu triangles, %.1f x %.1f x %.1f mm (w x h x d); "
+              "eyes: %zu vertices, %zu triangles\n",
               out.c_str(), head.mesh.vertex_count(), head.mesh.triangle_count(), hi.x - lo.x,
-              hi.y - lo.y, hi.z - lo.z);
+              hi.y - lo.y, hi.z - lo.z, eyes.vertex_count(), eyes.triangle_count());
   if (!landmarks_path.empty()) {
     Landmarks lm;
     lm.points = head.landmarks;

@@ -22,6 +22,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/companion_meshes.h"
 #include "tools/play_bake.h"
 #include "tools/play_golden.h"
 #include "tools/play_inputs.h"
@@ -358,6 +359,12 @@ int CmdPlay(const Args& args) {
   evaluate.out_normals = span<float>(&posed.normals[0].x, posed.normals.size() * 3);
   evaluate.layers = layers;
   const double metres = MetresPerUnit(loaded.spec.units);
+  // The mesh file's other meshes (the sample head's eyeballs) go along unchanged.
+  CompanionMeshes companions;
+  if (!LoadCompanionMeshes(loaded, &companions, &diag)) {
+    PrintDiagnostics(diag);
+    return kExitInput;
+  }
   std::error_code ec;
   Progress progress(static_cast<long long>(times.size()), !quiet);
   for (size_t f = 0; f < times.size(); ++f) {
@@ -381,7 +388,7 @@ int CmdPlay(const Args& args) {
     const std::string dir = DirectoryOf(names[f]);
     if (!dir.empty()) std::filesystem::create_directories(dir, ec);
     Diagnostics write;
-    if (!ExportMesh(names[f], posed, &write, metres > 0 ? metres : 0.001)) {
+    if (!WritePosedWithCompanions(names[f], posed, companions, &write, metres > 0 ? metres : 0.001)) {
       progress.Abort();
       PrintDiagnostics(write);
       std::fprintf(stderr, "mimetic play: %zu of %zu frame(s) were written\n", f, times.size());

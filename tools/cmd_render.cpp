@@ -13,6 +13,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/companion_meshes.h"
 #include "tools/render/close_up.h"
 #include "tools/render/render.h"
 
@@ -36,7 +37,10 @@ static const char* kRenderUsage =
     "out_fine_amplitudes, docs/model.md §23; 1 for a plain MESH); --fine-depth D is a full\n"
     "furrow's depth at amplitude 1 in mesh units (default 0.15).\n"
     "Back faces are the skin seen from inside (through an open mouth, the eye openings, a\n"
-    "scan's holes) and are shaded dark, as a cavity; --skin-inside shades them as skin.\n";
+    "scan's holes) and are shaded dark, as a cavity; --skin-inside shades them as skin.\n"
+    "The mesh file's other meshes (a glTF's meshes after the first, or after the rig's\n"
+    "mesh: the sample head's eyeballs) are drawn too, unposed (not with --fine); a mesh\n"
+    "named \"eyes\" with sclera, iris and pupil by its normals (looking along +Z).\n";
 
 // Parses "X,Y" with both in [0, 1].
 static bool ParseFocus(const std::string& text, double* x, double* y) {
@@ -109,9 +113,10 @@ int CmdRender(const Args& args) {
   Diagnostics diag, local;
   MeshData mesh;
   std::vector<float> amplitudes;
+  CompanionMeshes companions;  // the file's other meshes (the sample head's eyeballs)
   if (is_rig) {
     LoadedRig loaded;
-    if (!LoadRig(input, &loaded, &diag)) {
+    if (!LoadRig(input, &loaded, &diag) || !LoadCompanionMeshes(loaded, &companions, &diag)) {
       std::fputs(diag.Format().c_str(), stderr);
       return 1;
     }
@@ -142,7 +147,8 @@ int CmdRender(const Args& args) {
     if (!rig.fine_scale().empty()) job.out_fine_amplitudes = amplitudes;
     job.Run();
   } else {
-    const bool mesh_ok = ImportMesh(input, "", &mesh, &local);
+    bool mesh_ok = ImportMesh(input, "", &mesh, &local);
+    mesh_ok = mesh_ok && ImportOtherMeshes(input, "", &companions.others, &local);
     diag.Append(local, input);
     if (!mesh_ok) {
       std::fputs(diag.Format().c_str(), stderr);
@@ -169,7 +175,31 @@ int CmdRender(const Args& args) {
     fine.amplitudes = amplitudes.empty() ? nullptr : &amplitudes;
     fine.depth = float(fine_depth);
   }
+  // The other meshes are drawn with the skin (not with --fine: the height maps and amplitudes
+  // are the skin's).
+  // A mesh named "eyes" is shaded as eyeballs looking along +z (by its normals: a dark iris
+  // disc within 30 degrees of +z with a darker pupil inside 12, white sclera elsewhere); the
+  // others in the skin colour.
+  std::vector<float3> colors;
+  if (!parsed.Has("fine") && !companions.others.empty()) {
+    const size_t skin_vertices = mesh.vertex_count();
+    mesh = MergeForDrawing(mesh, companions);
+    RenderOptions defaults;
+    colors.assign(mesh.vertex_count(), defaults.base_color);
+    size_t v = skin_vertices;
+    for (const NamedMeshData& m : companions.others) {
+      const bool eyes = m.name == "eyes" && m.mesh.normals.size() == m.mesh.vertex_count();
+      for (size_t k = 0; k < m.mesh.vertex_count(); ++k, ++v) {
+        if (!eyes) continue;
+        const float nz = m.mesh.normals[k].z;
+        colors[v] = nz > 0.978f ? float3{0.06f, 0.05f, 0.05f}
+                    : nz > 0.866f ? float3{0.30f, 0.42f, 0.52f}
+                                  : float3{0.93f, 0.91f, 0.88f};
+      }
+    }
+  }
   RenderOptions options;
+  if (!colors.empty()) options.vertex_colors = &colors;
   if (parsed.Has("fine")) options.fine = &fine;
   options.yaw_deg = static_cast<float>(yaw);
   options.pitch_deg = static_cast<float>(pitch);

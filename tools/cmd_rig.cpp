@@ -19,6 +19,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/companion_meshes.h"
 
 namespace mimetic::tools {
 namespace {
@@ -251,7 +252,10 @@ int CmdEval(const Args& args) {
   std::error_code ec;
   if (!out_dir.empty()) std::filesystem::create_directories(out_dir, ec);
   const double metres = MetresPerUnit(loaded.spec.units);
-  if (!ExportMesh(out_path, posed, &diag, metres > 0 ? metres : 0.001)) {
+  // The mesh file's other meshes (the sample head's eyeballs) go along unchanged.
+  CompanionMeshes companions;
+  if (!LoadCompanionMeshes(loaded, &companions, &diag) ||
+      !WritePosedWithCompanions(out_path, posed, companions, &diag, metres > 0 ? metres : 0.001)) {
     PrintDiagnostics(diag);
     return 1;
   }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -54,6 +55,42 @@ size_t SlitColumns(const SampleHead& h, const SampleHeadOptions& o = {}) {
   return n;
 }
 
+// The columns cut by the two lid fissures (both eyes together): those whose vertex on the lid
+// row lies in front, strictly between the canthi, moved up off the closed lid line onto the
+// upper lid's margin (the construction's definition of the fissure).
+size_t FissureColumns(const SampleHead& h, const SampleHeadOptions& o = {}) {
+  size_t n = 0;
+  for (int j = 0; j <= o.columns; ++j) {
+    const float3 p = h.mesh.positions[1 + size_t(h.lid_row - 1) * (o.columns + 1) + j];
+    const float ax = std::fabs(p.x);
+    if (p.z > 0 && ax > kSampleHeadInnerCanthusX && ax < kSampleHeadOuterCanthusX &&
+        p.y > SampleHeadLidLineY(ax) + 1e-3f)
+      ++n;
+  }
+  return n;
+}
+
+// The mesh's boundary edges (in one triangle only) that lie at an eye (|x| 8-55, |y| < 15,
+// in front), per eye (0: x < 0, 1: x > 0), as directed edges of their triangles.
+std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> EyeBoundary(const MeshData& m) {
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;
+  for (size_t t = 0; t < m.indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = m.indices[t + k], b = m.indices[t + (k + 1) % 3];
+      uses[{std::min(a, b), std::max(a, b)}]++;
+    }
+  std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> out;
+  for (size_t t = 0; t < m.indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = m.indices[t + k], b = m.indices[t + (k + 1) % 3];
+      if (uses[{std::min(a, b), std::max(a, b)}] != 1) continue;
+      const float3 p = m.positions[a];
+      if (p.z > 40 && std::fabs(p.y) < 15 && std::fabs(p.x) > 8 && std::fabs(p.x) < 55)
+        out[p.x > 0 ? 1 : 0].push_back({a, b});
+    }
+  return out;
+}
+
 TEST(SampleHead, VertexCountAndLayout) {
   const MeshData& m = Head().mesh;
   EXPECT_GE(m.vertex_count(), 20000u);
@@ -66,10 +103,18 @@ TEST(SampleHead, VertexCountAndLayout) {
   // The mouth is 52 mm wide; the face's columns there are about 1.1 mm apart.
   EXPECT_GT(slit, 35u);
   EXPECT_LT(slit, 60u);
-  EXPECT_EQ(m.vertex_count(), 1u + size_t(o.rows) * (o.columns + 1) + slit * (2 * R + 1));
+  // And per column between the canthi the lower lid's margin twin and the two lid rolls'.
+  const size_t lid = FissureColumns(Head());
+  const size_t RL = kSampleHeadLidRollRows;
+  // Each fissure is 29 mm wide; the columns there are about 1 mm apart.
+  EXPECT_GT(lid, 2u * 20);
+  EXPECT_LT(lid, 2u * 40);
+  EXPECT_EQ(m.vertex_count(), 1u + size_t(o.rows) * (o.columns + 1) + slit * (2 * R + 1) +
+                                  lid * (2 * RL + 1));
   // A fan of `columns` triangles at the pole, two per quad below; each roll row has `slit + 1`
-  // quads, the two at the corners collapsed to one triangle.
-  EXPECT_EQ(m.triangle_count(), size_t(o.columns) * (2 * o.rows - 1) + 2 * R * (2 * slit));
+  // quads (a lid roll row `lid / 2 + 1`), the two at the corners collapsed to one triangle.
+  EXPECT_EQ(m.triangle_count(),
+            size_t(o.columns) * (2 * o.rows - 1) + 2 * R * (2 * slit) + 2 * RL * (2 * lid));
   EXPECT_EQ(m.uvs.size(), m.vertex_count());
   EXPECT_EQ(m.normals.size(), m.vertex_count());
   for (uint32_t i : m.indices) ASSERT_LT(i, m.vertex_count());
@@ -151,8 +196,8 @@ TEST(SampleHead, WeldsWithoutErrorsIntoAClosedTopWithTheNeckAndMouthOpen) {
       directed[{a, b}]++;
     }
   for (const auto& [e, n] : directed) ASSERT_EQ(n, 1) << "edge " << e.first << "-" << e.second;
-  size_t neck = 0, mouth = 0, other = 0;
-  std::map<uint32_t, int> mouth_degree;
+  size_t neck = 0, mouth = 0, eyes = 0, other = 0;
+  std::map<uint32_t, int> mouth_degree, eye_degree;
   for (const auto& [e, n] : uses) {
     ASSERT_LE(n, 2);
     if (n != 1) continue;
@@ -164,15 +209,22 @@ TEST(SampleHead, WeldsWithoutErrorsIntoAClosedTopWithTheNeckAndMouthOpen) {
       ++mouth;
       mouth_degree[e.first]++;
       mouth_degree[e.second]++;
+    } else if (std::fabs(a.x) > 8 && std::fabs(a.x) < 55 && std::fabs(a.y) < 15 && a.z > 40) {
+      ++eyes;
+      eye_degree[e.first]++;
+      eye_degree[e.second]++;
     } else {
       ++other;
     }
   }
   EXPECT_EQ(neck, size_t(o.columns));
   EXPECT_EQ(mouth, 2 * (SlitColumns(Head()) + 1));
+  // Each eye: the ends of the two lid rolls, `columns between the canthi + 1` edges each.
+  EXPECT_EQ(eyes, 2 * (FissureColumns(Head()) + 2));
   EXPECT_EQ(other, 0u);
-  // The mouth's boundary is one simple loop: every point on it has two boundary edges.
+  // The mouth's and eyes' boundaries are simple: every point on them has two boundary edges.
   for (const auto& [p, d] : mouth_degree) EXPECT_EQ(d, 2) << "point " << p;
+  for (const auto& [p, d] : eye_degree) EXPECT_EQ(d, 2) << "point " << p;
 }
 
 // The lips are cut apart between the corners (docs: assets/head/README.md): on the mouth row
@@ -223,6 +275,104 @@ TEST(SampleHead, TheLipsAreSeparateSurfacesMeetingAtTheCorners) {
   for (uint32_t u = uint32_t(1 + o.rows * ring); u < m.vertex_count(); ++u)
     if (m.positions[u].z < 99.f) ++behind;  // the lips' front is at z ~ 99
   EXPECT_EQ(behind, m.vertex_count() - (1 + o.rows * ring));
+}
+
+// The eyes are open (docs: assets/head/README.md): each fissure is one boundary loop, walked
+// one way by its triangles, round the eyeball's centre and outside the eyeball, as wide as the
+// canthi are apart; the eye landmarks lie on the lid margins, which lie on the lid surface
+// about the eyeball.
+TEST(SampleHead, EachEyeIsOneLoopBetweenTheLidMargins) {
+  const SampleHead& h = Head();
+  const MeshData& m = h.mesh;
+  const auto loops = EyeBoundary(m);
+  for (int e = 0; e < 2; ++e) {
+    const float sx = e == 0 ? -1.f : 1.f;
+    const auto& edges = loops[size_t(e)];
+    ASSERT_GE(edges.size(), 10u) << e;
+    // Consistent orientation: each point has one outgoing and one incoming boundary edge, and
+    // following them from any point visits every edge once (one loop, not several).
+    std::map<uint32_t, uint32_t> next;
+    std::map<uint32_t, int> in;
+    for (const auto& [a, b] : edges) {
+      ASSERT_FALSE(next.count(a)) << "two boundary edges leave point " << a;
+      next[a] = b;
+      in[b]++;
+    }
+    for (const auto& [a, b] : edges) ASSERT_EQ(in[a], 1) << a;
+    std::vector<uint32_t> loop{edges[0].first};
+    while (true) {
+      const uint32_t n = next.at(loop.back());
+      if (n == loop[0]) break;
+      loop.push_back(n);
+      ASSERT_LE(loop.size(), edges.size());
+    }
+    EXPECT_EQ(loop.size(), edges.size()) << "eye " << e << " has more than one boundary loop";
+    // Its width is the canthi's distance (within a column's spacing, ~1.2 mm), and it winds
+    // once round the eyeball's centre seen from the front.
+    float lo = 1e9f, hi = -1e9f;
+    double winding = 0;
+    const float3 c{sx * kSampleHeadEyeCentre.x, kSampleHeadEyeCentre.y, kSampleHeadEyeCentre.z};
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const float3 p = m.positions[loop[k]], q = m.positions[loop[(k + 1) % loop.size()]];
+      lo = std::min(lo, std::fabs(p.x));
+      hi = std::max(hi, std::fabs(p.x));
+      winding += std::atan2((p.x - c.x) * (q.y - c.y) - (p.y - c.y) * (q.x - c.x),
+                            (p.x - c.x) * (q.x - c.x) + (p.y - c.y) * (q.y - c.y));
+      // The loop (the rolls' ends) stays outside the eyeball.
+      EXPECT_GE(Length(p - c), kSampleHeadEyeballRadius + kSampleHeadLidRollGap - 1e-3f) << k;
+    }
+    EXPECT_NEAR(lo, kSampleHeadInnerCanthusX, 1.2f) << e;
+    EXPECT_NEAR(hi, kSampleHeadOuterCanthusX, 1.2f) << e;
+    EXPECT_NEAR(std::fabs(winding), 2 * 3.14159265, 1e-3) << e;
+  }
+  // Landmarks: the corners (36/39 right, 45/42 left) 0.5 mm inside the canthi on the upper
+  // margin, the upper lid's points (37-38, 43-44) on the upper margin, the lower's (40-41,
+  // 46-47) on the lower one (within 0.05 mm: the margin is a polyline through points on the
+  // curve, about 1 mm apart); the lid margin on the lid surface, 0-2 mm outside the eyeball.
+  const std::vector<float3>& L = h.landmarks;
+  for (int l : {36, 39, 42, 45}) {
+    const float ax = std::fabs(L[l].x);
+    EXPECT_TRUE(std::fabs(ax - kSampleHeadInnerCanthusX - 0.5f) < 1e-3f ||
+                std::fabs(ax - kSampleHeadOuterCanthusX + 0.5f) < 1e-3f) << l;
+    EXPECT_NEAR(L[l].y, SampleHeadUpperLidY(ax), 0.05f) << l;
+  }
+  for (int l : {37, 38, 43, 44}) EXPECT_NEAR(L[l].y, SampleHeadUpperLidY(std::fabs(L[l].x)), 0.05f) << l;
+  for (int l : {40, 41, 46, 47}) EXPECT_NEAR(L[l].y, SampleHeadLowerLidY(std::fabs(L[l].x)), 0.05f) << l;
+  for (int l : {37, 38, 40, 41, 43, 44, 46, 47}) {
+    const float3 c{L[l].x < 0 ? -kSampleHeadEyeCentre.x : kSampleHeadEyeCentre.x,
+                   kSampleHeadEyeCentre.y, kSampleHeadEyeCentre.z};
+    EXPECT_GT(Length(L[l] - c), kSampleHeadEyeballRadius) << l;
+    EXPECT_LT(Length(L[l] - c), kSampleHeadEyeballRadius + 2.f) << l;
+  }
+  // The opening is open: upper above lower by the almond's height at x = 26 (10 mm across at
+  // mid-fissure times sin(pi * 10 / 29)).
+  const float t26 = (26.f - kSampleHeadInnerCanthusX) / (kSampleHeadOuterCanthusX - kSampleHeadInnerCanthusX);
+  EXPECT_NEAR(L[43].y - L[47].y,
+              (kSampleHeadLidOpenUp + kSampleHeadLidOpenDown) * std::sin(3.14159265f * t26), 0.1f);
+  // Each landmark lies on a mesh edge (the margin's polyline), not inside the opening.
+  for (int l = 36; l <= 47; ++l) {
+    float best = 1e9f;
+    for (size_t t = 0; t < m.indices.size(); t += 3)
+      for (int k = 0; k < 3; ++k) {
+        const float3 a = m.positions[m.indices[t + k]], b = m.positions[m.indices[t + (k + 1) % 3]];
+        const float u = std::clamp(Dot(L[l] - a, b - a) / std::max(LengthSquared(b - a), 1e-12f), 0.f, 1.f);
+        best = std::min(best, Length(a + (b - a) * u - L[l]));
+      }
+    EXPECT_LT(best, 1e-4f) << l;
+  }
+}
+
+// Every triangle has area in texture space (the curve wrinkles and thickness maps need it):
+// the lip and lid rolls get slivers.
+TEST(SampleHead, NoTriangleIsDegenerateInTextureSpace) {
+  const MeshData& m = Head().mesh;
+  size_t flat = 0;
+  for (size_t t = 0; t < m.indices.size(); t += 3) {
+    const float2 a = m.uvs[m.indices[t]], b = m.uvs[m.indices[t + 1]], c = m.uvs[m.indices[t + 2]];
+    const double area = 0.5 * std::fabs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
+    if (!(area > 1e-12)) ++flat;
+  }
+  EXPECT_EQ(flat, 0u);
 }
 
 TEST(SampleHead, NoDegenerateTrianglesAndOutwardOrientation) {
@@ -404,7 +554,8 @@ TEST(SampleHead, SmallerOptionsStillGiveAValidMesh) {
   o.ears = false;
   const SampleHead h = MakeSampleHead(o);
   EXPECT_EQ(h.mesh.vertex_count(),
-            1u + 30u * 41u + SlitColumns(h, o) * (2 * kSampleHeadLipRollRows + 1));
+            1u + 30u * 41u + SlitColumns(h, o) * (2 * kSampleHeadLipRollRows + 1) +
+                FissureColumns(h, o) * (2 * kSampleHeadLidRollRows + 1));
   WeldedMesh w;
   Diagnostics diag;
   const bool ok = WeldMesh(h.mesh, 0.f, &w, &diag);
@@ -442,7 +593,9 @@ TEST(SampleHead, WritesAssetsOnRequest) {
   const char* dir = std::getenv("MIMETIC_HEAD_ASSET_DIR");
   if (!dir) GTEST_SKIP() << "set MIMETIC_HEAD_ASSET_DIR to write sample_head.glb there";
   Diagnostics d;
-  ASSERT_TRUE(ExportMesh(std::string(dir) + "/sample_head.glb", Head().mesh, &d)) << d.Format();
+  const MeshData eyes = MakeSampleHeadEyes();
+  ASSERT_TRUE(ExportMeshes(std::string(dir) + "/sample_head.glb", {{"head", &Head().mesh}, {"eyes", &eyes}}, &d))
+      << d.Format();
   Landmarks lm;
   lm.points = Head().landmarks;
   ASSERT_TRUE(SaveLandmarks(std::string(dir) + "/sample_head.landmarks.json", lm, &d))

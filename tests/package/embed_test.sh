@@ -24,8 +24,10 @@ grep -q "4 character(s) of [0-9]* vertices on one rig, 10 frames" "$tmp/embed.lo
 "$tool" play "$rig" "$clip" --library "$lib" --time 1.2 --out "$tmp/play.obj" --quiet
 "$tool" eval "$rig" --out "$tmp/rest.obj" >/dev/null
 # Columns: embed's x y z, play's x y z, the rest pose's x y z (same vertex order).
-grep '^v ' "$tmp/play.obj" | cut -d' ' -f2-4 > "$tmp/play.txt"
-grep '^v ' "$tmp/rest.obj" | cut -d' ' -f2-4 > "$tmp/rest.txt"
+# The skin only: the OBJ's first object (the sample head's eyes follow as a second one).
+skin_v() { awk '/^o /{o++} o < 2 && /^v /{print $2, $3, $4}' "$1"; }
+skin_v "$tmp/play.obj" > "$tmp/play.txt"
+skin_v "$tmp/rest.obj" > "$tmp/rest.txt"
 paste -d' ' "$tmp/embed.txt" "$tmp/play.txt" "$tmp/rest.txt" | awk '
   function abs(x) { return x < 0 ? -x : x }
   NF != 9 { bad = 1 }

@@ -31,6 +31,15 @@ export async function loadGlb(file, modules) {
 }
 
 // The `v` lines of an OBJ file as [x, y, z] arrays.
-export const objVertices = (file) =>
-  fs.readFileSync(file, 'utf8').split('\n').filter((l) => l.startsWith('v '))
-    .map((l) => l.split(/\s+/).slice(1, 4).map(Number));
+// The `v` lines of the OBJ's first object (mimetic writes the posed skin first; the sample
+// head's eyeballs follow as a second `o` object, which no bake carries).
+export const objVertices = (file) => {
+  const lines = fs.readFileSync(file, 'utf8').split('\n');
+  const out = [];
+  let objects = 0;
+  for (const l of lines) {
+    if (l.startsWith('o ') && ++objects > 1) break;
+    if (l.startsWith('v ')) out.push(l.split(/\s+/).slice(1, 4).map(Number));
+  }
+  return out;
+};

@@ -1,0 +1,124 @@
+// tests/io/mesh_multi_test.cpp: several meshes in one file (io/mesh_io.h ExportMeshes,
+// ImportOtherMeshes): the first is what ImportMesh reads without a name; the others come back
+// bit for bit; bad input is refused with the mesh named.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "geometry/mesh.h"
+#include "io/mesh_io.h"
+#include "test_support.h"
+
+namespace mimetic {
+namespace {
+
+MeshData Triangle(float x, bool extras) {
+  MeshData m;
+  m.positions = {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}};
+  m.indices = {0, 1, 2};
+  if (extras) {
+    m.normals.assign(3, float3{0, 0, 1});
+    m.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  }
+  return m;
+}
+
+TEST(MeshMulti, GlbKeepsTheFirstMeshFirstAndTheOthersByName) {
+  const std::string dir = test::TempDir();
+  const MeshData skin = Triangle(0, true), eyes = Triangle(5, false), more = Triangle(9, true);
+  Diagnostics d;
+  ASSERT_TRUE(ExportMeshes(dir + "/m.glb", {{"head", &skin}, {"eyes", &eyes}, {"more", &more}}, &d))
+      << d.Format();
+  MeshData first, second;
+  ASSERT_TRUE(ImportMesh(dir + "/m.glb", "", &first, &d)) << d.Format();
+  ASSERT_TRUE(ImportMesh(dir + "/m.glb", "eyes", &second, &d)) << d.Format();
+  EXPECT_EQ(first.positions, skin.positions);
+  EXPECT_EQ(first.normals, skin.normals);
+  ASSERT_EQ(first.uvs.size(), skin.uvs.size());
+  for (size_t i = 0; i < skin.uvs.size(); ++i) {
+    EXPECT_EQ(first.uvs[i].x, skin.uvs[i].x);
+    EXPECT_EQ(first.uvs[i].y, skin.uvs[i].y);
+  }
+  EXPECT_EQ(second.positions, eyes.positions);
+  EXPECT_TRUE(second.normals.empty());
+  std::vector<NamedMeshData> others;
+  std::string chosen;
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/m.glb", "", &others, &d, &chosen)) << d.Format();
+  EXPECT_EQ(chosen, "head");
+  ASSERT_EQ(others.size(), 2u);
+  EXPECT_EQ(others[0].name, "eyes");
+  EXPECT_EQ(others[0].mesh.positions, eyes.positions);
+  EXPECT_EQ(others[1].name, "more");
+  EXPECT_EQ(others[1].mesh.indices, more.indices);
+  // Leaving out a named one: the first comes back among the others.
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/m.glb", "eyes", &others, &d, &chosen)) << d.Format();
+  EXPECT_EQ(chosen, "eyes");
+  ASSERT_EQ(others.size(), 2u);
+  EXPECT_EQ(others[0].name, "head");
+  EXPECT_EQ(others[0].mesh.positions, skin.positions);
+  // One mesh: ExportMesh's file has no others.
+  ASSERT_TRUE(ExportMesh(dir + "/one.glb", skin, &d)) << d.Format();
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/one.glb", "", &others, &d, &chosen)) << d.Format();
+  EXPECT_TRUE(others.empty());
+  EXPECT_EQ(chosen, "mesh");
+}
+
+TEST(MeshMulti, ObjWritesOneObjectEachAndReadsBackTheFirst) {
+  const std::string dir = test::TempDir();
+  const MeshData a = Triangle(0, false), b = Triangle(5, false);
+  Diagnostics d;
+  ASSERT_TRUE(ExportMeshes(dir + "/m.obj", {{"head", &a}, {"eyes", &b}}, &d)) << d.Format();
+  const std::string text = test::ReadFileBytes(dir + "/m.obj");
+  EXPECT_NE(text.find("o head\n"), std::string::npos);
+  EXPECT_NE(text.find("o eyes\n"), std::string::npos);
+  EXPECT_NE(text.find("f 4 5 6\n"), std::string::npos) << text;  // the second's indices run on
+  MeshData first;
+  ASSERT_TRUE(ImportMesh(dir + "/m.obj", "", &first, &d)) << d.Format();
+  EXPECT_EQ(first.positions, a.positions);
+  EXPECT_EQ(first.indices, a.indices);
+  // A first object whose faces reach past it is refused, naming the face.
+  const std::string bad = "o a\nv 0 0 0\nv 1 0 0\nf 1 2 3\no b\nv 0 1 0\nf 3 2 1\n";
+  MeshData none;
+  Diagnostics bad_diag;
+  EXPECT_FALSE(ImportMeshBytes(bad, ".obj", "", "", &none, &bad_diag));
+  EXPECT_NE(bad_diag.Format().find("face"), std::string::npos) << bad_diag.Format();
+  std::vector<NamedMeshData> others;
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/m.obj", "", &others, &d));
+  EXPECT_TRUE(others.empty());
+}
+
+TEST(MeshMulti, BadInputIsRefusedNamingTheMesh) {
+  const std::string dir = test::TempDir();
+  const MeshData good = Triangle(0, false);
+  MeshData bad = Triangle(1, false);
+  bad.indices = {0, 1, 7};
+  Diagnostics d;
+  EXPECT_FALSE(ExportMeshes(dir + "/x.glb", {}, &d));
+  EXPECT_NE(d.Format().find("no meshes"), std::string::npos) << d.Format();
+  d = {};
+  EXPECT_FALSE(ExportMeshes(dir + "/x.glb", {{"a", &good}, {"a", &good}}, &d));
+  EXPECT_NE(d.Format().find("mesh 1 'a'"), std::string::npos) << d.Format();
+  d = {};
+  EXPECT_FALSE(ExportMeshes(dir + "/x.glb", {{"a", &good}, {"", &good}}, &d));
+  EXPECT_NE(d.Format().find("distinct and not empty"), std::string::npos) << d.Format();
+  d = {};
+  EXPECT_FALSE(ExportMeshes(dir + "/x.glb", {{"a", &good}, {"eyes", &bad}}, &d));
+  EXPECT_NE(d.Format().find("mesh 1 'eyes'"), std::string::npos) << d.Format();
+  EXPECT_NE(d.Format().find("out of range"), std::string::npos) << d.Format();
+  EXPECT_TRUE(test::ReadFileBytes(dir + "/x.glb").empty()) << "nothing is written";
+  d = {};
+  EXPECT_FALSE(ExportMeshes(dir + "/x.glb", {{"a", nullptr}}, &d));
+  EXPECT_NE(d.Format().find("no mesh data"), std::string::npos) << d.Format();
+  // Reading: a missing file, an unknown extension.
+  std::vector<NamedMeshData> others;
+  d = {};
+  EXPECT_FALSE(ImportOtherMeshes(dir + "/missing.glb", "", &others, &d));
+  EXPECT_TRUE(d.HasErrors());
+  d = {};
+  EXPECT_FALSE(ImportOtherMeshes(dir + "/m.stl", "", &others, &d));
+  EXPECT_NE(d.Format().find("unknown mesh file extension"), std::string::npos) << d.Format();
+}
+
+}  // namespace
+}  // namespace mimetic
