@@ -147,8 +147,10 @@ class UiDriver {
     return values[name].get<double>();
   }
 
-  // One xdotool command line on the viewer's display (10 s at most), then `frames` frames.
-  bool Xdo(const std::string& commands, int frames = 3) {
+  // One xdotool command line on the viewer's display (10 s at most), then `frames` frames
+  // counted from the trace read after xdotool returned: the first of them may have polled its
+  // events before the input arrived, the second started after it, so 2 frames see it handled.
+  bool Xdo(const std::string& commands, int frames = 2) {
     const std::string line = "DISPLAY=" + test::ShellQuote(display_) + " XAUTHORITY=" +
                              test::ShellQuote(xauthority_) + " timeout 10 xdotool " + commands + " 2>&1";
     const int rc = std::system(line.c_str());
@@ -156,6 +158,7 @@ class UiDriver {
       ADD_FAILURE() << "xdotool " << commands << " failed (" << rc << ")\n" << Log();
       return false;
     }
+    ReadTrace();
     return Frames(frames);
   }
   bool MoveTo(int x, int y) { return Xdo("mousemove " + std::to_string(x) + " " + std::to_string(y)); }
@@ -185,7 +188,7 @@ class UiDriver {
     return MoveTo(x, y) && Xdo("keydown ctrl") && Xdo("mousedown 1") && Xdo("mouseup 1") && Xdo("keyup ctrl");
   }
   // A left drag from (x0, y0) to (x1, y1) in `steps` moves, a frame or more each.
-  bool Drag(int x0, int y0, int x1, int y1, int steps = 4) {
+  bool Drag(int x0, int y0, int x1, int y1, int steps = 2) {
     if (!MoveTo(x0, y0) || !Xdo("mousedown 1")) return false;
     for (int i = 1; i <= steps; ++i)
       if (!MoveTo(x0 + (x1 - x0) * i / steps, y0 + (y1 - y0) * i / steps)) return false;

@@ -136,5 +136,91 @@ TEST(ViewerUiDrive, DraggingASliderThenCtrlZUndoesTheSavedExpression) {
   EXPECT_EQ(undone["expressions"].size(), saved["expressions"].size() - 1) << undone.dump(1);
 }
 
+// The Scene panel (opened at y = 130) lies over the Files panel's lower part, "Save rig"
+// included: a click on the Files panel's title bar (its top 5 px) brings it to the front first.
+bool FilesToFront(UiDriver& ui) {
+  const Rect w = ui.Item("window/Files");
+  return !::testing::Test::HasFatalFailure() && ui.Click(int(w.cx()), int(w.y0) + 5);
+}
+
+json CurveControls(const json& rig, const std::string& curve) {
+  for (const json& c : rig["curve_wrinkles"])
+    if (c["name"] == curve) return c["control"];
+  ADD_FAILURE() << "the rig has no curve wrinkle " << curve;
+  return json::array();
+}
+
+// A control point dragged by (dx, dy) pixels in the UV curve editor, then "Save rig": the saved
+// point moved by (dx, dy) / (the editor's pixels per uv), the curve's other points did not;
+// Ctrl+Z and "Save rig" again: the point is back where it was.
+TEST(ViewerUiDrive, DraggingAUvControlPointMovesItByThePixelsOverTheScale) {
+  REQUIRE_XVFB_AND_XDOTOOL();
+  const std::string dir = test::TempDir();
+  fs::copy(test::SourceDir() + "/assets/head", dir + "/head");
+  const std::string rig = dir + "/head/sample_head.rig.json";
+  const json original = ReadJson(rig);
+  UiDriver ui;
+  ASSERT_TRUE(ui.Start({rig, "--panel", "uv-curves"}));
+  ASSERT_TRUE(ui.Frames());  // the editor frames the curves on its first frame
+  const Rect canvas = ui.Item("uv/canvas");
+  const double scale = ui.Value("uv/pixels-per-uv");
+  ASSERT_GT(scale, 10.0);
+  const int dx = 14, dy = -9;
+  // A handle (K = 1 or 2) inside the canvas, 20 px or more from every other point (the editor
+  // takes the nearest point within 8 px), whose target is inside the canvas too.
+  std::vector<std::pair<std::string, Rect>> points;
+  for (const auto& [name, r] : ui.trace()["items"].items())
+    if (name.rfind("uv/point/", 0) == 0) points.emplace_back(name, ui.Item(name));
+  std::string chosen;
+  Rect at;
+  for (const auto& [name, r] : points) {
+    const char k = name.back();
+    if (k != '1' && k != '2') continue;
+    const auto inside = [&](float x, float y) {
+      return x > canvas.x0 + 20 && x < canvas.x1 - 20 && y > canvas.y0 + 20 && y < canvas.y1 - 20;
+    };
+    if (!inside(r.x0, r.y0) || !inside(r.x0 + dx, r.y0 + dy)) continue;
+    bool alone = true;
+    for (const auto& [other, q] : points)
+      if (other != name && std::hypot(q.x0 - r.x0, q.y0 - r.y0) < 20.f) alone = false;
+    if (alone) {
+      chosen = name, at = r;
+      break;
+    }
+  }
+  ASSERT_FALSE(chosen.empty()) << "no control point stands alone in the UV view: " << ui.trace()["items"].dump();
+  // uv/point/CURVE/K
+  const std::string curve = chosen.substr(9, chosen.size() - 11);
+  const int k = chosen.back() - '0';
+  const int x0 = int(std::lround(at.x0)), y0 = int(std::lround(at.y0));
+  ASSERT_TRUE(ui.Drag(x0, y0, x0 + dx, y0 + dy));
+  ASSERT_TRUE(FilesToFront(ui));
+  ASSERT_TRUE(ui.ClickItem("files/save-rig"));
+  ASSERT_TRUE(ui.Frames());
+  const json before = CurveControls(original, curve);
+  const json moved = CurveControls(ReadJson(rig), curve);
+  ASSERT_EQ(moved.size(), 4u) << moved.dump();
+  // The point follows the pointer: the press was at the point rounded to a pixel (half a pixel
+  // off at most on each axis), so within 0.6 px of the drag.
+  const double tol = 0.6 / scale;
+  EXPECT_NEAR(moved[k][0].get<double>(), before[k][0].get<double>() + dx / scale, tol) << curve << " " << k;
+  EXPECT_NEAR(moved[k][1].get<double>(), before[k][1].get<double>() + dy / scale, tol) << curve << " " << k;
+  for (int j = 0; j < 4; ++j) {
+    if (j == k) continue;
+    for (int a = 0; a < 2; ++a)
+      EXPECT_NEAR(moved[j][a].get<double>(), before[j][a].get<double>(), 1e-6) << curve << " point " << j;
+  }
+  // Ctrl+Z over the 3D view (the whole drag is one command), then Save rig: back to the start.
+  ASSERT_TRUE(ui.MoveTo(UiDriver::kWidth - 200, UiDriver::kHeight / 2));
+  ASSERT_TRUE(ui.Key("ctrl+z"));
+  ASSERT_TRUE(FilesToFront(ui));
+  ASSERT_TRUE(ui.ClickItem("files/save-rig"));
+  ui.Stop();
+  const json undone = CurveControls(ReadJson(rig), curve);
+  for (int j = 0; j < 4; ++j)
+    for (int a = 0; a < 2; ++a)
+      EXPECT_NEAR(undone[j][a].get<double>(), before[j][a].get<double>(), 1e-6) << curve << " point " << j << "\n" << ui.Log();
+}
+
 }  // namespace
 }  // namespace mimetic::viewer

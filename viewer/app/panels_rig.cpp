@@ -312,7 +312,12 @@ void UvCurvesPanel(App* app, float width, float height) {
   Session& s = app->session;
   if (app->uv_texture_stale) MakeUvTexture(app);
   if (app->selected_curve < 0 && !spec->curve_wrinkles.empty()) app->selected_curve = 0;
+  // The rebuild's status takes one row whether it shows or not: the canvas below (and with it
+  // the pixels-to-uv mapping) must not move when a drag's first edit starts a rebuild, or the
+  // dragged point would leave the pointer (ViewerUiDrive.DraggingAUvControlPoint...).
+  const float status_y = ImGui::GetCursorPosY();
   RebuildStatus(app);
+  ImGui::SetCursorPosY(status_y + ImGui::GetFrameHeightWithSpacing());
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const bool has_selection = app->selected_curve >= 0 && size_t(app->selected_curve) < spec->curve_wrinkles.size();
   const ImVec2 canvas(std::max(100.f, avail.x), std::max(100.f, avail.y - (has_selection ? 205.f : 60.f)));
