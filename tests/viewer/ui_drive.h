@@ -58,45 +58,20 @@ class UiDriver {
   ~UiDriver() { Stop(); }
 
   // Starts the viewer with `args` (the rig and options; --ui-trace is added) and waits (60 s at
-  // most: the sanitizer build loads slowly) for its third frame.
+  // most: the sanitizer build loads slowly) for its third frame. xvfb-run itself fails now and
+  // then when tests run in parallel (it prints "xvfb-run: error", as in headless_test.cpp): such
+  // a start is tried again, twice at most.
   bool Start(const std::vector<std::string>& args) {
-    dir_ = test::TempDir();
-    trace_ = dir_ + "/trace.json";
-    log_ = dir_ + "/viewer.log";
-    const std::string display_file = dir_ + "/display";
-    std::string viewer = test::ShellQuote(MIMETIC_VIEWER_PATH);
-    for (const std::string& a : args) viewer += " " + test::ShellQuote(a);
-    viewer += " --ui-trace " + test::ShellQuote(trace_) + " --autosave-seconds 0";
-    // xvfb-run's display and the cookie file it made (xdotool needs both).
-    const std::string inner = "printf '%s\\n%s\\n' \"$DISPLAY\" \"$XAUTHORITY\" > " + test::ShellQuote(display_file) + "; exec " + viewer;
-    const std::string command = "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 exec xvfb-run -a -s '-screen 0 " +
-                                std::to_string(kWidth) + "x" + std::to_string(kHeight) + "x24' sh -c " +
-                                test::ShellQuote(inner) + " > " + test::ShellQuote(log_) + " 2>&1";
-    pid_ = fork();
-    if (pid_ < 0) {
-      ADD_FAILURE() << "fork failed";
-      return false;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      const int started = StartOnce(args);
+      if (started >= 0) return started == 1;
+      Stop();
     }
-    if (pid_ == 0) {
-      setsid();  // its own process group: Stop ends xvfb-run, Xvfb and the viewer together
-      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    if (!WaitFor([&] {
-          const std::string text = test::ReadFileBytes(display_file);
-          const size_t nl = text.find('\n');
-          if (nl == std::string::npos || text.back() != '\n') return false;
-          display_ = text.substr(0, nl);
-          xauthority_ = text.substr(nl + 1, text.size() - nl - 2);
-          return !display_.empty() && ReadTrace() && frame_ >= 3;
-        }, 60.0)) {
-      ADD_FAILURE() << "the viewer showed no frame within 60 s (display '" << display_ << "')\n" << Log();
-      return false;
-    }
-    return true;
+    ADD_FAILURE() << "xvfb-run failed three times\n" << Log();
+    return false;
   }
 
-  // Ends the process group (SIGTERM, then SIGKILL after 10 s); the files a test saved before are
+  // Ends the process group  // Ends the process group (SIGTERM, then SIGKILL after 10 s); the files a test saved before are
   // complete (the viewer writes them atomically).
   void Stop() {
     if (pid_ <= 0) return;
@@ -213,6 +188,53 @@ class UiDriver {
   }
 
  private:
+  // 1 started, 0 the viewer failed (a gtest failure is recorded), -1 xvfb-run failed.
+  int StartOnce(const std::vector<std::string>& args) {
+    dir_ = test::TempDir();
+    trace_ = dir_ + "/trace.json";
+    log_ = dir_ + "/viewer.log";
+    const std::string display_file = dir_ + "/display";
+    std::string viewer = test::ShellQuote(MIMETIC_VIEWER_PATH);
+    for (const std::string& a : args) viewer += " " + test::ShellQuote(a);
+    viewer += " --ui-trace " + test::ShellQuote(trace_) + " --autosave-seconds 0";
+    // xvfb-run's display and the cookie file it made (xdotool needs both).
+    const std::string inner = "printf '%s\\n%s\\n' \"$DISPLAY\" \"$XAUTHORITY\" > " + test::ShellQuote(display_file) + "; exec " + viewer;
+    const std::string command = "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 exec xvfb-run -a -s '-screen 0 " +
+                                std::to_string(kWidth) + "x" + std::to_string(kHeight) + "x24' sh -c " +
+                                test::ShellQuote(inner) + " > " + test::ShellQuote(log_) + " 2>&1";
+    pid_ = fork();
+    if (pid_ < 0) {
+      ADD_FAILURE() << "fork failed";
+      return 0;
+    }
+    if (pid_ == 0) {
+      setsid();  // its own process group: Stop ends xvfb-run, Xvfb and the viewer together
+      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    bool exited = false;
+    const bool up = WaitFor([&] {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {  // gone before its first frames
+        exited = true;
+        pid_ = -1;
+        return true;
+      }
+      const std::string text = test::ReadFileBytes(display_file);
+      const size_t nl = text.find('\n');
+      if (nl == std::string::npos || text.back() != '\n') return false;
+      display_ = text.substr(0, nl);
+      xauthority_ = text.substr(nl + 1, text.size() - nl - 2);
+      return !display_.empty() && ReadTrace() && frame_ >= 3;
+    }, 60.0);
+    if (up && !exited) return 1;
+    if (Log().find("xvfb-run: error") != std::string::npos) return -1;
+    ADD_FAILURE() << (exited ? "the viewer exited before its first frames"
+                             : "the viewer showed no frame within 60 s")
+                  << " (display '" << display_ << "')\n" << Log();
+    return 0;
+  }
+
   template <typename F>
   static bool WaitFor(F done, double seconds) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
