@@ -14,13 +14,13 @@ set -euo pipefail
 # Google Benchmark for tests/ and bench/; python3-jsonschema checks the rig schema in a test;
 # GLFW, Dear ImGui 1.86, OpenGL and GLM for the viewer (built by default when they are found,
 # docs/viewer.md), Xvfb and xauth (xvfb-run) for its headless screenshots, and Mesa's software
-# OpenGL under it. The runtime libraries need none of them.
+# OpenGL under it, xdotool for the tests that drive its UI with synthetic input. The runtime libraries need none of them.
 packages=(
   build-essential cmake pkg-config git
   nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libstb-dev libspng-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
-  libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth libgl1-mesa-dri
+  libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth libgl1-mesa-dri xdotool
 )
 if [[ "${1:-}" == "--fuzz" ]]; then
   packages+=(clang libclang-rt-14-dev)  # Debian 12's clang 14; the runtime holds libFuzzer

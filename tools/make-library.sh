@@ -34,9 +34,9 @@ for e in json.load(open(sys.argv[1]))["expressions"]:
 PY
 while read -r name sets; do
   # shellcheck disable=SC2086  # $sets is a list of arguments
-  "$mimetic" eval "$rig" $sets --out "$tmp/$name.obj" > /dev/null
-  "$mimetic" render "$tmp/$name.obj" --out "$out/$name.png" --size 400 --zoom 2.3 --focus 0.5,0.55 > /dev/null
+  "$mimetic" eval "$rig" $sets --out "$tmp/$name.glb" > /dev/null
+  "$mimetic" render "$tmp/$name.glb" --out "$out/$name.png" --size 400 --zoom 2.3 --focus 0.5,0.55 > /dev/null
   python3 tools/png_gray.py "$out/$name.png"  # a quarter of the bytes
-  rm -f "$tmp/$name.obj"
+  rm -f "$tmp/$name.glb"
   echo "rendered $out/$name.png"
 done < "$tmp/list"

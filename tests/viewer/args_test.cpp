@@ -39,6 +39,23 @@ TEST(ViewerArgs, PanelsOpenTheRigEditors) {
   EXPECT_EQ(error, "--panel timeline: expected muscle-editor, uv-curves or directions");
 }
 
+TEST(ViewerArgs, UiTraceIsForTheWindowOnly) {
+  ViewerArgs a;
+  std::string error;
+  ASSERT_TRUE(ParseViewerArgs({"r.rig.json", "--ui-trace", "t.json"}, &a, &error)) << error;
+  EXPECT_EQ(a.ui_trace, "t.json");
+  EXPECT_FALSE(a.headless());
+  ASSERT_TRUE(ParseViewerArgs({"--ui-trace=u.json"}, &a, &error)) << error;  // no rig: fine
+  EXPECT_EQ(a.ui_trace, "u.json");
+  ASSERT_TRUE(ParseViewerArgs({"r.rig.json"}, &a, &error)) << error;
+  EXPECT_EQ(a.ui_trace, "");  // off by default
+  EXPECT_FALSE(ParseViewerArgs({"r.rig.json", "--ui-trace"}, &a, &error));
+  EXPECT_EQ(error, "--ui-trace: missing value");
+  EXPECT_FALSE(ParseViewerArgs({"r.rig.json", "--ui-trace", "t.json", "--screenshot", "o.png"}, &a, &error));
+  EXPECT_EQ(error, "--ui-trace traces the window's widgets: it excludes --screenshot, --bench-frames "
+                   "and --script");
+}
+
 TEST(ViewerArgs, SetsAndDefaults) {
   ViewerArgs a;
   std::string error;

@@ -90,6 +90,18 @@ struct App {
     return session.clip_dirty() || session.library_dirty() || session.rig_dirty();
   }
 
+  // --ui-trace FILE (docs/viewer.md "Tested by driving the UI"): the screen rectangles of the
+  // widgets the UI tests drive, collected during a frame (TraceItem) and written after it
+  // (WriteUiTrace), with numbers the tests need (the UV editor's pixels per uv).
+  struct TraceRect {
+    std::string name;
+    float x0, y0, x1, y1;
+  };
+  std::string ui_trace_path;
+  std::vector<TraceRect> ui_trace;
+  std::vector<std::pair<std::string, double>> ui_trace_values;
+  uint64_t ui_frame = 0;
+
   bool dirty = true;  // the pose or the overlay changed: evaluate again
   FrameStats stats;
   std::vector<uint32_t> point_vertex;  // point -> one of its vertices (gizmo points)
@@ -121,5 +133,12 @@ void ReleaseRigPanels(App* app);
 // Ctrl+Z / Ctrl+Shift+Z / Ctrl+Y, Ctrl+S, Ctrl+C / Ctrl+V, Ins, Del (not while a text field
 // has the keyboard).
 void HandleEditShortcuts(App* app);
+// --ui-trace: TraceItem records the last ImGui item's rectangle as `name` (nothing without
+// --ui-trace); TraceValue a number; WriteUiTrace writes the frame's records to the trace file
+// (atomically) as {"frame": N, "window": [x, y], "items": {name: [x0, y0, x1, y1]},
+// "values": {name: v}} and starts the next frame's.
+void TraceItem(App* app, const std::string& name);
+void TraceValue(App* app, const std::string& name, double value);
+void WriteUiTrace(App* app, int window_x, int window_y);
 
 }  // namespace mimetic::viewer

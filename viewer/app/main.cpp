@@ -290,6 +290,9 @@ void Interactive(App* app, GLFWwindow* window) {
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);
     UiFrame(app, ww, wh);
+    int wx = 0, wy = 0;
+    glfwGetWindowPos(window, &wx, &wy);
+    WriteUiTrace(app, wx, wy);
     Render(app, w, h);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     glfwSwapBuffers(window);
@@ -346,6 +349,7 @@ int Main(int argc, char** argv) {
       } else {
         LoadInputs(args, &app);
         app.autosave_seconds = args.autosave_seconds;
+        app.ui_trace_path = args.ui_trace;
         app.last_autosave = glfwGetTime();
         app.offer_recovery = !args.recover && !app.session.PendingAutosaves().empty();
         Interactive(&app, window);

@@ -41,6 +41,10 @@ void FilesPanel(App* app) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("Files");
+  if (!app->ui_trace_path.empty()) {  // the window itself (its title bar brings it to the front)
+    const ImVec2 lo = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    app->ui_trace.push_back({"window/Files", lo.x, lo.y, lo.x + size.x, lo.y + size.y});
+  }
   Session& s = app->session;
   ImGui::InputText("rig", app->rig_field, sizeof app->rig_field);
   ImGui::SameLine();
@@ -58,6 +62,7 @@ void FilesPanel(App* app) {
   if (ImGui::Button("Save clip (Ctrl+S)")) s.SaveClipFile(app->clip_field);
   ImGui::SameLine();
   if (ImGui::Button("Save library")) s.SaveLibraryFile(app->library_field);
+  TraceItem(app, "files/save-library");
   ImGui::SameLine();
   if (ImGui::Button("New clip") && s.has_rig()) {
     if (s.clip_dirty()) app->pending_load = 4;
@@ -72,6 +77,7 @@ void FilesPanel(App* app) {
   const EditHistory& h = s.history();
   ImGui::BeginDisabled(!h.CanUndo());
   if (ImGui::Button("Undo (Ctrl+Z)")) app->Undo();
+  TraceItem(app, "files/undo");
   ImGui::EndDisabled();
   ImGui::SameLine();
   ImGui::BeginDisabled(!h.CanRedo());
@@ -196,7 +202,13 @@ void MusclesPanel(App* app, float height) {
         app->UpdateGizmos();
       }
       ImGui::SameLine();
-      if (ImGui::SliderFloat(rig.muscle_names()[m].c_str(), &s.activations[m], 0.f, 1.f)) {
+      const float frame_w = ImGui::CalcItemWidth();  // the slider's frame, without its label
+      const bool moved = ImGui::SliderFloat(rig.muscle_names()[m].c_str(), &s.activations[m], 0.f, 1.f);
+      if (!app->ui_trace_path.empty()) {
+        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+        app->ui_trace.push_back({"muscle/" + rig.muscle_names()[m], lo.x, lo.y, lo.x + frame_w, hi.y});
+      }
+      if (moved) {
         if (app->link_sides)
           if (const int other = MirrorMuscle(rig.muscle_names(), m); other >= 0)
             s.activations[size_t(other)] = s.activations[m];
@@ -223,9 +235,13 @@ void ExpressionsPanel(App* app, float width) {
                      s.library_dirty() ? " (unsaved)" : "");
   // Save the pose as a new expression (an existing name asks to overwrite it).
   ImGui::InputText("##name", app->expr_name, sizeof app->expr_name);
+  TraceItem(app, "expr/name");
+  TraceValue(app, "library/expressions", double(s.library().size()));
   ImGui::SameLine();
   int open_modal = 0;  // 1 overwrite, 2 rename, 3 delete: opened at the window's level below
-  if (ImGui::Button("Save pose as") && app->expr_name[0] != '\0' && s.has_rig()) {
+  const bool save_pose = ImGui::Button("Save pose as");
+  TraceItem(app, "expr/save-pose-as");
+  if (save_pose && app->expr_name[0] != '\0' && s.has_rig()) {
     app->expr_target = -1;
     for (size_t e = 0; e < s.library().size(); ++e)
       if (s.library()[e].name == app->expr_name) app->expr_target = int(e);
@@ -645,7 +661,9 @@ void SafetyPopups(App* app) {
     if (s.clip_dirty()) ImGui::Text("clip %s: unsaved changes", s.clip_path().c_str());
     if (s.library_dirty()) ImGui::Text("library %s: unsaved changes", s.library_path().c_str());
     if (s.rig_dirty()) ImGui::Text("rig %s: unsaved changes", s.rig_path().c_str());
-    if (ImGui::Button("Save and quit")) {
+    const bool save_and_quit = ImGui::Button("Save and quit");
+    TraceItem(app, "quit/save-and-quit");
+    if (save_and_quit) {
       const bool ok = (!s.clip_dirty() || s.SaveClipFile()) && (!s.library_dirty() || s.SaveLibraryFile()) &&
                       (!s.rig_dirty() || s.SaveRigFile());
       app->close_requested = false;
@@ -653,7 +671,9 @@ void SafetyPopups(App* app) {
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Quit without saving")) {
+    const bool quit = ImGui::Button("Quit without saving");
+    TraceItem(app, "quit/without-saving");
+    if (quit) {
       app->close_requested = false;
       app->close_confirmed = true;
       ImGui::CloseCurrentPopup();
@@ -709,6 +729,56 @@ void HandleEditShortcuts(App* app) {
   if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_V, false)) PasteAtPlayhead(app);
   if (ImGui::IsKeyPressed(GLFW_KEY_INSERT, false)) AddKeyAtPlayhead(app);
   if (ImGui::IsKeyPressed(GLFW_KEY_DELETE, false)) DeleteSelection(app);
+}
+
+void TraceItem(App* app, const std::string& name) {
+  if (app->ui_trace_path.empty()) return;
+  const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+  app->ui_trace.push_back({name, lo.x, lo.y, hi.x, hi.y});
+}
+
+void TraceValue(App* app, const std::string& name, double value) {
+  if (!app->ui_trace_path.empty()) app->ui_trace_values.emplace_back(name, value);
+}
+
+namespace {
+std::string JsonString(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out + "\"";
+}
+}  // namespace
+
+void WriteUiTrace(App* app, int window_x, int window_y) {
+  if (app->ui_trace_path.empty()) return;
+  char number[64];
+  std::string body = "\"window\": [" + std::to_string(window_x) + ", " + std::to_string(window_y) +
+                     "],\n \"items\": {";
+  for (size_t i = 0; i < app->ui_trace.size(); ++i) {
+    const App::TraceRect& r = app->ui_trace[i];
+    std::snprintf(number, sizeof number, "[%.2f, %.2f, %.2f, %.2f]", r.x0, r.y0, r.x1, r.y1);
+    body += (i ? ",\n  " : "\n  ") + JsonString(r.name) + ": " + number;
+  }
+  body += "},\n \"values\": {";
+  for (size_t i = 0; i < app->ui_trace_values.size(); ++i) {
+    std::snprintf(number, sizeof number, "%.9g", app->ui_trace_values[i].second);
+    body += (i ? ",\n  " : "\n  ") + JsonString(app->ui_trace_values[i].first) + ": " + number;
+  }
+  body += "}}\n";
+  app->ui_trace.clear();
+  app->ui_trace_values.clear();
+  ++app->ui_frame;
+  // Every frame (the tests wait for a frame number to pass), through a temporary file and a
+  // rename, so a reader never sees half a trace.
+  const std::string text = "{\"frame\": " + std::to_string(app->ui_frame) + ",\n " + body;
+  const std::string tmp = app->ui_trace_path + ".tmp";
+  FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return;
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (std::fclose(f) == 0 && ok) std::rename(tmp.c_str(), app->ui_trace_path.c_str());
 }
 
 void DrawPanels(App* app, float width, float height) {

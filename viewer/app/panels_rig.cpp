@@ -312,7 +312,12 @@ void UvCurvesPanel(App* app, float width, float height) {
   Session& s = app->session;
   if (app->uv_texture_stale) MakeUvTexture(app);
   if (app->selected_curve < 0 && !spec->curve_wrinkles.empty()) app->selected_curve = 0;
+  // The rebuild's status takes one row whether it shows or not: the canvas below (and with it
+  // the pixels-to-uv mapping) must not move when a drag's first edit starts a rebuild, or the
+  // dragged point would leave the pointer (ViewerUiDrive.DraggingAUvControlPoint...).
+  const float status_y = ImGui::GetCursorPosY();
   RebuildStatus(app);
+  ImGui::SetCursorPosY(status_y + ImGui::GetFrameHeightWithSpacing());
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const bool has_selection = app->selected_curve >= 0 && size_t(app->selected_curve) < spec->curve_wrinkles.size();
   const ImVec2 canvas(std::max(100.f, avail.x), std::max(100.f, avail.y - (has_selection ? 205.f : 60.f)));
@@ -329,6 +334,8 @@ void UvCurvesPanel(App* app, float width, float height) {
   };
   ImGui::InvisibleButton("uv", canvas, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
   ImGui::SetItemUsingMouseWheel();  // the wheel zooms the view, it does not scroll the window
+  TraceItem(app, "uv/canvas");
+  TraceValue(app, "uv/pixels-per-uv", scale);
   const bool hovered = ImGui::IsItemHovered();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 end(origin.x + canvas.x, origin.y + canvas.y);
@@ -380,6 +387,8 @@ void UvCurvesPanel(App* app, float width, float height) {
       dl->AddLine(to_screen(cw.control[k]), to_screen(cw.control[k + 1]), IM_COL32(150, 150, 170, sel ? 200 : 90));
     for (int k = 0; k < 4; ++k) {
       const ImVec2 p = to_screen(cw.control[k]);
+      if (!app->ui_trace_path.empty())
+        app->ui_trace.push_back({"uv/point/" + spec->curve_wrinkles[c].name + "/" + std::to_string(k), p.x, p.y, p.x, p.y});
       const bool end_point = k == 0 || k == 3;
       dl->AddCircleFilled(p, sel ? 5.f : 3.5f, end_point ? IM_COL32(255, 255, 255, 230) : IM_COL32(120, 200, 255, 230));
       const float d = std::hypot(p.x - mouse.x, p.y - mouse.y);
@@ -601,6 +610,7 @@ void RigFilesRow(App* app) {
   ImGui::Separator();
   ImGui::BeginDisabled(!s.rig_spec());
   if (ImGui::Button("Save rig")) s.SaveRigFile(app->rig_field);
+  TraceItem(app, "files/save-rig");
   ImGui::EndDisabled();
   ImGui::SameLine();
   ImGui::TextColored(s.rig_dirty() ? ImVec4(1.f, 0.8f, 0.3f, 1.f) : ImVec4(0.6f, 0.8f, 0.6f, 1.f), "rig: %s",

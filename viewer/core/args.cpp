@@ -37,7 +37,7 @@ const char* ViewerUsage() {
          "                      [--panel muscle-editor|uv-curves|directions]\n"
          "                      [--bench-frames N] [--threads N]\n"
          "                      [--script FILE] [--autosave-seconds N] [--recover]\n"
-         "                      [--fine DIR [--fine-depth D]]\n\n"
+         "                      [--fine DIR [--fine-depth D]] [--ui-trace FILE]\n\n"
          "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
          "overlays, a slider per muscle, expressions and clips (docs/viewer.md). A file that\n"
          "fails to load is reported in the Messages panel; the viewer keeps what it had.\n\n"
@@ -73,6 +73,10 @@ const char* ViewerUsage() {
          "                       scaled per vertex by the evaluator's fine-scale amplitude\n"
          "  --fine-depth D       a full furrow's depth at amplitude 1, mesh units (default\n"
          "                       0.15; needs --fine)\n"
+         "  --ui-trace FILE      (the window only; for tests) after each frame, write the\n"
+         "                       screen rectangles of the widgets the UI tests drive to FILE\n"
+         "                       as JSON (written atomically; docs/viewer.md \"Tested by\n"
+         "                       driving the UI\")\n"
          "  -h, --help           this text\n";
 }
 
@@ -106,7 +110,7 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
                                     "--size", "--overlay", "--view", "--select", "--panel", "--bench-frames",
                                     "--threads", "--script", "--autosave-seconds", "--fine",
-                                    "--fine-depth"};
+                                    "--fine-depth", "--ui-trace"};
     bool valued = false;
     for (const char* k : kValued) valued = valued || a == k;
     if (!valued) {
@@ -128,6 +132,12 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->clip = value;
     } else if (a == "--library") {
       out->library = value;
+    } else if (a == "--ui-trace") {
+      if (value.empty()) {
+        *error = "--ui-trace: expected a file to write";
+        return false;
+      }
+      out->ui_trace = value;
     } else if (a == "--select") {
       out->select = value;
     } else if (a == "--panel") {
@@ -227,6 +237,11 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
       out->screenshot.empty() && out->bench_frames == 0 && out->script.empty()) {
     *error = "--size, --overlay, --view, --ui and --select need --screenshot OUT.png (or "
              "--bench-frames, or --script)";
+    return false;
+  }
+  if (!out->ui_trace.empty() && out->headless()) {
+    *error = "--ui-trace traces the window's widgets: it excludes --screenshot, --bench-frames "
+             "and --script";
     return false;
   }
   if (out->headless() && out->rig.empty()) {

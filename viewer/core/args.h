@@ -3,7 +3,7 @@
 //   mimetic-viewer [RIG] [--clip CLIP] [--library LIB] [--time T | --set NAME=V ...]
 //                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]] [--panel NAME]
 //                  [--bench-frames N] [--threads N] [--script FILE] [--autosave-seconds N] [--recover]
-//                  [--fine DIR [--fine-depth D]]
+//                  [--fine DIR [--fine-depth D]] [--ui-trace FILE]
 #pragma once
 
 #include <string>
@@ -38,6 +38,7 @@ struct ViewerArgs {
   std::string fine;               // --fine DIR: the fine-scale height maps to bump-map with
   bool has_fine_depth = false;    // --fine-depth given (needs --fine)
   float fine_depth = 0.15f;       // --fine-depth D, mesh units
+  std::string ui_trace;           // --ui-trace FILE: the window writes its widgets' rects (tests)
   bool help = false;              // --help / -h
   bool headless() const { return !screenshot.empty() || bench_frames > 0 || !script.empty(); }
 };
