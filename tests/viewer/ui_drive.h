@@ -71,7 +71,7 @@ class UiDriver {
     return false;
   }
 
-  // Ends the process group  // Ends the process group (SIGTERM, then SIGKILL after 10 s); the files a test saved before are
+  // Ends the process group (SIGTERM, then SIGKILL after 10 s); the files a test saved before are
   // complete (the viewer writes them atomically).
   void Stop() {
     if (pid_ <= 0) return;
@@ -83,6 +83,20 @@ class UiDriver {
       waitpid(pid_, &status, 0);
     }
     pid_ = -1;
+  }
+
+  // Waits (`seconds` at most) for the viewer to end by itself (xvfb-run passes its exit status
+  // on): true with the exit code (-1: killed by a signal); false, a failure recorded, when it
+  // still runs (Stop then ends it).
+  bool WaitExit(double seconds, int* code) {
+    int status = 0;
+    if (pid_ <= 0 || !WaitFor([&] { return waitpid(pid_, &status, WNOHANG) == pid_; }, seconds)) {
+      ADD_FAILURE() << "the viewer did not exit within " << seconds << " s\n" << Log();
+      return false;
+    }
+    pid_ = -1;
+    *code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return true;
   }
 
   std::string Log() const { return "viewer output:\n" + test::ReadFileBytes(log_); }

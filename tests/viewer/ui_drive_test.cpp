@@ -220,5 +220,82 @@ TEST(ViewerUiDrive, DraggingAUvControlPointMovesItByThePixelsOverTheScale) {
       EXPECT_NEAR(undone[j][a].get<double>(), before[j][a].get<double>(), 1e-6) << curve << " point " << j << "\n" << ui.Log();
 }
 
+// A pose saved as an expression leaves the library with unsaved changes. Ctrl+Q (the pointer
+// over the 3D view) asks first ("Quit with unsaved changes?"): "Save and quit" ends the viewer
+// with exit 0 and the library file holds the expression; "Quit without saving" ends it and
+// leaves the file as it was, byte for byte.
+void SavePoseAs(UiDriver& ui, const std::string& name) {
+  Rect slider;
+  const std::string muscle = FirstMuscle(ui, &slider);
+  ASSERT_FALSE(muscle.empty());
+  ASSERT_TRUE(ui.CtrlClick(int(slider.cx()), int(slider.cy())));
+  ASSERT_TRUE(ui.Key("ctrl+a"));
+  ASSERT_TRUE(ui.Type("0.5"));
+  ASSERT_TRUE(ui.Key("Return"));
+  ASSERT_TRUE(ui.ClickItem("expr/name"));
+  ASSERT_TRUE(ui.Type(name));
+  ASSERT_TRUE(ui.ClickItem("expr/save-pose-as"));
+  ASSERT_TRUE(ui.MoveTo(UiDriver::kWidth / 2, UiDriver::kHeight / 2));
+}
+
+TEST(ViewerUiDrive, CtrlQWithUnsavedChangesAsksThenSavesOrQuitsAsAnswered) {
+  REQUIRE_XVFB_AND_XDOTOOL();
+  for (const bool save : {true, false}) {
+    SCOPED_TRACE(save ? "save and quit" : "quit without saving");
+    const std::string dir = test::TempDir();
+    const SurfaceFiles files = CopySurface(dir);
+    const std::string before = test::ReadFileBytes(files.library);
+    UiDriver ui;
+    ASSERT_TRUE(ui.Start({files.rig, "--library", files.library}));
+    SavePoseAs(ui, "ui_quit");
+    ASSERT_TRUE(ui.Key("ctrl+q"));
+    ASSERT_TRUE(ui.Frames());
+    ASSERT_TRUE(ui.Has("quit/save-and-quit")) << "Ctrl+Q with unsaved changes did not ask\n" << ui.Log();
+    // The last click: the viewer ends on the frame after the button goes up, so no frames
+    // are waited for after it.
+    const Rect button = ui.Item(save ? "quit/save-and-quit" : "quit/without-saving");
+    ASSERT_TRUE(ui.MoveTo(int(button.cx()), int(button.cy())));
+    ASSERT_TRUE(ui.Xdo("mousedown 1"));
+    ASSERT_TRUE(ui.Xdo("mouseup 1", 0));
+    int code = -2;
+    ASSERT_TRUE(ui.WaitExit(20.0, &code));
+    EXPECT_EQ(code, 0) << ui.Log();
+    if (save) {
+      const json library = ReadJson(files.library);
+      EXPECT_NE(FindExpression(library, "ui_quit"), nullptr) << library.dump(1);
+    } else {
+      EXPECT_EQ(test::ReadFileBytes(files.library), before);
+    }
+  }
+}
+
+// Loading the library again with unsaved changes asks first ("Discard unsaved changes?"):
+// Cancel keeps the edited library (the new expression is still listed); Discard loads the file,
+// which does not have it.
+TEST(ViewerUiDrive, LoadingOverUnsavedChangesAsksAndCancelKeepsThem) {
+  REQUIRE_XVFB_AND_XDOTOOL();
+  const std::string dir = test::TempDir();
+  const SurfaceFiles files = CopySurface(dir);
+  const size_t on_file = ReadJson(files.library)["expressions"].size();
+  UiDriver ui;
+  ASSERT_TRUE(ui.Start({files.rig, "--library", files.library}));
+  SavePoseAs(ui, "ui_kept");
+  ASSERT_EQ(ui.Value("library/expressions"), double(on_file + 1));
+  ASSERT_TRUE(FilesToFront(ui));
+  ASSERT_TRUE(ui.ClickItem("files/load-library"));
+  ASSERT_TRUE(ui.Frames());
+  ASSERT_TRUE(ui.Has("discard/cancel")) << "loading over unsaved changes did not ask\n" << ui.Log();
+  ASSERT_TRUE(ui.ClickItem("discard/cancel"));
+  ASSERT_TRUE(ui.Frames());
+  EXPECT_FALSE(ui.Has("discard/cancel"));
+  EXPECT_EQ(ui.Value("library/expressions"), double(on_file + 1)) << "Cancel dropped the edit";
+  ASSERT_TRUE(ui.ClickItem("files/load-library"));
+  ASSERT_TRUE(ui.Frames());
+  ASSERT_TRUE(ui.ClickItem("discard/discard"));
+  ASSERT_TRUE(ui.Frames());
+  EXPECT_EQ(ui.Value("library/expressions"), double(on_file)) << "Discard did not load the file";
+  ui.Stop();
+}
+
 }  // namespace
 }  // namespace mimetic::viewer

@@ -59,6 +59,7 @@ struct App {
   double autosave_seconds = 60.0, last_autosave = 0.0;
   bool offer_recovery = false;    // the start found .autosave files (a popup asks)
   bool close_requested = false;   // the window's close button with unsaved changes
+  bool quit_requested = false;    // Ctrl+Q: closes the window as its close button does
   bool close_confirmed = false;
   int pending_load = 0;           // 1 rig, 2 library, 3 clip: asked to discard unsaved edits
 

@@ -224,7 +224,12 @@ void Interactive(App* app, GLFWwindow* window) {
   double last = glfwGetTime();
   float last_x = -1.f, last_y = -1.f;
   while (true) {
-    // Closing the window with unsaved edits asks first (SafetyPopups in panels.cpp).
+    // Closing the window (its button or Ctrl+Q) with unsaved edits asks first (SafetyPopups
+    // in panels.cpp).
+    if (app->quit_requested) {
+      app->quit_requested = false;
+      glfwSetWindowShouldClose(window, GLFW_TRUE);
+    }
     if (glfwWindowShouldClose(window) || app->close_confirmed) {
       if (app->close_confirmed || !app->unsaved()) break;
       glfwSetWindowShouldClose(window, GLFW_FALSE);

@@ -55,6 +55,7 @@ void FilesPanel(App* app) {
   ImGui::InputText("library", app->library_field, sizeof app->library_field);
   ImGui::SameLine();
   if (ImGui::Button("Load##lib")) AskLoad(app, 2);
+  TraceItem(app, "files/load-library");
   ImGui::InputText("clip", app->clip_field, sizeof app->clip_field);
   ImGui::SameLine();
   if (ImGui::Button("Load##clip")) AskLoad(app, 3);
@@ -640,7 +641,9 @@ void SafetyPopups(App* app) {
                            : app->pending_load == 1 && s.library_dirty()
                                ? "The clip or the library has unsaved changes."
                                : "The clip has unsaved changes.");
-    if (ImGui::Button("Discard them")) {
+    const bool discard = ImGui::Button("Discard them");
+    TraceItem(app, "discard/discard");
+    if (discard) {
       if (app->pending_load == 4) {
         if (s.NewClip(app->clip_field)) app->OnEdited();
       } else {
@@ -650,7 +653,9 @@ void SafetyPopups(App* app) {
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) {
+    const bool cancel = ImGui::Button("Cancel");
+    TraceItem(app, "discard/cancel");
+    if (cancel) {
       app->pending_load = 0;
       ImGui::CloseCurrentPopup();
     }
@@ -722,6 +727,7 @@ void HandleEditShortcuts(App* app) {
     else app->Undo();
   }
   if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Y, false)) app->Redo();
+  if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Q, false)) app->quit_requested = true;
   if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_S, false) && s.has_clip_spec()) s.SaveClipFile(app->clip_field);
   if (!s.has_clip_spec()) return;
   if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_C, false) && !s.selection.empty())
