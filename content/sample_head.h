@@ -126,4 +126,13 @@ SampleHead MakeSampleHead(const SampleHeadOptions& options = {});
 // is the left one's exact mirror image. rings clamped to [3, 256], segments to [3, 1024].
 MeshData MakeSampleHeadEyes(int rings = 24, int segments = 48);
 
+// The colour an eyeball is drawn with at a point of outward unit normal `n` (an eye looking
+// along +z): a dark pupil within 12 degrees of +z, a blue-grey iris within 30, white sclera
+// elsewhere. `mimetic render` and the viewer colour a mesh named "eyes" by it.
+inline float3 SampleHeadEyeColor(float3 n) {
+  return n.z > 0.978f ? float3{0.06f, 0.05f, 0.05f}
+         : n.z > 0.866f ? float3{0.30f, 0.42f, 0.52f}
+                        : float3{0.93f, 0.91f, 0.88f};
+}
+
 }  // namespace mimetic

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "content/sample_head.h"
 #include "geometry/mesh.h"
 #include "io/image.h"
 #include "io/mesh_io.h"
@@ -191,10 +192,7 @@ int CmdRender(const Args& args) {
       const bool eyes = m.name == "eyes" && m.mesh.normals.size() == m.mesh.vertex_count();
       for (size_t k = 0; k < m.mesh.vertex_count(); ++k, ++v) {
         if (!eyes) continue;
-        const float nz = m.mesh.normals[k].z;
-        colors[v] = nz > 0.978f ? float3{0.06f, 0.05f, 0.05f}
-                    : nz > 0.866f ? float3{0.30f, 0.42f, 0.52f}
-                                  : float3{0.93f, 0.91f, 0.88f};
+        colors[v] = SampleHeadEyeColor(m.mesh.normals[k]);
       }
     }
   }

@@ -15,6 +15,8 @@
 #include "core/image.h"
 #include "io/clip_file.h"
 #include "io/image.h"
+#include "io/mesh_io.h"
+#include "sample_rig.h"
 #include "test_support.h"
 
 namespace mimetic::viewer {
@@ -388,6 +390,38 @@ TEST(ViewerHeadless, MissingFineMapsExit1NamingTheFile) {
   EXPECT_NE(r.output.find(dir + "/fine_height_1.png"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("mimetic texture"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace mimetic::viewer
+
+namespace mimetic::viewer {
+namespace {
+
+// The rig's mesh file's other meshes are drawn beside the skin (the sample head's eyeballs,
+// docs/viewer.md): the same rig on a copy of its glb without the eyes mesh draws the same
+// skin, so the two frames differ only where the eyes are, and they do differ there (in the
+// upper middle of the face, the eye line), nowhere near the chin.
+TEST(ViewerHeadless, TheMeshFilesEyeballsAreDrawnBesideTheSkin) {
+  REQUIRE_XVFB();
+  const std::string dir = test::TempDir();
+  MeshData skin;
+  Diagnostics diag;
+  ASSERT_TRUE(ImportMesh(test::SourceDir() + "/assets/head/sample_head.glb", "", &skin, &diag))
+      << diag.Format();
+  ASSERT_TRUE(ExportMesh(dir + "/skin_only.glb", skin, &diag)) << diag.Format();
+  const std::string skin_only = test::EditedSampleRig("skin_only", [&](nlohmann::json& j) {
+    j["mesh"] = {{"path", dir + "/skin_only.glb"}};
+  });
+  const GrayImage with = Screenshot({Head()}, "with_eyes");
+  const GrayImage without = Screenshot({skin_only}, "without_eyes");
+  ASSERT_EQ(with.pixels.size(), without.pixels.size());
+  const Box b = Silhouette(with);
+  const int h = b.bottom - b.top;
+  // The eye line: 40-50% of the head's height from the crown in this front view.
+  const int eyes0 = b.top + int(0.40 * h), eyes1 = b.top + int(0.52 * h);
+  EXPECT_GT(MeanDifference(with, without, eyes0, eyes1, b.left, b.right), 0.5);
+  EXPECT_EQ(MeanDifference(with, without, b.top + int(0.8 * h), b.bottom, b.left, b.right), 0.0);
 }
 
 }  // namespace

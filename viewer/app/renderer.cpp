@@ -185,6 +185,16 @@ bool Renderer::Init(std::string* error) {
   Attribute(uv_vbo_, 3, 2);
   Attribute(amplitude_vbo_, 4, 2);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_ebo_);
+  glGenVertexArrays(1, &static_vao_);
+  glGenBuffers(3, static_vbo_);
+  glGenBuffers(1, &static_ebo_);
+  glBindVertexArray(static_vao_);
+  Attribute(static_vbo_[0], 0);
+  Attribute(static_vbo_[1], 1);
+  Attribute(static_vbo_[2], 2);
+  glVertexAttrib2f(3, 0.f, 0.f);  // no uvs, amplitude 0: never bump-mapped
+  glVertexAttrib2f(4, 0.f, 0.f);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, static_ebo_);
   glGenVertexArrays(1, &gizmo_vao_);
   glGenBuffers(1, &gizmo_vbo_);
   glGenBuffers(1, &gizmo_color_vbo_);
@@ -200,8 +210,10 @@ void Renderer::Shutdown() {
                               index_ebo_, gizmo_vbo_, gizmo_color_vbo_};
   glDeleteBuffers(8, buffers);
   glDeleteTextures(2, height_textures_);
-  const unsigned arrays[] = {vao_, gizmo_vao_};
-  glDeleteVertexArrays(2, arrays);
+  glDeleteBuffers(3, static_vbo_);
+  glDeleteBuffers(1, &static_ebo_);
+  const unsigned arrays[] = {vao_, gizmo_vao_, static_vao_};
+  glDeleteVertexArrays(3, arrays);
   glDeleteProgram(mesh_program_);
   glDeleteProgram(line_program_);
   if (fbo_) {
@@ -275,6 +287,23 @@ void Renderer::UploadColors(const std::vector<float3>& colors) {
   glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertex_count_) * 12, colors.data());
 }
 
+void Renderer::SetStaticMesh(const MeshData& mesh, const std::vector<float3>& colors) {
+  const size_t n = mesh.vertex_count();
+  static_index_count_ = 0;
+  if (n == 0 || mesh.normals.size() != n || colors.size() != n) return;
+  glBindVertexArray(static_vao_);
+  const std::vector<float3>* data[3] = {&mesh.positions, &mesh.normals, &colors};
+  for (int k = 0; k < 3; ++k) {
+    glBindBuffer(GL_ARRAY_BUFFER, static_vbo_[k]);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * 12), data[k]->data(), GL_STATIC_DRAW);
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, static_ebo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * 4), mesh.indices.data(),
+               GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  static_index_count_ = mesh.indices.size();
+}
+
 void Renderer::SetGizmos(const std::vector<float3>& lines, const std::vector<float3>& line_colors,
                          const std::vector<float3>& points, const std::vector<float3>& point_colors) {
   std::vector<float3> all = lines, colors = line_colors;
@@ -328,6 +357,16 @@ void Renderer::Draw(const DrawParams& p) {
     glPolygonOffset(1.f, 1.f);
     glDrawElements(GL_TRIANGLES, GLsizei(index_count_), GL_UNSIGNED_INT, nullptr);
     glDisable(GL_POLYGON_OFFSET_FILL);
+  }
+  if (p.surface && static_index_count_ > 0) {  // unposed, in its own colours, never bumped
+    glBindVertexArray(static_vao_);
+    glUniform1i(loc("u_flat"), 0);
+    glUniform1i(loc("u_overlay"), 1);
+    glUniform1i(loc("u_fine"), 0);
+    glDrawElements(GL_TRIANGLES, GLsizei(static_index_count_), GL_UNSIGNED_INT, nullptr);
+    glUniform1i(loc("u_overlay"), p.overlay ? 1 : 0);
+    glUniform1i(loc("u_fine"), fine ? 1 : 0);
+    glBindVertexArray(vao_);
   }
   if (p.wireframe) {
     glUniform1i(loc("u_flat"), 1);

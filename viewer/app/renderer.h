@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "geometry/mesh.h"
 #include "core/image.h"
 #include "core/math.h"
 
@@ -40,6 +41,9 @@ class Renderer {
   // Per frame: positions and normals (3 floats per vertex).
   void UploadFrame(const std::vector<float3>& positions, const std::vector<float3>& normals);
   void UploadColors(const std::vector<float3>& colors);
+  // A mesh drawn unposed beside the skin, in its own colours (the sample head's eyeballs); an
+  // empty one draws nothing.
+  void SetStaticMesh(const MeshData& mesh, const std::vector<float3>& colors);
   // Gizmo lines (pairs of endpoints) and points, in mesh space, one colour each.
   void SetGizmos(const std::vector<float3>& lines, const std::vector<float3>& line_colors,
                  const std::vector<float3>& points, const std::vector<float3>& point_colors);
@@ -58,6 +62,8 @@ class Renderer {
   bool has_fine_maps_ = false;
   float fine_texel_[2] = {1.f, 1.f};
   unsigned gizmo_vao_ = 0, gizmo_vbo_ = 0, gizmo_color_vbo_ = 0;
+  unsigned static_vao_ = 0, static_vbo_[3] = {0, 0, 0}, static_ebo_ = 0;
+  size_t static_index_count_ = 0;
   size_t index_count_ = 0, vertex_count_ = 0, gizmo_lines_ = 0, gizmo_points_ = 0;
   unsigned fbo_ = 0, color_rb_ = 0, depth_rb_ = 0;
   int fbo_width_ = 0, fbo_height_ = 0;

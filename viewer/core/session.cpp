@@ -57,11 +57,28 @@ void Session::AddMessages(const Diagnostics& diag, const std::string& closing) {
   if (!closing.empty()) messages_.push_back({diag.HasErrors(), closing});
 }
 
+namespace {
+// The rig's mesh file's other meshes; a file that fails to give them is a warning (the rig
+// itself loaded), not an error.
+std::vector<NamedMeshData> LoadCompanions(const LoadedRig& loaded, Diagnostics* diag) {
+  std::vector<NamedMeshData> out;
+  if (loaded.compiled || loaded.spec.mesh_path.empty()) return out;
+  Diagnostics local;
+  if (!ImportOtherMeshes(loaded.spec.mesh_path, loaded.spec.mesh_name, &out, &local)) {
+    out.clear();
+    diag->Warning(loaded.spec.mesh_path, "its other meshes are not drawn: " + local.Format());
+  }
+  return out;
+}
+}  // namespace
+
 bool Session::LoadRigFile(const std::string& path) {
   auto loaded = std::make_unique<LoadedRig>();
   Diagnostics diag;
   const bool ok = LoadRig(path, loaded.get(), &diag);
-  return AdoptLoadedRig(path, ok ? std::move(loaded) : nullptr, diag);
+  std::vector<NamedMeshData> companions;
+  if (ok) companions = LoadCompanions(*loaded, &diag);
+  return AdoptLoadedRig(path, ok ? std::move(loaded) : nullptr, diag, std::move(companions));
 }
 
 Session::~Session() { JoinFinishedLoaders(true); }
@@ -78,7 +95,10 @@ void Session::StartRigLoad(const std::string& path) {
     auto loaded = std::make_unique<LoadedRig>();
     Diagnostics diag;
     const bool ok = LoadRig(job->path, loaded.get(), &diag);
+    std::vector<NamedMeshData> companions;
+    if (ok) companions = LoadCompanions(*loaded, &diag);
     std::lock_guard<std::mutex> lock(job->mutex);
+    job->companions = std::move(companions);
     job->ok = ok;
     job->rig = std::move(loaded);
     job->diag = std::move(diag);
@@ -112,6 +132,7 @@ bool Session::rig_loading() const {
 bool Session::PollRigLoad() {
   if (!load_) return false;
   std::unique_ptr<LoadedRig> rig;
+  std::vector<NamedMeshData> companions;
   Diagnostics diag;
   bool ok = false;
   {
@@ -119,6 +140,7 @@ bool Session::PollRigLoad() {
     if (!load_->done) return false;
     ok = load_->ok;
     rig = std::move(load_->rig);
+    companions = std::move(load_->companions);
     diag = std::move(load_->diag);
   }
   const std::string path = load_->path;
@@ -132,7 +154,7 @@ bool Session::PollRigLoad() {
                                       "load it again to replace them"});
     return false;
   }
-  return AdoptLoadedRig(path, ok ? std::move(rig) : nullptr, diag);
+  return AdoptLoadedRig(path, ok ? std::move(rig) : nullptr, diag, std::move(companions));
 }
 
 bool Session::WaitRigLoad() {
@@ -146,7 +168,7 @@ bool Session::WaitRigLoad() {
 }
 
 bool Session::AdoptLoadedRig(const std::string& path, std::unique_ptr<LoadedRig> loaded,
-                             const Diagnostics& diag) {
+                             const Diagnostics& diag, std::vector<NamedMeshData> companions) {
   if (!loaded) {
     AddMessages(diag, path + ": " + std::to_string(diag.ErrorCount()) +
                           " error(s); the rig was not loaded" +
@@ -155,6 +177,7 @@ bool Session::AdoptLoadedRig(const std::string& path, std::unique_ptr<LoadedRig>
   }
   AddMessages(diag, "");
   rig_ = std::move(loaded);
+  companions_ = std::move(companions);
   rig_path_ = path;
   rebuilder_.Cancel();  // a rebuild of the old rig's spec is stale
   built_generation_ = rebuilder_.requested();
