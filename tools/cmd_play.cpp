@@ -22,7 +22,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
-#include "tools/companion_meshes.h"
+#include "io/companion_meshes.h"
 #include "tools/play_bake.h"
 #include "tools/play_golden.h"
 #include "tools/play_inputs.h"

@@ -14,7 +14,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
-#include "tools/companion_meshes.h"
+#include "io/companion_meshes.h"
 #include "tools/render/close_up.h"
 #include "tools/render/render.h"
 

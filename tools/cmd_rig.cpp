@@ -19,7 +19,7 @@
 #include "rig/runtime/evaluate_job.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
-#include "tools/companion_meshes.h"
+#include "io/companion_meshes.h"
 
 namespace mimetic::tools {
 namespace {

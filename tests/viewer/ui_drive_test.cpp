@@ -58,6 +58,24 @@ std::string FirstMuscle(const UiDriver& ui, Rect* rect) {
   return best.substr(7);
 }
 
+// Ctrl+click the top muscle slider, type `value`, Enter; name the pose in the Expressions
+// panel and "Save pose as"; the pointer then rests over the 3D view. *muscle gets the slider's.
+void SavePoseAs(UiDriver& ui, const std::string& name, const std::string& value = "0.5",
+                std::string* muscle = nullptr) {
+  Rect slider;
+  const std::string m = FirstMuscle(ui, &slider);
+  ASSERT_FALSE(m.empty());
+  if (muscle) *muscle = m;
+  ASSERT_TRUE(ui.CtrlClick(int(slider.cx()), int(slider.cy())));
+  ASSERT_TRUE(ui.Key("ctrl+a"));
+  ASSERT_TRUE(ui.Type(value));
+  ASSERT_TRUE(ui.Key("Return"));
+  ASSERT_TRUE(ui.ClickItem("expr/name"));
+  ASSERT_TRUE(ui.Type(name));
+  ASSERT_TRUE(ui.ClickItem("expr/save-pose-as"));
+  ASSERT_TRUE(ui.MoveTo(UiDriver::kWidth / 2, UiDriver::kHeight / 2));
+}
+
 // Ctrl+click on a muscle slider, type a value, Enter; name the pose in the Expressions panel,
 // "Save pose as", "Save library": the library file holds the new expression with exactly that
 // activation (and no other muscle active), beside the expressions it had.
@@ -68,16 +86,9 @@ TEST(ViewerUiDrive, TypingASliderValueAndSavingThePoseWritesTheExpression) {
   const size_t before = ReadJson(files.library)["expressions"].size();
   UiDriver ui;
   ASSERT_TRUE(ui.Start({files.rig, "--library", files.library}));
-  Rect slider;
-  const std::string muscle = FirstMuscle(ui, &slider);
+  std::string muscle;
+  SavePoseAs(ui, "ui_typed", "0.37", &muscle);
   ASSERT_FALSE(muscle.empty());
-  ASSERT_TRUE(ui.CtrlClick(int(slider.cx()), int(slider.cy())));
-  ASSERT_TRUE(ui.Key("ctrl+a"));
-  ASSERT_TRUE(ui.Type("0.37"));
-  ASSERT_TRUE(ui.Key("Return"));
-  ASSERT_TRUE(ui.ClickItem("expr/name"));
-  ASSERT_TRUE(ui.Type("ui_typed"));
-  ASSERT_TRUE(ui.ClickItem("expr/save-pose-as"));
   ASSERT_TRUE(ui.ClickItem("files/save-library"));
   ui.Stop();
   const json library = ReadJson(files.library);
@@ -224,20 +235,6 @@ TEST(ViewerUiDrive, DraggingAUvControlPointMovesItByThePixelsOverTheScale) {
 // over the 3D view) asks first ("Quit with unsaved changes?"): "Save and quit" ends the viewer
 // with exit 0 and the library file holds the expression; "Quit without saving" ends it and
 // leaves the file as it was, byte for byte.
-void SavePoseAs(UiDriver& ui, const std::string& name) {
-  Rect slider;
-  const std::string muscle = FirstMuscle(ui, &slider);
-  ASSERT_FALSE(muscle.empty());
-  ASSERT_TRUE(ui.CtrlClick(int(slider.cx()), int(slider.cy())));
-  ASSERT_TRUE(ui.Key("ctrl+a"));
-  ASSERT_TRUE(ui.Type("0.5"));
-  ASSERT_TRUE(ui.Key("Return"));
-  ASSERT_TRUE(ui.ClickItem("expr/name"));
-  ASSERT_TRUE(ui.Type(name));
-  ASSERT_TRUE(ui.ClickItem("expr/save-pose-as"));
-  ASSERT_TRUE(ui.MoveTo(UiDriver::kWidth / 2, UiDriver::kHeight / 2));
-}
-
 TEST(ViewerUiDrive, CtrlQWithUnsavedChangesAsksThenSavesOrQuitsAsAnswered) {
   REQUIRE_XVFB_AND_XDOTOOL();
   for (const bool save : {true, false}) {

@@ -18,18 +18,13 @@ void App::OnRigLoaded() {
   const Rig& rig = session.rig();
   renderer.SetMesh(rig.vertex_indices(), rig.vertex_count(), rig.vertex_uvs());
   // The mesh file's other meshes, unposed; "eyes" in the eyeballs' colours, others as skin.
-  MeshData others;
+  const MeshData others = MergeForDrawing(MeshData{}, session.companions());
   std::vector<float3> colors;
-  for (const NamedMeshData& m : session.companions()) {
-    if (m.mesh.normals.size() != m.mesh.vertex_count()) continue;
-    const uint32_t base = uint32_t(others.positions.size());
-    others.positions.insert(others.positions.end(), m.mesh.positions.begin(), m.mesh.positions.end());
-    others.normals.insert(others.normals.end(), m.mesh.normals.begin(), m.mesh.normals.end());
-    for (uint32_t i : m.mesh.indices) others.indices.push_back(base + i);
-    for (const float3& n : m.mesh.normals)
-      colors.push_back(m.name == "eyes" ? SampleHeadEyeColor(n) : float3{0.97f, 0.87f, 0.67f});
-  }
-  renderer.SetStaticMesh(others, colors);
+  for (const NamedMeshData& m : session.companions().others)
+    for (size_t k = 0; k < m.mesh.vertex_count(); ++k)
+      colors.push_back(m.name == "eyes" && k < m.mesh.normals.size() ? SampleHeadEyeColor(m.mesh.normals[k])
+                                                                     : float3{0.97f, 0.87f, 0.67f});
+  renderer.SetStaticMesh(others, colors);  // draws nothing when a part lacks normals
   const float3 lo = session.bounds_lo(), hi = session.bounds_hi();
   camera.Frame({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
   point_vertex.assign(rig.point_count(), 0);

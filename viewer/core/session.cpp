@@ -58,14 +58,13 @@ void Session::AddMessages(const Diagnostics& diag, const std::string& closing) {
 }
 
 namespace {
-// The rig's mesh file's other meshes; a file that fails to give them is a warning (the rig
-// itself loaded), not an error.
-std::vector<NamedMeshData> LoadCompanions(const LoadedRig& loaded, Diagnostics* diag) {
-  std::vector<NamedMeshData> out;
-  if (loaded.compiled || loaded.spec.mesh_path.empty()) return out;
+// The rig's mesh file's other meshes (io/companion_meshes.h); a file that fails to give them
+// is a warning (the rig itself loaded), not an error.
+CompanionMeshes LoadCompanions(const LoadedRig& loaded, Diagnostics* diag) {
+  CompanionMeshes out;
   Diagnostics local;
-  if (!ImportOtherMeshes(loaded.spec.mesh_path, loaded.spec.mesh_name, &out, &local)) {
-    out.clear();
+  if (!LoadCompanionMeshes(loaded, &out, &local)) {
+    out = CompanionMeshes{};
     diag->Warning(loaded.spec.mesh_path, "its other meshes are not drawn: " + local.Format());
   }
   return out;
@@ -76,7 +75,7 @@ bool Session::LoadRigFile(const std::string& path) {
   auto loaded = std::make_unique<LoadedRig>();
   Diagnostics diag;
   const bool ok = LoadRig(path, loaded.get(), &diag);
-  std::vector<NamedMeshData> companions;
+  CompanionMeshes companions;
   if (ok) companions = LoadCompanions(*loaded, &diag);
   return AdoptLoadedRig(path, ok ? std::move(loaded) : nullptr, diag, std::move(companions));
 }
@@ -95,7 +94,7 @@ void Session::StartRigLoad(const std::string& path) {
     auto loaded = std::make_unique<LoadedRig>();
     Diagnostics diag;
     const bool ok = LoadRig(job->path, loaded.get(), &diag);
-    std::vector<NamedMeshData> companions;
+    CompanionMeshes companions;
     if (ok) companions = LoadCompanions(*loaded, &diag);
     std::lock_guard<std::mutex> lock(job->mutex);
     job->companions = std::move(companions);
@@ -132,7 +131,7 @@ bool Session::rig_loading() const {
 bool Session::PollRigLoad() {
   if (!load_) return false;
   std::unique_ptr<LoadedRig> rig;
-  std::vector<NamedMeshData> companions;
+  CompanionMeshes companions;
   Diagnostics diag;
   bool ok = false;
   {
@@ -168,7 +167,7 @@ bool Session::WaitRigLoad() {
 }
 
 bool Session::AdoptLoadedRig(const std::string& path, std::unique_ptr<LoadedRig> loaded,
-                             const Diagnostics& diag, std::vector<NamedMeshData> companions) {
+                             const Diagnostics& diag, CompanionMeshes companions) {
   if (!loaded) {
     AddMessages(diag, path + ": " + std::to_string(diag.ErrorCount()) +
                           " error(s); the rig was not loaded" +

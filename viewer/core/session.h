@@ -19,7 +19,7 @@
 #include "expressions/offline/clip_spec.h"
 #include "expressions/runtime/clip.h"
 #include "io/expression_file.h"
-#include "io/mesh_io.h"
+#include "io/companion_meshes.h"
 #include "io/rig_loader.h"
 #include "rig/runtime/evaluate_job.h"
 #include "viewer/core/edit.h"
@@ -71,7 +71,7 @@ class Session {
   bool WaitRigLoad();
   // The rig's mesh file's other meshes (the sample head's eyeballs: io ImportOtherMeshes),
   // read with the rig and drawn unposed beside it; none for a .mrig or an OBJ.
-  const std::vector<NamedMeshData>& companions() const { return companions_; }
+  const CompanionMeshes& companions() const { return companions_; }
   // Needs a rig; a .clip.json is built with the library's expressions.
   bool LoadClipFile(const std::string& path);
   bool LoadLibraryFile(const std::string& path);
@@ -287,17 +287,17 @@ class Session {
     std::mutex mutex;
     bool done = false, ok = false;
     std::unique_ptr<LoadedRig> rig;
-    std::vector<NamedMeshData> companions;
+    CompanionMeshes companions;
     Diagnostics diag;
   };
-  std::vector<NamedMeshData> companions_;
+  CompanionMeshes companions_;
   std::shared_ptr<PendingLoad> load_;
   std::string loading_path_;
   uint64_t load_versions_[2] = {0, 0};  // the clip's and the rig's edit versions at the start
   std::vector<std::pair<std::thread, std::shared_ptr<PendingLoad>>> loaders_;
   void JoinFinishedLoaders(bool all);
   bool AdoptLoadedRig(const std::string& path, std::unique_ptr<LoadedRig> loaded, const Diagnostics& diag,
-                      std::vector<NamedMeshData> companions = {});
+                      CompanionMeshes companions = {});
   RigRebuilder rebuilder_;  // last: its destructor joins the worker before the rest goes
 };
 

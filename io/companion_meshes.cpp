@@ -1,6 +1,6 @@
-#include "tools/companion_meshes.h"
+#include "io/companion_meshes.h"
 
-namespace mimetic::tools {
+namespace mimetic {
 
 bool LoadCompanionMeshes(const LoadedRig& loaded, CompanionMeshes* out, Diagnostics* diag) {
   *out = CompanionMeshes{};
@@ -41,4 +41,4 @@ MeshData MergeForDrawing(const MeshData& skin, const CompanionMeshes& companions
   return out;
 }
 
-}  // namespace mimetic::tools
+}  // namespace mimetic

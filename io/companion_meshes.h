@@ -1,4 +1,4 @@
-// tools/companion_meshes.h: the meshes that travel with a rig's skin in its mesh file (the
+// io/companion_meshes.h: the meshes that travel with a rig's skin in its mesh file (the
 // sample head's eyeballs): read once, written unchanged beside every posed skin.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
 
-namespace mimetic::tools {
+namespace mimetic {
 
 struct CompanionMeshes {
   std::string skin_name;              // the rig's mesh as the file names it ("" when unnamed)
@@ -32,4 +32,4 @@ bool WritePosedWithCompanions(const std::string& path, const MeshData& posed,
 // normals and uvs kept only when every part has them).
 MeshData MergeForDrawing(const MeshData& skin, const CompanionMeshes& companions);
 
-}  // namespace mimetic::tools
+}  // namespace mimetic
