@@ -18,6 +18,9 @@
 //   BM_EvaluateHeadJaw/<vertices>, BM_EvaluateHeadJawNoLimiter/<vertices>,
 //   BM_PairedHeadJaw/<vertices>        BM_EvaluateHead(NoLimiter) and BM_PairedHead with the
 //                                      fitted jaw moving too (jaw = 0.5 + 0.5 sin(0.1 (frame + 3)))
+//   BM_PairedJaw/<vertices>            every layer, frame by frame without and with the jaw
+//                                      moving (two contexts, the same activations); `ratio` =
+//                                      with / without (the jaw issue's budget: at most 1.10)
 //   BM_PairedHeadFine/<vertices>     every layer without and with out_fine_amplitudes (the two
 //                                      fine-scale amplitudes per vertex), frame by frame;
 //                                      `ratio` = with / without
@@ -296,6 +299,39 @@ void RunPairedFine(benchmark::State& state) {
   state.counters["fine_points"] = double(rig.fine_scale().point_count());
 }
 
+// docs/model.md §18: EvaluateJob with every layer, frame by frame without the jaw and with it
+// (JawOf), each timed on its own, the same activations in both; `ratio` = with / without. One
+// benchmark instead of BM_PairedHead against BM_PairedHeadJaw: the two sides share every
+// iteration, so drift of a shared machine hits both alike.
+void RunPairedJaw(benchmark::State& state) {
+  const Rig& rig = GetFixture(true, int(state.range(0))).rig;
+  if (rig.jaw().empty()) state.SkipWithError("the head rig has no jaw");
+  EvaluateSetup plain(rig, SkinLayers{}), jaw(rig, SkinLayers{});
+  using Clock = std::chrono::steady_clock;
+  Clock::duration without{}, with{};
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    FillWeights(&plain.activations, frame);
+    FillWeights(&jaw.activations, frame);
+    jaw.job.jaw = JawOf(frame, true);
+    const Clock::time_point t0 = Clock::now();
+    if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(plain.positions.data());
+    const Clock::time_point t1 = Clock::now();
+    if (!jaw.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(jaw.positions.data());
+    const Clock::time_point t2 = Clock::now();
+    without += t1 - t0;
+    with += t2 - t1;
+    ++frame;
+  }
+  const double n = double(frame) * double(rig.vertex_count());
+  state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(without).count() / n;
+  state.counters["jaw_ns_per_vertex"] = std::chrono::duration<double, std::nano>(with).count() / n;
+  state.counters["ratio"] = double(with.count()) / double(without.count());
+  state.counters["jaw_points"] = double(rig.jaw().points.size());
+}
+
 // Activations of hard pose `pose` (0 Smile, 1 Fear, 2 every muscle at 1) on `rig`.
 std::vector<float> HardPose(const Rig& rig, int pose) {
   std::vector<float> a(rig.muscle_count(), pose == 2 ? 1.f : 0.f);
@@ -357,6 +393,7 @@ void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
 void BM_PairedHeadJaw(benchmark::State& s) { RunPaired(s, true, true); }
 void BM_PairedHeadFine(benchmark::State& s) { RunPairedFine(s); }
+void BM_PairedJaw(benchmark::State& s) { RunPairedJaw(s); }
 void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
 void BM_EvaluateHeadHardPoseFullScan(benchmark::State& s) { RunHardPose(s, true); }
 
@@ -381,6 +418,7 @@ BENCHMARK(BM_PairedSheet) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHeadJaw) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHeadFine) MIMETIC_SIZES;
+BENCHMARK(BM_PairedJaw) MIMETIC_SIZES;
 #define MIMETIC_HARD_POSES                                                     \
   ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
       ->ComputeStatistics("min", Fastest)

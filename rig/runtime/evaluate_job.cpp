@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "expressions/runtime/activations.h"
 #include "rig/runtime/face_kernels.h"
@@ -418,34 +419,74 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   // 0 keeps 0 through every slope pass (SlopeLimitPoint returns it), so its slots are never
   // read and are not computed.
   float* bound = f.slope_bounds;
-  ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+  const float3* x1 = f.points;
+  // The shortcut below is exact; limit_folds_full_scan (the tests' reference) runs without it,
+  // so FoldOver.LimiterWorklistGivesTheFullScansBits compares the two bit for bit.
+  const bool quick = !f.job.limit_folds_full_scan;
+  ParallelFor(f.job, count, [&, a, b](uint32_t lo, uint32_t hi) {
+    // Plain locals: the stores to `bound` and `b` cannot alias them in the compiler's eyes
+    // (through the captured references it reloaded every pointer after every store).
+    const float* offsets = a;
+    float* out = b;
+    float* slots = bound;
+    const float3* xs = x1;
+    const float3* units = unit;
     for (uint32_t p = lo; p < hi; ++p) {
-      const float d = a[p];
+      const float d = offsets[p];
       if (d == 0.f) {
-        b[p] = 0.f;
+        out[p] = 0.f;
         continue;
       }
-      // min over q of L^2 / |dN|^2, compared without division
-      const float3 xp = f.points[p], np = unit[p];
-      float best_l2 = 1.f, best_n2 = 0.f;  // ratio best_l2 / best_n2 (infinite at first)
-      for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) {
+      // First the slope bounds, and the shortest edge: unit normals differ by at most 2
+      // (|dN|^2 <= 4), so when 4 d^2 is below c^2 L_min^2 (with a margin of 1% for the
+      // rounding of normals and products) no neighbour can bind and the curvature needs no
+      // normals at all: the same result as the full test, which then keeps d.
+      const float3 xp = xs[p];
+      const uint32_t k0 = noff[p], k1 = noff[p + 1];
+      float l2_min = std::numeric_limits<float>::infinity();
+      for (uint32_t k = k0; k < k1; ++k) {
+        const float3 e = xs[nbr[k]] - xp;
+        const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
+        slots[k] = kOffsetSlope * std::sqrt(l2);
+        l2_min = l2 < l2_min ? l2 : l2_min;
+      }
+      const float c2 = kOffsetCurvature * kOffsetCurvature;
+      if (quick && d * d * 4.04f <= c2 * l2_min) {
+        out[p] = d;
+        continue;
+      }
+      // min over q of L^2 / |dN|^2, compared without division, in two independent chains
+      // (even and odd slots, merged at the end): one chain's compare-and-select waited on the
+      // previous slot's, which bounded the loop.
+      const float3 np = units[p];
+      float l2a = 1.f, n2a = 0.f, l2b = 1.f, n2b = 0.f;  // ratios l2 / n2, infinite at first
+      auto slot = [&](uint32_t k, float& best_l2, float& best_n2) {
         const uint32_t q = nbr[k];
-        const float3 nq = q < count ? unit[q] : rest_normals[q];
-        const float3 dn = nq - np, e = f.points[q] - xp;
+        const float3 nq = q < count ? units[q] : rest_normals[q];
+        const float3 dn = nq - np, e = xs[q] - xp;
         const float n2 = (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
         const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
-        bound[k] = kOffsetSlope * std::sqrt(l2);
         if (l2 * best_n2 < best_l2 * n2) {
           best_l2 = l2;
           best_n2 = n2;
         }
+      };
+      uint32_t k = k0;
+      for (; k + 1 < k1; k += 2) {
+        slot(k, l2a, n2a);
+        slot(k + 1, l2b, n2b);
       }
-      const float c2 = kOffsetCurvature * kOffsetCurvature;
+      if (k < k1) slot(k, l2a, n2a);
+      float best_l2 = l2a, best_n2 = n2a;
+      if (l2b * best_n2 < best_l2 * n2b) {
+        best_l2 = l2b;
+        best_n2 = n2b;
+      }
       if (best_n2 > 0.f && d * d * best_n2 > c2 * best_l2) {
         const float limit = kOffsetCurvature * std::sqrt(best_l2 / best_n2);
-        b[p] = d > 0.f ? limit : -limit;
+        out[p] = d > 0.f ? limit : -limit;
       } else {
-        b[p] = d;
+        out[p] = d;
       }
     }
   });

@@ -198,7 +198,8 @@ struct EvaluateJob {
   bool limit_folds = true;
   // Testing and measurement only: run the fold limiter as the full scan its worklists replace
   // (every slope pass over every active point; every fold pass recomputes every active
-  // triangle and tests every active point). The same bits.
+  // triangle and tests every active point; the curvature bound tested against every
+  // neighbour's normal, without the shortest-edge shortcut). The same bits.
   bool limit_folds_full_scan = false;
 
   ParallelForFn parallel_for = nullptr;  // optional engine scheduler

@@ -304,7 +304,8 @@ TEST(FoldOver, LimiterGivesTheSameBitsHoweverTheWorkIsSplit) {
 // The limiter's worklist (docs/model.md §16: after the first pass only the triangles touching
 // a moved point and the points around them) against the full scan it replaces
 // (EvaluateJob::limit_folds_full_scan recomputes every active triangle and tests every active
-// point in every pass): the same positions, normals, limited points and passes, to the bit, on
+// point in every pass, and tests the curvature bound of every offset against every neighbour's
+// normal instead of taking the shortest-edge shortcut of LimitedOffsets): the same positions, normals, limited points and passes, to the bit, on
 // hard poses (every expression of assets/expressions/default.library.json, every 20th sampled
 // pose, every muscle at 1), serially (allocating nothing) and split over two threads. The
 // expected bits are the full scan's.

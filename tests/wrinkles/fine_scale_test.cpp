@@ -308,6 +308,53 @@ TEST(FineScale, AFurrowThatStopsEarlyEndsOnAnotherFurrowOrOnTheBorder) {
   EXPECT_EQ(early, on_furrow + on_border);
 }
 
+// What Draw leaves, against a brute force over the recorded segments (a second method: each
+// pixel centre's distance to each segment). The height is 1 - (1 - I) times the box-filtered
+// coverage of the deepest segment of width W_h (docs/model.md §21). Occupancy never marks a
+// pixel no segment reaches: the scan phase starts a furrow at every free pixel in row order, so
+// each mapped pixel it passed without starting one lay within W_o of a segment drawn before
+// (the random phase's, or a scan furrow started earlier in row order). On a constant magnitude
+// every segment has one set of parameters.
+TEST(FineScale, TheHeightAndTheOccupancyAreWhatTheSegmentsDraw) {
+  const int size = 128;
+  const CarveResult r = CarveRotating(size, 13);
+  ASSERT_GT(r.segments.size(), 100u);
+  ASSERT_GT(r.scan_starts, 0u);
+  const FurrowParams p = FurrowParamsFor(FurrowParameterSet::kBando2002, 0.5f, 1.f);
+  const float c = 0.5f * size, half_width = 0.5f * p.width, depth = 1.f - p.intensity;
+  // Row-order index of each furrow's start (random-phase furrows: before every pixel).
+  const size_t randoms = r.random_starts;
+  std::vector<long> start_at(r.furrows.size(), -1);
+  std::vector<char> is_start(size_t(size) * size, 0);
+  for (size_t f = randoms; f < r.furrows.size(); ++f) {
+    const long at = long(r.furrows[f].start.y) * size + long(r.furrows[f].start.x);
+    start_at[f] = at;
+    is_start[size_t(at)] = 1;
+  }
+  int passed_over = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const float2 centre{x + 0.5f, y + 0.5f};
+      const long at = long(y) * size + x;
+      float before = 1e9f, expect = 1.f;
+      for (const FurrowSegment& s : r.segments) {
+        const float d = SegDistance(centre, s.p, s.q);
+        if (start_at[s.furrow] < at) before = std::fmin(before, d);
+        const float cover =
+            std::fmin(1.f, std::fmax(0.f, std::fmin(d + 0.5f, half_width) - std::fmax(d - 0.5f, -half_width)));
+        expect = std::fmin(expect, 1.f - depth * cover);
+      }
+      ASSERT_NEAR(r.height[size_t(at)], expect, 1e-4f) << "pixel " << x << ", " << y;
+      const float rad = std::hypot(centre.x - c, centre.y - c);
+      if (rad < 0.48f * size && rad > 0.1f * size && !is_start[size_t(at)]) {
+        ++passed_over;
+        ASSERT_LE(before, p.spacing + 1e-3f)
+            << "pixel " << x << ", " << y << " was free and no furrow started there";
+      }
+    }
+  EXPECT_GT(passed_over, size * size / 2);
+}
+
 TEST(FineScale, NoTwoFurrowsStartCloserThanTheirSpacing) {
   const CarveResult r = CarveRotating(192, 3);
   const float spacing = FurrowParamsFor(FurrowParameterSet::kBando2002, 0.5f, 1.f).spacing;
