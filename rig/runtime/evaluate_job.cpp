@@ -455,16 +455,33 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
         out[p] = d;
         continue;
       }
+      // Then the largest normal change: where d^2 max_q |dN_q|^2 is below c^2 L_min^2 (the
+      // same 1% margin) no neighbour binds either, and the pairs need no comparing.
+      const float3 np = units[p];
+      auto normal_change = [&](uint32_t q) {
+        const float3 nq = q < count ? units[q] : rest_normals[q];
+        const float3 dn = nq - np;
+        return (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
+      };
+      if (quick) {
+        float n2_max = 0.f;
+        for (uint32_t k = k0; k < k1; ++k) {
+          const float n2 = normal_change(nbr[k]);
+          n2_max = n2 > n2_max ? n2 : n2_max;
+        }
+        if (d * d * (n2_max * 1.01f) <= c2 * l2_min) {
+          out[p] = d;
+          continue;
+        }
+      }
       // min over q of L^2 / |dN|^2, compared without division, in two independent chains
       // (even and odd slots, merged at the end): one chain's compare-and-select waited on the
       // previous slot's, which bounded the loop.
-      const float3 np = units[p];
       float l2a = 1.f, n2a = 0.f, l2b = 1.f, n2b = 0.f;  // ratios l2 / n2, infinite at first
       auto slot = [&](uint32_t k, float& best_l2, float& best_n2) {
         const uint32_t q = nbr[k];
-        const float3 nq = q < count ? units[q] : rest_normals[q];
-        const float3 dn = nq - np, e = xs[q] - xp;
-        const float n2 = (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
+        const float3 e = xs[q] - xp;
+        const float n2 = normal_change(q);
         const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
         if (l2 * best_n2 < best_l2 * n2) {
           best_l2 = l2;

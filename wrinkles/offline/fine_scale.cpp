@@ -5,16 +5,11 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <thread>
 
 #include "geometry/topology.h"
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace mimetic {
 
@@ -702,61 +697,15 @@ struct Carver {
       const int x1 = std::min(size - 1, int(std::floor(p.x + hi - 0.5f)));
       uint8_t* occ = &occupied[size_t(y) * size_t(size)];
       float* hr = h + size_t(y) * size_t(size);
-      const float cy_dy = cy * dq.y;
-      // The height of one pixel inside the band (d2 its squared distance to PQ).
-      auto height = [&](int x, float d2) {
-        const float cov = Coverage(std::sqrt(d2), fp.width);
-        if (cov > 0.f) hr[x] = std::min(hr[x], 1.f - depth * cov);
-      };
-      int x = x0;
-#if defined(__SSE2__)
-      // Four pixels a step: the scalar loop's operations lane by lane (no FMA, the clamp as
-      // max then min: the same d2 bits), occupancy as a masked byte OR, the rare pixels inside
-      // the height band one by one.
-      {
-        const __m128 half = _mm_set1_ps(0.5f), px = _mm_set1_ps(p.x);
-        const __m128 dqx = _mm_set1_ps(dq.x), dqy = _mm_set1_ps(dq.y);
-        const __m128 cyv = _mm_set1_ps(cy), cydy = _mm_set1_ps(cy_dy), invv = _mm_set1_ps(inv);
-        const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f);
-        const __m128 occ2v = _mm_set1_ps(occ2), band2v = _mm_set1_ps(band2);
-        const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
-        for (; x + 3 <= x1; x += 4) {
-          const __m128 xf = _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(x), lane));
-          const __m128 cx = _mm_sub_ps(_mm_add_ps(xf, half), px);
-          const __m128 a = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(cx, dqx), cydy), invv);
-          const __m128 t = _mm_min_ps(_mm_max_ps(a, zero), one);
-          const __m128 ex = _mm_sub_ps(cx, _mm_mul_ps(t, dqx));
-          const __m128 ey = _mm_sub_ps(cyv, _mm_mul_ps(t, dqy));
-          const __m128 d2 = _mm_add_ps(_mm_mul_ps(ex, ex), _mm_mul_ps(ey, ey));
-          const int in_occ = _mm_movemask_ps(_mm_cmple_ps(d2, occ2v));
-          if (in_occ) {
-            static constexpr uint32_t kBytes[16] = {
-                0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001,
-                0x00010100, 0x00010101, 0x01000000, 0x01000001, 0x01000100, 0x01000101,
-                0x01010000, 0x01010001, 0x01010100, 0x01010101};
-            uint32_t word;
-            std::memcpy(&word, occ + x, 4);
-            word |= kBytes[in_occ];  // little-endian: byte j is pixel x + j
-            std::memcpy(occ + x, &word, 4);
-          }
-          if (depth > 0.f) {
-            const int in_band = _mm_movemask_ps(_mm_cmplt_ps(d2, band2v));
-            if (in_band) {
-              alignas(16) float d2s[4];
-              _mm_store_ps(d2s, d2);
-              for (int j = 0; j < 4; ++j)
-                if (in_band & (1 << j)) height(x + j, d2s[j]);
-            }
-          }
-        }
-      }
-#endif
-      for (; x <= x1; ++x) {
+      for (int x = x0; x <= x1; ++x) {
         const float cx = x + 0.5f - p.x;
-        const float t = std::clamp((cx * dq.x + cy_dy) * inv, 0.f, 1.f);
+        const float t = std::clamp((cx * dq.x + cy * dq.y) * inv, 0.f, 1.f);
         const float ex = cx - t * dq.x, ey = cy - t * dq.y, d2 = ex * ex + ey * ey;
         if (d2 <= occ2) occ[x] = 1;
-        if (depth > 0.f && d2 < band2) height(x, d2);
+        if (depth > 0.f && d2 < band2) {
+          const float cov = Coverage(std::sqrt(d2), fp.width);
+          if (cov > 0.f) hr[x] = std::min(hr[x], 1.f - depth * cov);
+        }
       }
     }
   }
