@@ -1581,6 +1581,132 @@ bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
   return false;
 }
 
+namespace {
+
+// The face lines of one OBJ object with their positive indices made local to it: `offsets`
+// holds the v, vt and vn lines before the object (OBJ numbers every vertex of the file from
+// 1). Relative (negative) indices stay. False, naming the line, for an index that reaches a
+// vertex before the object or is not a number.
+bool RebaseObjFaces(const std::string& text, const size_t offsets[3], const std::string& object,
+                    std::string* out, Diagnostics* diag) {
+  out->clear();
+  out->reserve(text.size());
+  size_t line_no = 0;
+  for (size_t at = 0; at < text.size();) {
+    size_t nl = text.find('\n', at);
+    if (nl == std::string::npos) nl = text.size();
+    const std::string line = text.substr(at, nl - at);
+    ++line_no;
+    at = nl + 1;
+    if (line.size() < 2 || line[0] != 'f' || (line[1] != ' ' && line[1] != '\t')) {
+      *out += line;
+      *out += '\n';
+      continue;
+    }
+    std::string rebased = "f";
+    size_t i = 1;
+    while (i < line.size()) {
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      if (i >= line.size()) break;
+      rebased += ' ';
+      int component = 0;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') {
+        if (line[i] == '/') {
+          rebased += '/';
+          ++component;
+          ++i;
+          continue;
+        }
+        size_t end = i;
+        if (line[end] == '-' || line[end] == '+') ++end;
+        while (end < line.size() && line[end] >= '0' && line[end] <= '9') ++end;
+        const std::string number = line.substr(i, end - i);
+        if (component > 2 || number.empty() || number == "-" || number == "+" ||
+            end - i > 12) {
+          diag->Error("object " + object + ", line " + std::to_string(line_no),
+                      "face index '" + line.substr(i, std::min<size_t>(end - i + 1, 20)) +
+                          "' is not a vertex number");
+          return false;
+        }
+        long long v = std::stoll(number);
+        if (v > 0) {
+          v -= static_cast<long long>(offsets[component]);
+          if (v < 1) {
+            diag->Error("object " + object + ", line " + std::to_string(line_no),
+                        "face refers to a vertex before the object (OBJ objects after the "
+                        "first must use their own vertices)");
+            return false;
+          }
+        }
+        rebased += std::to_string(v);
+        i = end;
+      }
+    }
+    *out += rebased;
+    *out += '\n';
+  }
+  return true;
+}
+
+// ImportOtherMeshes for an OBJ: the objects after the first (`o NAME` lines: what
+// ExportMeshes writes for a rig's companion meshes), each read as ImportMesh reads one.
+bool ImportOtherObjObjects(const std::string& path, std::vector<NamedMeshData>* out,
+                           Diagnostics* diag, std::string* chosen_name) {
+  std::string bytes;
+  Diagnostics read;
+  if (!ReadFile(path, &bytes, &read, kMaxMeshFileBytes, "obj mesh file")) {
+    for (const Diagnostic& d : read.items()) diag->Error("", d.what);
+    return false;
+  }
+  // Object starts, and the v / vt / vn lines before each.
+  struct Start {
+    size_t at;
+    std::string name;
+    size_t before[3];
+  };
+  std::vector<Start> starts;
+  size_t counts[3] = {0, 0, 0};
+  for (size_t at = 0; at < bytes.size();) {
+    size_t nl = bytes.find('\n', at);
+    if (nl == std::string::npos) nl = bytes.size();
+    if (bytes.compare(at, 2, "o ") == 0 || bytes.compare(at, 2, "o\t") == 0) {
+      std::string name = bytes.substr(at + 2, nl - at - 2);
+      while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+      starts.push_back({at, name, {counts[0], counts[1], counts[2]}});
+    } else if (bytes.compare(at, 2, "v ") == 0 || bytes.compare(at, 2, "v\t") == 0) {
+      ++counts[0];
+    } else if (bytes.compare(at, 3, "vt ") == 0 || bytes.compare(at, 3, "vt\t") == 0) {
+      ++counts[1];
+    } else if (bytes.compare(at, 3, "vn ") == 0 || bytes.compare(at, 3, "vn\t") == 0) {
+      ++counts[2];
+    }
+    at = nl + 1;
+  }
+  // ImportMesh reads everything before the second `o` line as the first mesh; the others
+  // start there.
+  if (chosen_name) *chosen_name = starts.empty() ? std::string("mesh") : starts[0].name;
+  const size_t first_others = 1;
+  for (size_t k = first_others; k < starts.size(); ++k) {
+    const size_t end = k + 1 < starts.size() ? starts[k + 1].at : bytes.size();
+    NamedMeshData named;
+    named.name = starts[k].name.empty() ? "mesh_" + std::to_string(k) : starts[k].name;
+    std::string text;
+    Diagnostics one;
+    if (!RebaseObjFaces(bytes.substr(starts[k].at, end - starts[k].at), starts[k].before,
+                        named.name, &text, &one) ||
+        !ImportMeshBytes(text, ".obj", DirectoryOf(path), "", &named.mesh, &one)) {
+      diag->Append(one, "mesh " + named.name);
+      out->clear();
+      return false;
+    }
+    named.mesh.source = path;
+    out->push_back(std::move(named));
+  }
+  return true;
+}
+
+}  // namespace
+
 bool ImportOtherMeshes(const std::string& path, const std::string& mesh_name,
                        std::vector<NamedMeshData>* out, Diagnostics* diag,
                        std::string* chosen_name) {
@@ -1592,7 +1718,7 @@ bool ImportOtherMeshes(const std::string& path, const std::string& mesh_name,
   }
   out->clear();
   const std::string ext = LowerExtension(path);
-  if (ext == ".obj") return true;  // one mesh only
+  if (ext == ".obj") return ImportOtherObjObjects(path, out, diag, chosen_name);
   if (ext != ".gltf" && ext != ".glb") {
     diag->Error("", "unknown mesh file extension '" + ext + "' (expected .gltf, .glb or .obj)");
     return false;

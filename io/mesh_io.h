@@ -86,7 +86,8 @@ bool ExportMeshes(const std::string& path, const std::vector<NamedMesh>& meshes,
 
 // The other meshes of a glTF file: every mesh but `mesh_name` (the first when it is empty),
 // in file order, each read as ImportMesh reads one (an unnamed mesh is called `mesh_N`, N its
-// number). An OBJ holds one mesh: none, and true. The rig tools carry these along unchanged
+// number). In an OBJ, the objects after the first (`o NAME` lines, ExportMeshes' layout; each
+// object's face numbers made its own), `mesh_name` ignored. The rig tools carry these along unchanged
 // (the sample head's eyeballs: `mimetic eval`, `play`, `render`). Errors as ImportMesh's,
 // prefixed `mesh NAME` for the mesh they concern; on failure `out` is empty. `chosen_name`
 // (when given) receives the name of the mesh left out (the rig's), as the file spells it.

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_util.h"
 #include "geometry/mesh.h"
 #include "io/mesh_io.h"
 #include "test_support.h"
@@ -83,9 +84,48 @@ TEST(MeshMulti, ObjWritesOneObjectEachAndReadsBackTheFirst) {
   Diagnostics bad_diag;
   EXPECT_FALSE(ImportMeshBytes(bad, ".obj", "", "", &none, &bad_diag));
   EXPECT_NE(bad_diag.Format().find("face"), std::string::npos) << bad_diag.Format();
+  // The other objects come back with their own vertex numbers (the file's run on).
   std::vector<NamedMeshData> others;
-  ASSERT_TRUE(ImportOtherMeshes(dir + "/m.obj", "", &others, &d));
+  std::string chosen;
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/m.obj", "", &others, &d, &chosen)) << d.Format();
+  EXPECT_EQ(chosen, "head");
+  ASSERT_EQ(others.size(), 1u);
+  EXPECT_EQ(others[0].name, "eyes");
+  EXPECT_EQ(others[0].mesh.positions, b.positions);
+  EXPECT_EQ(others[0].mesh.indices, b.indices);
+  // With uvs and normals on every mesh (f a/b/c: all three numbers run on), three objects.
+  const MeshData s = Triangle(0, true), e = Triangle(5, true), m = Triangle(9, true);
+  ASSERT_TRUE(ExportMeshes(dir + "/u.obj", {{"head", &s}, {"eyes", &e}, {"more", &m}}, &d))
+      << d.Format();
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/u.obj", "", &others, &d)) << d.Format();
+  ASSERT_EQ(others.size(), 2u);
+  EXPECT_EQ(others[1].name, "more");
+  EXPECT_EQ(others[1].mesh.positions, m.positions);
+  EXPECT_EQ(others[1].mesh.indices, m.indices);
+  MeshData first_u;  // each object is read as ImportMesh reads the first (OBJ normals: not read)
+  ASSERT_TRUE(ImportMesh(dir + "/u.obj", "", &first_u, &d)) << d.Format();
+  EXPECT_EQ(others[1].mesh.normals.size(), first_u.normals.size());
+  ASSERT_EQ(others[1].mesh.uvs.size(), 3u);
+  EXPECT_EQ(others[1].mesh.uvs[1].x, 1.f);
+  // One object: no others. A later object whose face reaches back into the first is refused,
+  // naming the object and the line.
+  ASSERT_TRUE(ExportMesh(dir + "/one.obj", a, &d)) << d.Format();
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/one.obj", "", &others, &d)) << d.Format();
   EXPECT_TRUE(others.empty());
+  ASSERT_TRUE(WriteFileAtomic(dir + "/back.obj",
+                              "o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+                              "o b\nv 0 0 1\nv 1 0 1\nf 4 5 1\n",
+                              &d))
+      << d.Format();
+  Diagnostics back;
+  EXPECT_FALSE(ImportOtherMeshes(dir + "/back.obj", "", &others, &back));
+  EXPECT_TRUE(others.empty());
+  EXPECT_NE(back.Format().find("object b, line 4"), std::string::npos) << back.Format();
+  EXPECT_NE(back.Format().find("before the object"), std::string::npos) << back.Format();
+  Diagnostics junk;
+  ASSERT_TRUE(WriteFileAtomic(dir + "/junk.obj", "o a\nv 0 0 0\no b\nv 1 0 0\nf 2 x 2\n", &d));
+  EXPECT_FALSE(ImportOtherMeshes(dir + "/junk.obj", "", &others, &junk));
+  EXPECT_NE(junk.Format().find("not a vertex number"), std::string::npos) << junk.Format();
 }
 
 TEST(MeshMulti, BadInputIsRefusedNamingTheMesh) {

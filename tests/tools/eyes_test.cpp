@@ -234,25 +234,44 @@ TEST(SampleHeadEyes, RenderDrawsTheEyesInsideTheOpenings) {
     o.diffuse = 0.f;
     o.specular = 0.f;
     const Image label = RenderMesh(both, o);
-    size_t differ = 0, outside = 0, shown[2] = {0, 0};
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const size_t i = (size_t(y) * n + x) * 3;
-        // An eye pixel, or beside one (the box filter spreads an edge by a pixel).
-        bool eye = false;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = std::clamp(x + dx, 0, n - 1), yy = std::clamp(y + dy, 0, n - 1);
-            eye = eye || label.rgb[(size_t(yy) * n + xx) * 3] > 0;
+    size_t shown[2] = {0, 0};
+    // Pixels where two renders differ, and those of them away from the eyes.
+    auto compare = [&](const Image& a, const Image& b, size_t* differ, size_t* outside) {
+      *differ = *outside = 0;
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const size_t i = (size_t(y) * n + x) * 3;
+          // An eye pixel, or beside one (the box filter spreads an edge by a pixel).
+          bool eye = false;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int xx = std::clamp(x + dx, 0, n - 1), yy = std::clamp(y + dy, 0, n - 1);
+              eye = eye || label.rgb[(size_t(yy) * n + xx) * 3] > 0;
+            }
+          if (std::memcmp(&a.rgb[i], &b.rgb[i], 3) != 0) {
+            ++*differ;
+            if (!eye) ++*outside;
           }
-        if (label.rgb[i] > 0) ++shown[x < n / 2 ? 0 : 1];
-        if (std::memcmp(&with.rgb[i], &alone.rgb[i], 3) != 0) {
-          ++differ;
-          if (!eye) ++outside;
         }
-      }
+    };
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        if (label.rgb[(size_t(y) * n + x) * 3] > 0) ++shown[x < n / 2 ? 0 : 1];
+    size_t differ = 0, outside = 0;
+    compare(with, alone, &differ, &outside);
     EXPECT_GT(differ, 20u) << "yaw " << yaw;
     EXPECT_EQ(outside, 0u) << "yaw " << yaw;
+    // The same from OBJ files (mimetic eval --out x.obj writes the eyes as a second object):
+    // render reads the other objects too.
+    ASSERT_TRUE(ExportMeshes(dir + "/with.obj", {{"head", &skin}, {"eyes", &eyes}}, &d)) << d.Format();
+    ASSERT_TRUE(ExportMesh(dir + "/alone.obj", skin, &d)) << d.Format();
+    r = test::RunTool({"render", dir + "/with.obj", "--size", std::to_string(n), "--yaw", yaw, "--out", dir + "/with_obj.png"});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = test::RunTool({"render", dir + "/alone.obj", "--size", std::to_string(n), "--yaw", yaw, "--out", dir + "/alone_obj.png"});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    compare(LoadPngImage(dir + "/with_obj.png"), LoadPngImage(dir + "/alone_obj.png"), &differ, &outside);
+    EXPECT_GT(differ, 20u) << "OBJ, yaw " << yaw;
+    EXPECT_EQ(outside, 0u) << "OBJ, yaw " << yaw;
     // Both eyes show through their openings seen from the front (at 35 degrees both may fall
     // on one side of the image's middle).
     if (std::string(yaw) == "0") {
