@@ -265,28 +265,27 @@ void RunPaired(benchmark::State& state, bool head, bool jaw = false) {
   state.counters["context_bytes"] = double(setup.context.ByteSize());
 }
 
-// docs/model.md §23: EvaluateJob with every layer, frame by frame without and with the two
-// fine-scale amplitudes per vertex (out_fine_amplitudes), each timed on its own; `ratio` =
-// with / without (the budget: at most 1.10).
-void RunPairedFine(benchmark::State& state) {
-  const Rig& rig = GetFixture(true, int(state.range(0))).rig;
-  if (rig.fine_scale().empty()) state.SkipWithError("the head rig has no fine-scale probes");
-  EvaluateSetup plain(rig, SkinLayers{}), fine(rig, SkinLayers{});
-  std::vector<float> amplitudes(2 * rig.vertex_count());
-  fine.job.out_fine_amplitudes = amplitudes;
+// EvaluateJob with every layer, frame by frame on two setups of `rig`: `plain`, and `other`,
+// which `vary(other, frame)` changes before each frame; each timed on its own, the same
+// activations in both. Counters: `plain_ns_per_vertex`, `<name>_ns_per_vertex` and `ratio` =
+// other / plain.
+template <class Vary>
+void RunPairedAgainstPlain(benchmark::State& state, const Rig& rig, EvaluateSetup* other,
+                           const std::string& name, const Vary& vary) {
+  EvaluateSetup plain(rig, SkinLayers{});
   using Clock = std::chrono::steady_clock;
   Clock::duration without{}, with{};
   uint32_t frame = 0;
   for (auto _ : state) {
     FillWeights(&plain.activations, frame);
-    FillWeights(&fine.activations, frame);
+    FillWeights(&other->activations, frame);
+    vary(*other, frame);
     const Clock::time_point t0 = Clock::now();
     if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
     benchmark::DoNotOptimize(plain.positions.data());
     const Clock::time_point t1 = Clock::now();
-    if (!fine.job.Run()) state.SkipWithError("EvaluateJob failed");
-    benchmark::DoNotOptimize(fine.positions.data());
-    benchmark::DoNotOptimize(amplitudes.data());
+    if (!other->job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(other->positions.data());
     const Clock::time_point t2 = Clock::now();
     without += t1 - t0;
     with += t2 - t1;
@@ -294,41 +293,34 @@ void RunPairedFine(benchmark::State& state) {
   }
   const double n = double(frame) * double(rig.vertex_count());
   state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(without).count() / n;
-  state.counters["fine_ns_per_vertex"] = std::chrono::duration<double, std::nano>(with).count() / n;
+  state.counters[name + "_ns_per_vertex"] = std::chrono::duration<double, std::nano>(with).count() / n;
   state.counters["ratio"] = double(with.count()) / double(without.count());
+}
+
+// docs/model.md §23: without and with the two fine-scale amplitudes per vertex
+// (out_fine_amplitudes); `ratio` = with / without (the budget: at most 1.10).
+void RunPairedFine(benchmark::State& state) {
+  const Rig& rig = GetFixture(true, int(state.range(0))).rig;
+  if (rig.fine_scale().empty()) state.SkipWithError("the head rig has no fine-scale probes");
+  EvaluateSetup fine(rig, SkinLayers{});
+  std::vector<float> amplitudes(2 * rig.vertex_count());
+  fine.job.out_fine_amplitudes = amplitudes;
+  RunPairedAgainstPlain(state, rig, &fine, "fine", [&](EvaluateSetup&, uint32_t) {
+    benchmark::DoNotOptimize(amplitudes.data());
+  });
   state.counters["fine_points"] = double(rig.fine_scale().point_count());
 }
 
-// docs/model.md §18: EvaluateJob with every layer, frame by frame without the jaw and with it
-// (JawOf), each timed on its own, the same activations in both; `ratio` = with / without. One
+// docs/model.md §18: without the jaw and with it (JawOf); `ratio` = with / without. One
 // benchmark instead of BM_PairedHead against BM_PairedHeadJaw: the two sides share every
 // iteration, so drift of a shared machine hits both alike.
 void RunPairedJaw(benchmark::State& state) {
   const Rig& rig = GetFixture(true, int(state.range(0))).rig;
   if (rig.jaw().empty()) state.SkipWithError("the head rig has no jaw");
-  EvaluateSetup plain(rig, SkinLayers{}), jaw(rig, SkinLayers{});
-  using Clock = std::chrono::steady_clock;
-  Clock::duration without{}, with{};
-  uint32_t frame = 0;
-  for (auto _ : state) {
-    FillWeights(&plain.activations, frame);
-    FillWeights(&jaw.activations, frame);
-    jaw.job.jaw = JawOf(frame, true);
-    const Clock::time_point t0 = Clock::now();
-    if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
-    benchmark::DoNotOptimize(plain.positions.data());
-    const Clock::time_point t1 = Clock::now();
-    if (!jaw.job.Run()) state.SkipWithError("EvaluateJob failed");
-    benchmark::DoNotOptimize(jaw.positions.data());
-    const Clock::time_point t2 = Clock::now();
-    without += t1 - t0;
-    with += t2 - t1;
-    ++frame;
-  }
-  const double n = double(frame) * double(rig.vertex_count());
-  state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(without).count() / n;
-  state.counters["jaw_ns_per_vertex"] = std::chrono::duration<double, std::nano>(with).count() / n;
-  state.counters["ratio"] = double(with.count()) / double(without.count());
+  EvaluateSetup jaw(rig, SkinLayers{});
+  RunPairedAgainstPlain(state, rig, &jaw, "jaw", [](EvaluateSetup& s, uint32_t frame) {
+    s.job.jaw = JawOf(frame, true);
+  });
   state.counters["jaw_points"] = double(rig.jaw().points.size());
 }
 
