@@ -337,7 +337,49 @@ void StageJaw(const FrameState& f, float jaw) {
     for (uint32_t b0 = b; b0 < e; b0 += kJawBlock) {
       const uint32_t n = std::min(kJawBlock, e - b0);
       JawSinCosBlock(weights + b0, angle, n, sns, css);
-      for (uint32_t q = 0; q < n; ++q) {
+      uint32_t q = 0;
+#if defined(__SSE2__)
+      // Four points a step: the scalar loop's operations below lane by lane, in its order
+      // (no FMA), so the same bits whichever points fall in a lane or the tail. Each position
+      // is read and written as its own 12 bytes (a neighbour may belong to another thread).
+      {
+        const __m128 cx = _mm_set1_ps(c.x), cy = _mm_set1_ps(c.y), cz = _mm_set1_ps(c.z);
+        const __m128 kx = _mm_set1_ps(k.x), ky = _mm_set1_ps(k.y), kz = _mm_set1_ps(k.z);
+        const __m128 tx = _mm_set1_ps(tr.x), ty = _mm_set1_ps(tr.y), tz = _mm_set1_ps(tr.z);
+        const __m128 one = _mm_set1_ps(1.f), jv = _mm_set1_ps(jaw);
+        for (; q + 4 <= n; q += 4) {
+          const uint32_t* pp = points + b0 + q;
+          alignas(16) float px[4], py[4], pz[4];
+          for (int l = 0; l < 4; ++l) {
+            const float3 xp = x[pp[l]];
+            px[l] = xp.x;
+            py[l] = xp.y;
+            pz[l] = xp.z;
+          }
+          const __m128 vx = _mm_sub_ps(_mm_load_ps(px), cx);
+          const __m128 vy = _mm_sub_ps(_mm_load_ps(py), cy);
+          const __m128 vz = _mm_sub_ps(_mm_load_ps(pz), cz);
+          const __m128 cs = _mm_loadu_ps(css + q), sn = _mm_loadu_ps(sns + q);
+          const __m128 kvx = _mm_sub_ps(_mm_mul_ps(ky, vz), _mm_mul_ps(kz, vy));
+          const __m128 kvy = _mm_sub_ps(_mm_mul_ps(kz, vx), _mm_mul_ps(kx, vz));
+          const __m128 kvz = _mm_sub_ps(_mm_mul_ps(kx, vy), _mm_mul_ps(ky, vx));
+          const __m128 dot =
+              _mm_add_ps(_mm_add_ps(_mm_mul_ps(kx, vx), _mm_mul_ps(ky, vy)), _mm_mul_ps(kz, vz));
+          const __m128 d = _mm_mul_ps(dot, _mm_sub_ps(one, cs));
+          const __m128 g = _mm_mul_ps(_mm_loadu_ps(weights + b0 + q), jv);
+          auto axis = [&](__m128 cc, __m128 v, __m128 kv, __m128 kk, __m128 t) {
+            const __m128 turn = _mm_add_ps(_mm_add_ps(_mm_mul_ps(v, cs), _mm_mul_ps(kv, sn)),
+                                           _mm_mul_ps(kk, d));
+            return _mm_add_ps(_mm_add_ps(cc, turn), _mm_mul_ps(g, t));
+          };
+          _mm_store_ps(px, axis(cx, vx, kvx, kx, tx));
+          _mm_store_ps(py, axis(cy, vy, kvy, ky, ty));
+          _mm_store_ps(pz, axis(cz, vz, kvz, kz, tz));
+          for (int l = 0; l < 4; ++l) x[pp[l]] = float3{px[l], py[l], pz[l]};
+        }
+      }
+#endif
+      for (; q < n; ++q) {
         const uint32_t i = b0 + q;
         const uint32_t p = points[i];
         const float cs = css[q], sn = sns[q];

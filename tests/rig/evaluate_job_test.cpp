@@ -496,13 +496,15 @@ float SurfaceJawWeight(float3 p) {
   const float t = std::fmin(std::fmax((10.f - p.y) / 20.f, 0.f), 1.f);
   return t * t * (3.f - 2.f * t);
 }
-Surface MakeJawSurface(uint32_t side = 40, uint32_t muscles = 6) {
+// `tilted`: the hinge leans out of +x (every component of the axis non-zero, so each term of
+// the rotation contributes on every axis).
+Surface MakeJawSurface(uint32_t side = 40, uint32_t muscles = 6, bool tilted = false) {
   Surface s;
   s.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
   s.spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 10.f, 0.15f, 3.f);
   JawSpec jaw;
-  jaw.condyles[0] = {-60.f, 30.f, -40.f};
-  jaw.condyles[1] = {60.f, 30.f, -40.f};
+  jaw.condyles[0] = tilted ? float3{-60.f, 22.f, -47.f} : float3{-60.f, 30.f, -40.f};
+  jaw.condyles[1] = tilted ? float3{60.f, 37.f, -33.f} : float3{60.f, 30.f, -40.f};
   jaw.range_deg = float(kJawRangeDeg);
   for (const float3& p : s.mesh.positions) jaw.weights.push_back(SurfaceJawWeight(p));
   s.spec.jaw = jaw;
@@ -837,8 +839,9 @@ TEST(EvaluateJobJaw, BitIdenticalWhenSplitAcrossTwoThreadsAndAllocationFree) {
 }
 
 // Chunks of 1, 2 and 3 items in turn (one thread): no chunk holds four, so every jaw angle's sine
-// and cosine comes from the scalar form here and from the four-lane block in a serial run (the
-// jaw stage computes blocks of angles per chunk, JawSinCosBlock): the bits must agree.
+// and cosine, and every carried point's rotation, comes from the scalar form here and from the
+// four-lane code in a serial run (the jaw stage works in blocks per chunk: JawSinCosBlock, then
+// the points four at a time): the bits must agree.
 void TinyChunks(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
   for (uint32_t b = 0, k = 0; b < count; ++k) {
     const uint32_t e = std::min(count, b + 1 + k % 3);
@@ -848,7 +851,7 @@ void TinyChunks(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), 
 }
 
 TEST(EvaluateJobJaw, FourLaneSinesAndCosinesGiveTheScalarBits) {
-  const Surface s = MakeJawSurface(60, 8);
+  const Surface s = MakeJawSurface(60, 8, true);
   ASSERT_GT(s.rig.jaw().points.size(), 64u);  // more than one block of angles
   const std::vector<float> act = SomeActivations(s.rig);
   for (float jaw : {0.3f, 0.77f, 1.f}) {
