@@ -1685,8 +1685,7 @@ bool ImportOtherObjObjects(const std::string& path, std::vector<NamedMeshData>* 
   // ImportMesh reads everything before the second `o` line as the first mesh; the others
   // start there.
   if (chosen_name) *chosen_name = starts.empty() ? std::string("mesh") : starts[0].name;
-  const size_t first_others = 1;
-  for (size_t k = first_others; k < starts.size(); ++k) {
+  for (size_t k = 1; k < starts.size(); ++k) {
     const size_t end = k + 1 < starts.size() ? starts[k + 1].at : bytes.size();
     NamedMeshData named;
     named.name = starts[k].name.empty() ? "mesh_" + std::to_string(k) : starts[k].name;
