@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "rig/runtime/face_kernels.h"
 #include "wrinkles/runtime/profiles.h"
@@ -187,31 +188,46 @@ bool CheckRigData(const RigData& r) {
 namespace {
 
 // Numbers the edges `keys` name ((a << 32) | b, a <= b < point_count) in first-seen order:
-// returns each key's id and appends each new edge's two points to `pairs`. The ids of the
-// edges whose smaller point is a live in bucket a (at most as many slots as a has lookups), so
-// a lookup scans the few edges of one point.
-std::vector<uint32_t> AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count,
-                                    std::vector<uint32_t>* pairs) {
+// writes each key's id to ids[i] and appends each new edge's two points to `pairs`. The edges
+// whose smaller point is a live in bucket a, which has one slot per lookup of a (so it is at
+// least as large as a's count of edges; on the sample head about five lookups per edge): a
+// small open-addressing table inside the bucket, keyed by b (each slot the other point and
+// the id side by side), so a lookup reads one or two slots of one point's few instead of
+// scanning them, and the buckets are visited in nearly ascending order (a hash over all edges
+// missed the cache on nearly every probe).
+void AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count, uint32_t* ids,
+                   std::vector<uint32_t>* pairs) {
+  const size_t n = keys.size();
   std::vector<uint32_t> start(size_t(point_count) + 1, 0u);
   for (uint64_t key : keys) ++start[size_t(key >> 32) + 1];
   for (uint32_t p = 0; p < point_count; ++p) start[p + 1] += start[p];
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1);  // next free slot per bucket
-  std::vector<uint32_t> bucket_b(keys.size()), bucket_id(keys.size());
-  std::vector<uint32_t> ids(keys.size());
-  for (size_t i = 0; i < keys.size(); ++i) {
-    const uint32_t a = uint32_t(keys[i] >> 32), b = uint32_t(keys[i]);
-    uint32_t k = start[a];
-    while (k < fill[a] && bucket_b[k] != b) ++k;
-    if (k == fill[a]) {
-      bucket_b[k] = b;
-      bucket_id[k] = uint32_t(pairs->size() / 2);
-      pairs->push_back(a);
-      pairs->push_back(b);
-      ++fill[a];
+  struct Slot {
+    uint32_t b, id;
+  };
+  constexpr uint32_t kEmpty = ~0u;  // no point has this index (b < point_count)
+  std::vector<Slot> slots(n, Slot{kEmpty, 0u});
+  const std::unique_ptr<uint32_t[]> found(new uint32_t[2 * n + 1]);  // the new edges' points
+  const uint64_t* key = keys.data();
+  const uint32_t* first = start.data();
+  Slot* slot = slots.data();
+  uint32_t* out_pairs = found.get();
+  const uint32_t edges0 = uint32_t(pairs->size() / 2);
+  uint32_t edges = edges0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t a = uint32_t(key[i] >> 32), b = uint32_t(key[i]);
+    Slot* bucket = slot + first[a];
+    const uint32_t size = first[a + 1] - first[a];  // >= 1: this lookup is counted
+    uint32_t k = uint32_t((uint64_t(b * 0x9E3779B1u) * size) >> 32);  // in [0, size)
+    while (bucket[k].b != b && bucket[k].b != kEmpty) k = k + 1 == size ? 0 : k + 1;
+    if (bucket[k].b == kEmpty) {  // a free slot exists: a has at most `size` edges
+      bucket[k] = {b, edges};
+      out_pairs[2 * size_t(edges - edges0)] = a;
+      out_pairs[2 * size_t(edges - edges0) + 1] = b;
+      ++edges;
     }
-    ids[i] = bucket_id[k];
+    ids[i] = bucket[k].id;
   }
-  return ids;
+  pairs->insert(pairs->end(), out_pairs, out_pairs + 2 * size_t(edges - edges0));
 }
 
 // The fused strain and displacement tables (see RigTables): edges read by the compression rows
@@ -297,7 +313,8 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
       t.probe_edges[4 * k + 2 * s + 1] = edge(probe.point, probe.sides[s].v3);
     }
   }
-  const std::vector<uint32_t> ids = AssignEdgeIds(keys, r.point_count(), &t.edge_pairs);
+  const std::unique_ptr<uint32_t[]> ids(new uint32_t[keys.size() + 1]);
+  AssignEdgeIds(keys, r.point_count(), ids.get(), &t.edge_pairs);
   size_t next = 0;
   for (uint32_t& e : t.entry_edges) e = ids[next++];
   for (size_t k = 0; k < c.probes.size(); ++k)
@@ -314,8 +331,8 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
           const uint32_t a = std::min(probe.point, v), b = std::max(probe.point, v);
           fine_keys.push_back((uint64_t(a) << 32) | b);
         }
-    const std::vector<uint32_t> fine_ids =
-        AssignEdgeIds(fine_keys, r.point_count(), &t.fine_edge_pairs);
+    const std::unique_ptr<uint32_t[]> fine_ids(new uint32_t[fine_keys.size() + 1]);
+    AssignEdgeIds(fine_keys, r.point_count(), fine_ids.get(), &t.fine_edge_pairs);
     t.fine_probe_edges.assign(4 * f.probes.size(), 0u);
     size_t at = 0;
     for (size_t k = 0; k < f.probes.size(); ++k)
