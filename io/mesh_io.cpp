@@ -1513,6 +1513,41 @@ bool ImportMesh(const std::string& path, const std::string& mesh_name, MeshData*
   return ok;
 }
 
+namespace {
+
+// One `o NAME` line of an OBJ: where it starts, its name, and the v / vt / vn lines before it.
+struct ObjObjectStart {
+  size_t at;
+  std::string name;
+  size_t before[3];
+};
+
+// The object starts of an OBJ text, stopping after `limit` of them (the v / vt / vn counts are
+// counted up to the last one returned).
+std::vector<ObjObjectStart> ObjObjectStarts(const std::string& bytes, size_t limit) {
+  std::vector<ObjObjectStart> starts;
+  size_t counts[3] = {0, 0, 0};
+  for (size_t at = 0; at < bytes.size() && starts.size() < limit;) {
+    size_t nl = bytes.find('\n', at);
+    if (nl == std::string::npos) nl = bytes.size();
+    if (bytes.compare(at, 2, "o ") == 0 || bytes.compare(at, 2, "o\t") == 0) {
+      std::string name = bytes.substr(at + 2, nl - at - 2);
+      while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+      starts.push_back({at, name, {counts[0], counts[1], counts[2]}});
+    } else if (bytes.compare(at, 2, "v ") == 0 || bytes.compare(at, 2, "v\t") == 0) {
+      ++counts[0];
+    } else if (bytes.compare(at, 3, "vt ") == 0 || bytes.compare(at, 3, "vt\t") == 0) {
+      ++counts[1];
+    } else if (bytes.compare(at, 3, "vn ") == 0 || bytes.compare(at, 3, "vn\t") == 0) {
+      ++counts[2];
+    }
+    at = nl + 1;
+  }
+  return starts;
+}
+
+}  // namespace
+
 bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
                      const std::string& base_dir, const std::string& mesh_name, MeshData* out,
                      Diagnostics* diag) {
@@ -1549,18 +1584,8 @@ bool ImportMeshBytes(const std::string& bytes, const std::string& extension,
     // (mimetic writes a rig's companion meshes, the sample head's eyes, as further objects).
     size_t second_object = std::string::npos;
     if (ext == ".obj") {
-      int objects = 0;
-      for (size_t at = 0; at < bytes.size();) {
-        if (bytes.compare(at, 2, "o ") == 0 || bytes.compare(at, 2, "o\t") == 0) {
-          if (++objects == 2) {
-            second_object = at;
-            break;
-          }
-        }
-        const size_t nl = bytes.find('\n', at);
-        if (nl == std::string::npos) break;
-        at = nl + 1;
-      }
+      const std::vector<ObjObjectStart> starts = ObjObjectStarts(bytes, 2);
+      if (starts.size() == 2) second_object = starts[1].at;
     }
     bool ok = ext == ".obj"
                   ? (second_object == std::string::npos
@@ -1648,8 +1673,7 @@ bool RebaseObjFaces(const std::string& text, const size_t offsets[3], const std:
   return true;
 }
 
-// ImportOtherMeshes for an OBJ: the objects after the first (`o NAME` lines: what
-// ExportMeshes writes for a rig's companion meshes), each read as ImportMesh reads one.
+// ImportOtherMeshes for an OBJ file: read it, then ImportOtherObjBytes.
 bool ImportOtherObjObjects(const std::string& path, std::vector<NamedMeshData>* out,
                            Diagnostics* diag, std::string* chosen_name) {
   std::string bytes;
@@ -1658,53 +1682,52 @@ bool ImportOtherObjObjects(const std::string& path, std::vector<NamedMeshData>* 
     for (const Diagnostic& d : read.items()) diag->Error("", d.what);
     return false;
   }
-  // Object starts, and the v / vt / vn lines before each.
-  struct Start {
-    size_t at;
-    std::string name;
-    size_t before[3];
-  };
-  std::vector<Start> starts;
-  size_t counts[3] = {0, 0, 0};
-  for (size_t at = 0; at < bytes.size();) {
-    size_t nl = bytes.find('\n', at);
-    if (nl == std::string::npos) nl = bytes.size();
-    if (bytes.compare(at, 2, "o ") == 0 || bytes.compare(at, 2, "o\t") == 0) {
-      std::string name = bytes.substr(at + 2, nl - at - 2);
-      while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
-      starts.push_back({at, name, {counts[0], counts[1], counts[2]}});
-    } else if (bytes.compare(at, 2, "v ") == 0 || bytes.compare(at, 2, "v\t") == 0) {
-      ++counts[0];
-    } else if (bytes.compare(at, 3, "vt ") == 0 || bytes.compare(at, 3, "vt\t") == 0) {
-      ++counts[1];
-    } else if (bytes.compare(at, 3, "vn ") == 0 || bytes.compare(at, 3, "vn\t") == 0) {
-      ++counts[2];
-    }
-    at = nl + 1;
-  }
-  // ImportMesh reads everything before the second `o` line as the first mesh; the others
-  // start there.
-  if (chosen_name) *chosen_name = starts.empty() ? std::string("mesh") : starts[0].name;
-  for (size_t k = 1; k < starts.size(); ++k) {
-    const size_t end = k + 1 < starts.size() ? starts[k + 1].at : bytes.size();
-    NamedMeshData named;
-    named.name = starts[k].name.empty() ? "mesh_" + std::to_string(k) : starts[k].name;
-    std::string text;
-    Diagnostics one;
-    if (!RebaseObjFaces(bytes.substr(starts[k].at, end - starts[k].at), starts[k].before,
-                        named.name, &text, &one) ||
-        !ImportMeshBytes(text, ".obj", DirectoryOf(path), "", &named.mesh, &one)) {
-      diag->Append(one, "mesh " + named.name);
-      out->clear();
-      return false;
-    }
-    named.mesh.source = path;
-    out->push_back(std::move(named));
-  }
+  if (!ImportOtherObjBytes(bytes, DirectoryOf(path), out, diag, chosen_name)) return false;
+  for (NamedMeshData& m : *out) m.mesh.source = path;
   return true;
 }
 
 }  // namespace
+
+bool ImportOtherObjBytes(const std::string& bytes, const std::string& base_dir,
+                         std::vector<NamedMeshData>* out, Diagnostics* diag,
+                         std::string* chosen_name) {
+  Diagnostics local;
+  if (!diag) diag = &local;
+  if (!out) {
+    diag->Error("", "ImportOtherObjBytes: no output given");
+    return false;
+  }
+  out->clear();
+  try {
+    // ImportMeshBytes reads everything before the second `o` line as the first mesh; the
+    // others start there.
+    const std::vector<ObjObjectStart> starts = ObjObjectStarts(bytes, ~size_t{0});
+    if (chosen_name) *chosen_name = starts.empty() ? std::string("mesh") : starts[0].name;
+    for (size_t k = 1; k < starts.size(); ++k) {
+      const size_t end = k + 1 < starts.size() ? starts[k + 1].at : bytes.size();
+      NamedMeshData named;
+      named.name = starts[k].name.empty() ? "mesh_" + std::to_string(k) : starts[k].name;
+      std::string text;
+      Diagnostics one;
+      if (!RebaseObjFaces(bytes.substr(starts[k].at, end - starts[k].at), starts[k].before,
+                          named.name, &text, &one) ||
+          !ImportMeshBytes(text, ".obj", base_dir, "", &named.mesh, &one)) {
+        diag->Append(one, "mesh " + named.name);
+        out->clear();
+        return false;
+      }
+      out->push_back(std::move(named));
+    }
+    return true;
+  } catch (const std::exception& e) {
+    diag->Error("", std::string("internal error while importing: ") + e.what());
+  } catch (...) {
+    diag->Error("", "internal error while importing");
+  }
+  out->clear();
+  return false;
+}
 
 bool ImportOtherMeshes(const std::string& path, const std::string& mesh_name,
                        std::vector<NamedMeshData>* out, Diagnostics* diag,

@@ -99,6 +99,14 @@ bool ImportOtherMeshes(const std::string& path, const std::string& mesh_name,
                        std::vector<NamedMeshData>* out, Diagnostics* diag,
                        std::string* chosen_name = nullptr);
 
+// ImportOtherMeshes' OBJ half on a file's bytes (`base_dir` resolves nothing in an OBJ today;
+// it is passed on as ImportMeshBytes takes it): the objects after the first, each with its face
+// numbers made its own; an object whose faces reach into an earlier object, or a face index
+// that is not a number, is refused naming the object and the line. On failure `out` is empty.
+bool ImportOtherObjBytes(const std::string& bytes, const std::string& base_dir,
+                         std::vector<NamedMeshData>* out, Diagnostics* diag,
+                         std::string* chosen_name = nullptr);
+
 // Metres per unit of a rig's `units` ("mm" 0.001, "cm" 0.01, "dm" 0.1, "m" 1, "in" 0.0254);
 // 0 for anything else.
 double MetresPerUnit(const std::string& units);

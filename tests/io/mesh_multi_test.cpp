@@ -128,6 +128,51 @@ TEST(MeshMulti, ObjWritesOneObjectEachAndReadsBackTheFirst) {
   EXPECT_NE(junk.Format().find("not a vertex number"), std::string::npos) << junk.Format();
 }
 
+TEST(MeshMulti, ObjBytesReaderGivesTheObjectsWithTheirOwnNumbers) {
+  // Object b's faces use the file's vertices 4-7 (v) and 4-7 (vt): locally 1-4, so its mesh
+  // holds four positions and two triangles (0 1 2) and (1 3 2), by hand.
+  const std::string text =
+      "o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n"
+      "o b\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+      "f 4/4 5/5 6/6\nf 5/5 7/7 6/6\n";
+  std::vector<NamedMeshData> others;
+  Diagnostics d;
+  std::string first;
+  ASSERT_TRUE(ImportOtherObjBytes(text, "", &others, &d, &first)) << d.Format();
+  EXPECT_EQ(first, "a");
+  ASSERT_EQ(others.size(), 1u);
+  EXPECT_EQ(others[0].name, "b");
+  ASSERT_EQ(others[0].mesh.positions.size(), 4u);
+  EXPECT_EQ(others[0].mesh.positions[3].x, 1.f);
+  EXPECT_EQ(others[0].mesh.positions[3].z, 1.f);
+  ASSERT_EQ(others[0].mesh.indices.size(), 6u);
+  const uint32_t* t = others[0].mesh.indices.data();
+  // Each corner's position is the one its face line names (welding may renumber corners).
+  const float3 expect[6] = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(others[0].mesh.positions[t[k]].x, expect[k].x) << "corner " << k;
+    EXPECT_EQ(others[0].mesh.positions[t[k]].y, expect[k].y) << "corner " << k;
+    EXPECT_EQ(others[0].mesh.positions[t[k]].z, expect[k].z) << "corner " << k;
+  }
+  // The file reader gives the same meshes.
+  const std::string dir = test::TempDir();
+  ASSERT_TRUE(WriteFileAtomic(dir + "/two.obj", text, &d)) << d.Format();
+  std::vector<NamedMeshData> from_file;
+  ASSERT_TRUE(ImportOtherMeshes(dir + "/two.obj", "", &from_file, &d)) << d.Format();
+  ASSERT_EQ(from_file.size(), 1u);
+  EXPECT_EQ(from_file[0].mesh.indices, others[0].mesh.indices);
+  EXPECT_EQ(from_file[0].mesh.positions.size(), others[0].mesh.positions.size());
+  // No object line at all, or one: nothing else; the first mesh is called "mesh" without one.
+  ASSERT_TRUE(ImportOtherObjBytes("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "", &others, &d, &first));
+  EXPECT_TRUE(others.empty());
+  EXPECT_EQ(first, "mesh");
+  // Binary junk in a later object is refused naming it, and leaves nothing.
+  Diagnostics bad;
+  EXPECT_FALSE(ImportOtherObjBytes(text + std::string("o c\nv 0 0 0\0\n"), "", &others, &bad));
+  EXPECT_TRUE(others.empty());
+  EXPECT_NE(bad.Format().find("mesh c"), std::string::npos) << bad.Format();
+}
+
 TEST(MeshMulti, BadInputIsRefusedNamingTheMesh) {
   const std::string dir = test::TempDir();
   const MeshData good = Triangle(0, false);
