@@ -189,7 +189,7 @@ namespace {
 
 // Numbers the edges `keys` name ((a << 32) | b, a <= b < point_count) in first-seen order:
 // writes each key's id to ids[i] and appends each new edge's two points to `pairs`. The edges
-// whose smaller point is a live in bucket a, which has one slot per lookup of a (so it is at
+// whose smaller point is a are kept in bucket a, which has one slot per lookup of a (so it is at
 // least as large as a's count of edges; on the sample head about five lookups per edge): a
 // small open-addressing table inside the bucket, keyed by b (each slot the other point and
 // the id side by side), so a lookup reads one or two slots of one point's few instead of
@@ -206,13 +206,10 @@ void AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count, uint
   };
   constexpr uint32_t kEmpty = ~0u;  // no point has this index (b < point_count)
   std::vector<Slot> slots(n, Slot{kEmpty, 0u});
-  const std::unique_ptr<uint32_t[]> found(new uint32_t[2 * n + 1]);  // the new edges' points
   const uint64_t* key = keys.data();
   const uint32_t* first = start.data();
   Slot* slot = slots.data();
-  uint32_t* out_pairs = found.get();
-  const uint32_t edges0 = uint32_t(pairs->size() / 2);
-  uint32_t edges = edges0;
+  uint32_t edges = uint32_t(pairs->size() / 2);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t a = uint32_t(key[i] >> 32), b = uint32_t(key[i]);
     Slot* bucket = slot + first[a];
@@ -220,14 +217,12 @@ void AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count, uint
     uint32_t k = uint32_t((uint64_t(b * 0x9E3779B1u) * size) >> 32);  // in [0, size)
     while (bucket[k].b != b && bucket[k].b != kEmpty) k = k + 1 == size ? 0 : k + 1;
     if (bucket[k].b == kEmpty) {  // a free slot exists: a has at most `size` edges
-      bucket[k] = {b, edges};
-      out_pairs[2 * size_t(edges - edges0)] = a;
-      out_pairs[2 * size_t(edges - edges0) + 1] = b;
-      ++edges;
+      bucket[k] = {b, edges++};
+      pairs->push_back(a);
+      pairs->push_back(b);
     }
     ids[i] = bucket[k].id;
   }
-  pairs->insert(pairs->end(), out_pairs, out_pairs + 2 * size_t(edges - edges0));
 }
 
 // The fused strain and displacement tables (see RigTables): edges read by the compression rows
