@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 
 #include "rig/runtime/face_kernels.h"
 #include "wrinkles/runtime/profiles.h"
@@ -187,31 +186,33 @@ bool CheckRigData(const RigData& r) {
 
 namespace {
 
-// Numbers the edges `keys` name ((a << 32) | b, a <= b < point_count) in first-seen order:
-// writes each key's id to ids[i] and appends each new edge's two points to `pairs`. The edges
-// whose smaller point is a are kept in bucket a, which has one slot per lookup of a (so it is at
-// least as large as a's count of edges; on the sample head about five lookups per edge): a
-// small open-addressing table inside the bucket, keyed by b (each slot the other point and
-// the id side by side), so a lookup reads one or two slots of one point's few instead of
-// scanning them, and the buckets are visited in nearly ascending order (a hash over all edges
-// missed the cache on nearly every probe).
-void AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count, uint32_t* ids,
-                   std::vector<uint32_t>* pairs) {
-  const size_t n = keys.size();
+// Numbers the edges that `each_lookup` looks up, in first-seen order: each_lookup(fn) calls
+// fn(a, b, id) once per lookup of the edge of points a and b (either order, both below
+// point_count), in the same order every time; the edge's id is written to *id and each new
+// edge's two points (smaller first) are appended to `pairs`. It is called twice: first to count
+// the lookups of each smaller point (ids not written), then to number them (so the lookups
+// are never stored: on the sample head 1.76 M of them, 21 MB as keys and ids). The edges whose
+// smaller point is a are kept in bucket a, which has one slot per lookup of a (so it is at least
+// as large as a's count of edges; on the sample head about five lookups per edge): a small
+// open-addressing table inside the bucket, keyed by b (each slot the other point and the id side
+// by side), so a lookup reads one or two slots of one point's few instead of scanning them, and
+// the buckets are visited in nearly ascending order (a hash over all edges missed the cache on
+// nearly every probe).
+template <class EachLookup>
+void AssignEdgeIds(uint32_t point_count, EachLookup each_lookup, std::vector<uint32_t>* pairs) {
   std::vector<uint32_t> start(size_t(point_count) + 1, 0u);
-  for (uint64_t key : keys) ++start[size_t(key >> 32) + 1];
+  uint32_t* first = start.data();
+  each_lookup([first](uint32_t a, uint32_t b, uint32_t*) { ++first[size_t(a < b ? a : b) + 1]; });
   for (uint32_t p = 0; p < point_count; ++p) start[p + 1] += start[p];
   struct Slot {
     uint32_t b, id;
   };
   constexpr uint32_t kEmpty = ~0u;  // no point has this index (b < point_count)
-  std::vector<Slot> slots(n, Slot{kEmpty, 0u});
-  const uint64_t* key = keys.data();
-  const uint32_t* first = start.data();
+  std::vector<Slot> slots(start[point_count], Slot{kEmpty, 0u});
   Slot* slot = slots.data();
   uint32_t edges = uint32_t(pairs->size() / 2);
-  for (size_t i = 0; i < n; ++i) {
-    const uint32_t a = uint32_t(key[i] >> 32), b = uint32_t(key[i]);
+  each_lookup([&, first, slot](uint32_t a, uint32_t b, uint32_t* id) {
+    if (a > b) std::swap(a, b);
     Slot* bucket = slot + first[a];
     const uint32_t size = first[a + 1] - first[a];  // >= 1: this lookup is counted
     uint32_t k = uint32_t((uint64_t(b * 0x9E3779B1u) * size) >> 32);  // in [0, size)
@@ -221,7 +222,20 @@ void AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count, uint
       pairs->push_back(a);
       pairs->push_back(b);
     }
-    ids[i] = bucket[k].id;
+    *id = bucket[k].id;
+  });
+}
+
+// The lookups of shrinkage probes for AssignEdgeIds: each probe's sides' v1v2 and v1v3, into
+// slots[4 k + 2 s] and slots[4 k + 2 s + 1].
+template <class Edge>
+void ProbeLookups(const std::vector<ShrinkageProbe>& probes, uint32_t* slots, Edge& edge) {
+  for (size_t k = 0; k < probes.size(); ++k) {
+    const ShrinkageProbe& probe = probes[k];
+    for (uint32_t s = 0; s < probe.side_count; ++s) {
+      edge(probe.point, probe.sides[s].v2, &slots[4 * k + 2 * s]);
+      edge(probe.point, probe.sides[s].v3, &slots[4 * k + 2 * s + 1]);
+    }
   }
 }
 
@@ -230,17 +244,6 @@ void AssignEdgeIds(const std::vector<uint64_t>& keys, uint32_t point_count, uint
 void BuildStrainTables(const RigData& r, RigTables* out) {
   RigTables& t = *out;
   t.edge_pairs.clear();
-  // Edge ids in first-seen order. The loops below first record each lookup's key (its two
-  // points, smaller first) in call order and a placeholder id; AssignEdgeIds then numbers the
-  // keys and the placeholders are overwritten. (A hash table over every lookup missed the cache
-  // on nearly every probe: a million lookups into a table of two million slots on the sample
-  // head; buckets by the smaller point are visited in nearly ascending order instead.)
-  std::vector<uint64_t> keys;
-  auto edge = [&](uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    keys.push_back((uint64_t(a) << 32) | b);
-    return 0u;
-  };
   // Muscle-wrinkle rows, point-major: a point's rows are contiguous (in rig order among
   // themselves, so its sum adds them in the order MuscleWrinkleJob would), and so are their
   // entries.
@@ -265,9 +268,8 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
       for (uint32_t i = 0; i < w.row_count(); ++i) row_refs[fill[w.points[i]]++] = {&w, i};
   }
   const RigCurveWrinkles& c = r.curve_wrinkles;
-  keys.reserve(entry_total + 4 * c.probes.size());
   t.row_offsets.resize(row_total + 1);
-  t.entry_edges.resize(entry_total);  // ids after AssignEdgeIds below
+  t.entry_edges.resize(entry_total);  // by AssignEdgeIds below
   t.entry_rest.resize(entry_total);
   t.entry_coeffs.resize(entry_total);
   t.row_profiles.resize(row_total);
@@ -289,7 +291,6 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
         weight_sum += w.edge_weights[k];
       for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k, ++entry) {
         const float rest = w.edge_rest_lengths[k];
-        edge(p, w.edge_neighbors[k]);
         t.entry_rest[entry] = rest;
         // 001 eq. 9-10: eps = sum_j w_j (L_j - l_j) / L_j / sum_j w_j, as sum_j c_j (L_j - l_j)
         // (no division per frame; L_j - l_j is exactly 0 at rest, so is eps).
@@ -300,39 +301,26 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
     }
     t.point_row_offsets[p + 1] = uint32_t(row);
   }
+  // Edge ids in first-seen order (AssignEdgeIds): each entry's edge (its point and its
+  // neighbour, the rows point-major as above), then each curve-wrinkle probe's sides.
   t.probe_edges.assign(4 * c.probes.size(), 0u);
-  for (size_t k = 0; k < c.probes.size(); ++k) {
-    const ShrinkageProbe& probe = c.probes[k];
-    for (uint32_t s = 0; s < probe.side_count; ++s) {
-      t.probe_edges[4 * k + 2 * s] = edge(probe.point, probe.sides[s].v2);
-      t.probe_edges[4 * k + 2 * s + 1] = edge(probe.point, probe.sides[s].v3);
+  AssignEdgeIds(r.point_count(), [&](auto&& edge) {
+    uint32_t* entry_edge = t.entry_edges.data();
+    for (const RowRef& ref : row_refs) {
+      const RigMuscleWrinkles& w = *ref.table;
+      const uint32_t i = ref.index, p = w.points[i];
+      for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k)
+        edge(p, w.edge_neighbors[k], entry_edge++);
     }
-  }
-  const std::unique_ptr<uint32_t[]> ids(new uint32_t[keys.size() + 1]);
-  AssignEdgeIds(keys, r.point_count(), ids.get(), &t.edge_pairs);
-  size_t next = 0;
-  for (uint32_t& e : t.entry_edges) e = ids[next++];
-  for (size_t k = 0; k < c.probes.size(); ++k)
-    for (uint32_t s = 0; s < 2 * c.probes[k].side_count; ++s) t.probe_edges[4 * k + s] = ids[next++];
+    ProbeLookups(c.probes, t.probe_edges.data(), edge);
+  }, &t.edge_pairs);
   // Fine-scale probes (docs/model.md §23): their edges numbered apart (only a frame that asks
   // for out_fine_amplitudes measures them), 4 per probe (sides' v1v2, v1v3).
-  {
-    const RigFineScale& f = r.fine_scale;
-    std::vector<uint64_t> fine_keys;
-    fine_keys.reserve(4 * f.probes.size());
-    for (const ShrinkageProbe& probe : f.probes)
-      for (uint32_t s = 0; s < probe.side_count; ++s)
-        for (uint32_t v : {probe.sides[s].v2, probe.sides[s].v3}) {
-          const uint32_t a = std::min(probe.point, v), b = std::max(probe.point, v);
-          fine_keys.push_back((uint64_t(a) << 32) | b);
-        }
-    const std::unique_ptr<uint32_t[]> fine_ids(new uint32_t[fine_keys.size() + 1]);
-    AssignEdgeIds(fine_keys, r.point_count(), fine_ids.get(), &t.fine_edge_pairs);
-    t.fine_probe_edges.assign(4 * f.probes.size(), 0u);
-    size_t at = 0;
-    for (size_t k = 0; k < f.probes.size(); ++k)
-      for (uint32_t s = 0; s < 2 * f.probes[k].side_count; ++s) t.fine_probe_edges[4 * k + s] = fine_ids[at++];
-  }
+  const RigFineScale& f = r.fine_scale;
+  t.fine_probe_edges.assign(4 * f.probes.size(), 0u);
+  AssignEdgeIds(r.point_count(), [&](auto&& edge) {
+    ProbeLookups(f.probes, t.fine_probe_edges.data(), edge);
+  }, &t.fine_edge_pairs);
   // Each point's curve-wrinkle rows, as CSR in row order.
   t.point_curve_offsets.assign(size_t(active) + 1, 0u);
   for (uint32_t i = 0; i < c.row_count(); ++i) ++t.point_curve_offsets[size_t(c.points[i]) + 1];
