@@ -46,7 +46,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   limit_levels_.assign(point_count_, 0);
   fold_limits_.assign(triangle_count_, 0.f);
   limit_flags_.assign(point_count_, 0);
-  slope_bounds_.assign(t.point_neighbors.size(), 0.f);
+  slope_min_bounds_.assign(point_count_, 0.f);
   // (Clamped: an unchecked rig's ranges are not trusted, and IsFor refuses it anyway.)
   const uint32_t active = std::min(rig.active_point_count(), point_count_);
   const uint32_t active_tris = std::min(rig.active_triangle_count(), triangle_count_);
@@ -80,7 +80,7 @@ size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
          Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(fine_edge_lengths_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
-         Bytes(slope_bounds_) +
+         Bytes(slope_min_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
          Bytes(limit_point_marks_) + Bytes(limit_tri_marks_) + Bytes(limit_tri_bad_);
 }
@@ -240,7 +240,7 @@ struct FrameState {
   uint8_t* limit_levels;           // #P (context)
   float* fold_limits;              // #T (context)
   uint8_t* limit_flags;            // #P (context; 0 past the active points)
-  float* slope_bounds;             // RigTables::point_neighbors (context)
+  float* slope_min_bounds;         // #P (context)
   uint32_t* limit_moved;           // active points (context)
   uint32_t* limit_flagged;         // active points (context)
   uint32_t* limit_recheck;         // active points (context)
@@ -412,23 +412,61 @@ void StageStrain(const FrameState& f) {
   }
 }
 
+// g L_pq, the slope bound between p (at xp) and its neighbour q, from X1: L_pq^2 as
+// (x^2 + y^2) + z^2, then g sqrt (the same bits wherever it is computed).
+inline float SlopeBound(const float3* xs, float3 xp, uint32_t q) {
+  const float3 e = xs[q] - xp;
+  return kOffsetSlope * std::sqrt((e.x * e.x + e.y * e.y) + e.z * e.z);
+}
+
 // One Jacobi pass of the thickness slope limit for point p: with t = in[p] > 0, the result is
 // max(0, min(t, min_q (in[q] + g L_pq))) over p's neighbours q (L_pq the edge length at X1,
-// `bound` = g L_pq per neighbour slot, computed once per frame); with t < 0, the mirror image.
-// Only lowers magnitudes and never changes a sign, so a peak (a pinched one-ring whose r is
-// near r_min) comes down to its neighbours plus the slope, and flat or gently sloped offsets
-// keep their bits. A NaN neighbour never binds (std::min/max keep the first argument).
+// `xs`); with t < 0, the mirror image. Only lowers magnitudes and never changes a sign, so a
+// peak (a pinched one-ring whose r is near r_min) comes down to its neighbours plus the slope,
+// and flat or gently sloped offsets keep their bits. A NaN neighbour never binds (std::min/max
+// keep the first argument).
 inline float SlopeLimitPoint(const float* in, const uint32_t* off, const uint32_t* nbr,
-                             const float* bound, uint32_t p) {
+                             const float3* xs, uint32_t p) {
   const float t = in[p];
   if (t == 0.f) return t;
+  const float3 xp = xs[p];
   float out = t;
   if (t > 0.f) {
-    for (uint32_t k = off[p]; k < off[p + 1]; ++k) out = std::min(out, in[nbr[k]] + bound[k]);
+    for (uint32_t k = off[p]; k < off[p + 1]; ++k)
+      out = std::min(out, in[nbr[k]] + SlopeBound(xs, xp, nbr[k]));
     return std::max(out, 0.f);
   }
-  for (uint32_t k = off[p]; k < off[p + 1]; ++k) out = std::max(out, in[nbr[k]] - bound[k]);
+  for (uint32_t k = off[p]; k < off[p + 1]; ++k)
+    out = std::max(out, in[nbr[k]] - SlopeBound(xs, xp, nbr[k]));
   return std::min(out, 0.f);
+}
+
+// SlopeLimitPoint, first deciding from `min_bound` = g min_q L_pq (the smallest of p's bounds,
+// computed the same way) whether any neighbour can bind: with t > 0, when t <= min_q in[q] +
+// min_bound no neighbour does (each in[q] + g L_pq is at least that sum, float rounding being
+// monotone) and t is the result, with no neighbour's position read; the mirror image for t < 0.
+// NaN neighbours are skipped here as they never bind there. The same bits as SlopeLimitPoint.
+inline float SlopeLimitPointQuick(const float* in, const uint32_t* off, const uint32_t* nbr,
+                                  const float3* xs, const float* min_bound, uint32_t p) {
+  const float t = in[p];
+  if (t == 0.f) return t;
+  const uint32_t k0 = off[p], k1 = off[p + 1];
+  if (t > 0.f) {
+    float m = std::numeric_limits<float>::infinity();
+    for (uint32_t k = k0; k < k1; ++k) {
+      const float v = in[nbr[k]];
+      m = v < m ? v : m;
+    }
+    if (t <= m + min_bound[p]) return t;
+  } else {
+    float m = -std::numeric_limits<float>::infinity();
+    for (uint32_t k = k0; k < k1; ++k) {
+      const float v = in[nbr[k]];
+      m = v > m ? v : m;
+    }
+    if (t >= m - min_bound[p]) return t;
+  }
+  return SlopeLimitPoint(in, off, nbr, xs, p);
 }
 
 // The skin offset of each active point with the fold limiter on: d_p = t_p + w_p (t the
@@ -456,11 +494,11 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   const uint32_t* noff = f.tables.point_neighbor_offsets.data();
   const uint32_t* nbr = f.tables.point_neighbors.data();
   const float3* rest_normals = f.tables.rest_point_normals.data();
-  // The curvature bound, and in the same sweep over the neighbours the slope limit's g L_pq per
-  // neighbour slot (the edge lengths at X1 are the same in every pass). A point whose offset is
-  // 0 keeps 0 through every slope pass (SlopeLimitPoint returns it), so its slots are never
-  // read and are not computed.
-  float* bound = f.slope_bounds;
+  // The curvature bound, and in the same sweep over the neighbours the slope limit's smallest
+  // bound g min_q L_pq per point (SlopeLimitPointQuick's test; the edge lengths at X1 are the
+  // same in every pass). A point whose offset is 0 keeps 0 through every slope pass
+  // (SlopeLimitPoint returns it), so its bound is never read and is not computed.
+  float* min_bound = f.slope_min_bounds;
   const float3* x1 = f.points;
   // The shortcut below is exact; limit_folds_full_scan (the tests' reference) runs without it,
   // so FoldOver.LimiterWorklistGivesTheFullScansBits compares the two bit for bit.
@@ -470,7 +508,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
     // (through the captured references it reloaded every pointer after every store).
     const float* offsets = a;
     float* out = b;
-    float* slots = bound;
+    float* min_bounds = min_bound;
     const float3* xs = x1;
     const float3* units = unit;
     for (uint32_t p = lo; p < hi; ++p) {
@@ -479,7 +517,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
         out[p] = 0.f;
         continue;
       }
-      // First the slope bounds, and the shortest edge: unit normals differ by at most 2
+      // First the shortest edge (its slope bound kept): unit normals differ by at most 2
       // (|dN|^2 <= 4), so when 4 d^2 is below c^2 L_min^2 (with a margin of 1% for the
       // rounding of normals and products) no neighbour can bind and the curvature needs no
       // normals at all: the same result as the full test, which then keeps d.
@@ -489,9 +527,9 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       for (uint32_t k = k0; k < k1; ++k) {
         const float3 e = xs[nbr[k]] - xp;
         const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
-        slots[k] = kOffsetSlope * std::sqrt(l2);
         l2_min = l2 < l2_min ? l2 : l2_min;
       }
+      min_bounds[p] = kOffsetSlope * std::sqrt(l2_min);
       const float c2 = kOffsetCurvature * kOffsetCurvature;
       if (quick && d * d * 4.04f <= c2 * l2_min) {
         out[p] = d;
@@ -558,7 +596,10 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   // instead of all. The lists are built serially in a fixed order; each parallel phase writes
   // only its own point.
   ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
-    for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, bound, p);
+    if (quick)
+      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPointQuick(a, noff, nbr, x1, min_bound, p);
+    else
+      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, x1, p);
   });
   std::swap(a, b);  // a: after the first pass, b: before it
   auto bits = [](float v) {
@@ -572,7 +613,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   if (f.job.limit_folds_full_scan) {  // every pass over every point (tests compare the bits)
     for (uint32_t pass = 1; pass < kOffsetSlopePasses; ++pass) {
       ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
-        for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, bound, p);
+        for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, x1, p);
       });
       std::swap(a, b);
     }
@@ -592,7 +633,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) add(nbr[k]);
     }
     ParallelFor(f.job, n_redo, [&](uint32_t lo, uint32_t hi) {
-      for (uint32_t i = lo; i < hi; ++i) b[redo[i]] = SlopeLimitPoint(a, noff, nbr, bound, redo[i]);
+      for (uint32_t i = lo; i < hi; ++i) b[redo[i]] = SlopeLimitPoint(a, noff, nbr, x1, redo[i]);
     });
     n_changed = 0;
     for (uint32_t i = 0; i < n_redo; ++i) {
@@ -1127,7 +1168,7 @@ bool EvaluateJob::Run() const {
       .limit_levels = ctx.limit_levels_.data(),
       .fold_limits = ctx.fold_limits_.data(),
       .limit_flags = ctx.limit_flags_.data(),
-      .slope_bounds = ctx.slope_bounds_.data(),
+      .slope_min_bounds = ctx.slope_min_bounds_.data(),
       .limit_moved = ctx.limit_moved_.data(),
       .limit_flagged = ctx.limit_flagged_.data(),
       .limit_recheck = ctx.limit_recheck_.data(),

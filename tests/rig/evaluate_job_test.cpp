@@ -416,13 +416,12 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   // activations, points (+1 pad), faces, ratios, compressions, fine-scale amplitudes (2 per
   // point), sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
-  // flags, the slope bound per neighbour slot; its worklists over the active points (three
+  // flags, the smallest slope bound per point; its worklists over the active points (three
   // lists, marks) and triangles (list, marks, verdicts)
-  const size_t N = t.point_neighbors.size();
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
                                 8 * P + 4 * t.fine_edge_count() + 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
-                                4 * T + P + 4 * N + 3 * 4 * A + A + 4 * AT + AT + AT);
+                                4 * T + P + 4 * P + 3 * 4 * A + A + 4 * AT + AT + AT);
 }
 
 // A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context
