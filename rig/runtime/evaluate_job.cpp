@@ -593,15 +593,8 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   // only those, so it returns what it returned then), so each later pass recomputes only the
   // points the previous one changed and their active neighbours: the same bits as a full
   // pass (bits compared, so a zero turning into -0 counts as a change), a few hundred points
-  // instead of all. The lists are built serially in a fixed order; each parallel phase writes
-  // only its own point.
-  ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
-    if (quick)
-      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPointQuick(a, noff, nbr, x1, min_bound, p);
-    else
-      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, x1, p);
-  });
-  std::swap(a, b);  // a: after the first pass, b: before it
+  // instead of all. The lists after the first are built serially in a fixed order; each
+  // parallel phase writes only its own point.
   auto bits = [](float v) {
     uint32_t u;
     std::memcpy(&u, &v, 4);
@@ -610,6 +603,21 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   uint32_t* changed = f.limit_moved;   // StageLimit's lists and marks, free until it runs
   uint32_t* redo = f.limit_recheck;
   uint8_t* mark = f.limit_point_marks;  // 0 on entry and on exit
+  // The first pass also lists the points it changed (bits compared), each appended by the
+  // thread that computed it; sorted below, so the list is the serial scan's, in its order.
+  std::atomic<uint32_t> first_changed{0};
+  ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
+    if (quick) {
+      for (uint32_t p = lo; p < hi; ++p) {
+        const float v = SlopeLimitPointQuick(a, noff, nbr, x1, min_bound, p);
+        b[p] = v;
+        if (bits(v) != bits(a[p])) changed[first_changed.fetch_add(1, std::memory_order_relaxed)] = p;
+      }
+    } else {
+      for (uint32_t p = lo; p < hi; ++p) b[p] = SlopeLimitPoint(a, noff, nbr, x1, p);
+    }
+  });
+  std::swap(a, b);  // a: after the first pass, b: before it
   if (f.job.limit_folds_full_scan) {  // every pass over every point (tests compare the bits)
     for (uint32_t pass = 1; pass < kOffsetSlopePasses; ++pass) {
       ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
@@ -619,9 +627,8 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
     }
     return a;
   }
-  uint32_t n_changed = 0;
-  for (uint32_t p = 0; p < count; ++p)
-    if (bits(a[p]) != bits(b[p])) changed[n_changed++] = p;
+  uint32_t n_changed = first_changed.load(std::memory_order_relaxed);
+  std::sort(changed, changed + n_changed);
   for (uint32_t pass = 1; pass < kOffsetSlopePasses && n_changed > 0; ++pass) {
     uint32_t n_redo = 0;
     auto add = [&](uint32_t q) {
@@ -874,11 +881,17 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
   while (pass < kFoldLimitPasses) {
     if (pass == 0) {  // every active triangle and point
       FoldVerdictsOfActive(f, rest);
+      // The flagged points appended by the thread that tested them, then sorted: the serial
+      // scan's list, in its order.
+      std::atomic<uint32_t> n{0};
       ParallelFor(f.job, count, [&](uint32_t b, uint32_t e) {
-        for (uint32_t p = b; p < e; ++p) flags[p] = FoldFlag(f, p);
+        for (uint32_t p = b; p < e; ++p) {
+          flags[p] = FoldFlag(f, p);
+          if (flags[p]) flagged[n.fetch_add(1, std::memory_order_relaxed)] = p;
+        }
       });
-      for (uint32_t p = 0; p < count; ++p)
-        if (flags[p]) flagged[n_flagged++] = p;
+      n_flagged = n.load(std::memory_order_relaxed);
+      std::sort(flagged, flagged + n_flagged);
     } else {
       // The triangles touching a point the last pass moved: the only normals that can differ.
       uint32_t n_dirty = 0;
@@ -983,9 +996,10 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
 // RigTables::point_triangles_exact (the full scan runs where a rig lacks it, and with
 // EvaluateJob::limit_folds_full_scan). A pass that moves nothing is a fixed point: the full
 // scan would repeat it until kFoldLimitPasses, so the worklist stops there and counts them.
-// The lists are built serially in a fixed order; each point or triangle of a parallel phase
-// reads only the previous phase's values and writes only itself, so the result does not
-// depend on how parallel_for splits the work. Points never reduced keep their bits.
+// The lists are built serially in a fixed order (the first pass's flagged points are appended
+// in parallel and then sorted, which gives the same list); each point or triangle of a
+// parallel phase reads only the previous phase's values and writes only itself, so the result
+// does not depend on how parallel_for splits the work. Points never reduced keep their bits.
 // Returns true when the face slots hold the normals of the final points.
 bool StageLimit(const FrameState& f, uint32_t* limited, uint32_t* passes) {
   const Rig& r = f.rig;
