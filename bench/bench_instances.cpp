@@ -96,8 +96,8 @@ std::vector<std::unique_ptr<Instance>> MakeInstances(const Rig& rig, uint32_t n)
 
 // A persistent pool of one extra worker: Run(count, task, data) gives the worker the first
 // half of [0, count) and runs the second half on the calling thread; or, with `chunks` > 1,
-// both threads claim chunks of ceil(count / chunks) items from an atomic cursor until the
-// range is done. An EvaluateJob's `parallel_for` calls it several times a frame, so the worker
+// both threads claim chunks of ceil(count / chunks) items from the front of what is left
+// until the range is done. An EvaluateJob's `parallel_for` calls it several times a frame, so the worker
 // waits between calls instead of being started each time: on a condition variable, or, with
 // `spin` > 0, first polling for up to that long (and the caller polls the same way for the
 // worker's end of a call) before it sleeps, as engines' job systems do: a call that comes
@@ -130,17 +130,14 @@ class TwoThreadPool {
       std::lock_guard<std::mutex> lock(mutex_);
       task_ = task;
       data_ = data;
-      end_ = chunk ? count : mid;
+      end_ = mid;  // the worker's half (unless chunked)
       chunk_ = chunk;
-      next_.store(0, std::memory_order_relaxed);
       range_.store(uint64_t(count) << 32, std::memory_order_relaxed);  // [0, count)
       pending_ = true;
     }
     wake_.notify_one();
-    if (chunk && two_ended_)
-      ClaimEnd(task, data, chunk, false);
-    else if (chunk)
-      Claim(task, data, count, chunk);
+    if (chunk)
+      Claim(task, data, chunk, !two_ended_);  // the caller from the back when two-ended
     else
       task(data, mid, count);
     Spin([this] { return !pending_; });
@@ -162,19 +159,10 @@ class TwoThreadPool {
       if (i % 64 == 0 && std::chrono::steady_clock::now() > end) return;
     }
   }
-  // Runs chunks of `chunk` items of [0, count) until the cursor passes the end.
-  void Claim(void (*task)(void*, uint32_t, uint32_t), void* data, uint32_t count,
-             uint32_t chunk) {
-    for (;;) {
-      const uint32_t b = next_.fetch_add(chunk, std::memory_order_relaxed);
-      if (b >= count) return;
-      task(data, b, count - b < chunk ? count : b + chunk);
-    }
-  }
-  // Two-ended claiming: range_ holds [lo, hi) of what is left (lo in the low 32 bits); the
-  // front claims [lo, lo + chunk), the back [hi - chunk, hi), each by one compare-and-swap.
-  void ClaimEnd(void (*task)(void*, uint32_t, uint32_t), void* data, uint32_t chunk,
-                bool front) {
+  // Runs chunks of `chunk` items of what is left of the range until nothing is: range_ holds
+  // [lo, hi) (lo in the low 32 bits); the front claims [lo, lo + chunk), the back
+  // [hi - chunk, hi), each by one compare-and-swap.
+  void Claim(void (*task)(void*, uint32_t, uint32_t), void* data, uint32_t chunk, bool front) {
     uint64_t r = range_.load(std::memory_order_relaxed);
     for (;;) {
       const uint32_t lo = uint32_t(r), hi = uint32_t(r >> 32);
@@ -198,10 +186,8 @@ class TwoThreadPool {
       void* data = data_;
       const uint32_t end = end_, chunk = chunk_;
       lock.unlock();
-      if (chunk && two_ended_)
-        ClaimEnd(task, data, chunk, true);
-      else if (chunk)
-        Claim(task, data, end, chunk);
+      if (chunk)
+        Claim(task, data, chunk, true);
       else if (end > 0)
         task(data, 0, end);
       lock.lock();
@@ -215,8 +201,7 @@ class TwoThreadPool {
   void (*task_)(void*, uint32_t, uint32_t) = nullptr;
   void* data_ = nullptr;
   uint32_t end_ = 0, chunk_ = 0;
-  std::atomic<uint32_t> next_{0};
-  std::atomic<uint64_t> range_{0};
+  std::atomic<uint64_t> range_{0};  // what is left of a chunked call's range
   std::atomic<bool> pending_{false}, quit_{false};  // polled unlocked while spinning
   const uint32_t chunks_;
   const std::chrono::microseconds spin_;
