@@ -20,7 +20,8 @@ packages=(
   nlohmann-json3-dev libtinygltf-dev libopenmesh-dev libstb-dev libspng-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
-  libglfw3-dev libimgui-dev libgl-dev libglm-dev xvfb xauth libgl1-mesa-dri xdotool
+  libglfw3-dev libimgui-dev libgl-dev libegl-dev libglm-dev xvfb xauth libgl1-mesa-dri libegl-mesa0
+  xdotool
 )
 if [[ "${1:-}" == "--fuzz" ]]; then
   packages+=(clang libclang-rt-14-dev)  # Debian 12's clang 14; the runtime holds libFuzzer

@@ -3,6 +3,7 @@
 // chin; an overlay differs from the shading; a broken rig exits 1 with its message; a missing
 // rig on the command line opens the window (still running when the test stops it).
 // Without xvfb-run the tests skip (CI, which installs it, fails instead).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -198,11 +199,51 @@ TEST(ViewerHeadless, ABrokenRigExits1WithItsMessages) {
   EXPECT_NE(c.output.find("zygomatc"), std::string::npos) << c.output;
 }
 
+// --egl, and every headless run without DISPLAY, makes the context through EGL: no X server,
+// no window. On Mesa both ways rasterise with llvmpipe, the same shaders on the same mesh, so
+// the image must be the window's pixel for pixel; with --ui the panels draw too (ImGui without
+// its GLFW backend).
+TEST(ViewerHeadless, EglWithoutADisplayDrawsWhatTheWindowDraws) {
+  REQUIRE_XVFB();
+  for (const bool ui : {false, true}) {
+    std::vector<std::string> args = {Head(), "--set", "frontalis_major=1", "--overlay",
+                                     "displacement"};
+    if (ui) args.push_back("--ui");
+    const std::string name = ui ? "egl_ui" : "egl";
+    const GrayImage window = Screenshot(args, name + "_window");
+    const std::string out = test::TempDir() + "/" + name + ".png";
+    args.insert(args.end(), {"--egl", "--screenshot", out, "--size", "640x360"});
+    const test::ToolResult r = test::RunCommand(
+        "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 env -u DISPLAY " +
+            test::ShellQuote(MIMETIC_VIEWER_PATH),
+        args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    GrayImage egl;
+    Diagnostics diag;
+    ASSERT_TRUE(LoadGrayImage(out, "test", "screenshot", &egl, &diag)) << diag.Format();
+    ASSERT_EQ(egl.width, window.width);
+    ASSERT_EQ(egl.height, window.height);
+    // The Stats panel (at the bottom, from row 320 on) prints each run's own timings.
+    const int rows = ui ? 300 : egl.height;
+    int worst = 0;
+    for (size_t i = 0; i < size_t(rows) * egl.width; ++i)
+      worst = std::max(worst, std::abs(int(egl.pixels[i]) - int(window.pixels[i])));
+    EXPECT_LE(worst, 1) << (ui ? "with the panels" : "the face alone");
+    // And it is a picture: the head fills a good part of it.
+    const Box b = Silhouette(egl);
+    EXPECT_GT(b.bottom - b.top, 180);
+  }
+}
+
 TEST(ViewerHeadless, UsageErrorsExit2) {
   const test::ToolResult r = test::RunCommand(test::ShellQuote(MIMETIC_VIEWER_PATH),
                                               {"--overlay", "bogus", "--screenshot", "o.png", "r"});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--overlay bogus"), std::string::npos) << r.output;
+  // --egl makes a headless run's context; the window has its display.
+  const test::ToolResult e = test::RunCommand(test::ShellQuote(MIMETIC_VIEWER_PATH), {"r", "--egl"});
+  EXPECT_EQ(e.exit_code, 2) << e.output;
+  EXPECT_NE(e.output.find("--egl makes a headless run's context"), std::string::npos) << e.output;
   const test::ToolResult h = test::RunCommand(test::ShellQuote(MIMETIC_VIEWER_PATH), {"--help"});
   EXPECT_EQ(h.exit_code, 0);
   EXPECT_NE(h.output.find("usage: mimetic-viewer"), std::string::npos);

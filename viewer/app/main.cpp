@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "core/file_util_hook.h"
 #include "io/image.h"
 #include "viewer/app/app.h"
+#include "viewer/app/egl_context.h"
 #include "viewer/core/args.h"
 #include "viewer/core/script.h"
 #include "viewer/core/timeline.h"
@@ -89,9 +91,15 @@ void Render(App* app, int width, int height) {
   app->stats.draw_ms = MillisecondsSince(start);
 }
 
+// False when the context came from EGL (no window): ImGui then gets its frame time here.
+bool g_glfw_backend = true;
+
 void UiFrame(App* app, int width, int height) {
   ImGui_ImplOpenGL3_NewFrame();
-  ImGui_ImplGlfw_NewFrame();
+  if (g_glfw_backend)
+    ImGui_ImplGlfw_NewFrame();
+  else
+    ImGui::GetIO().DeltaTime = 1.f / 60.f;
   ImGui::GetIO().DisplaySize = ImVec2(float(width), float(height));
   ImGui::NewFrame();
   DrawPanels(app, float(width), float(height));
@@ -316,26 +324,40 @@ int Main(int argc, char** argv) {
     g_exit_before_rename = e;
     SetWriteFileAtomicHook(&ExitBeforeRename);
   }
-  if (!glfwInit()) {
-    std::fprintf(stderr, "mimetic-viewer: cannot start GLFW (no display? headless runs need one: "
-                         "xvfb-run -a mimetic-viewer ...)\n");
-    return kExitInput;
+  // Headless runs make their context through EGL when asked to or when there is no X display
+  // (a GPU server, a container): no window is needed, the frames go to an offscreen target.
+  const char* display = std::getenv("DISPLAY");
+  const bool egl = args.headless() && (args.egl || !display || !*display);
+  EglContext egl_context;
+  GLFWwindow* window = nullptr;
+  if (egl) {
+    if (!egl_context.Create(&error)) {
+      std::fprintf(stderr, "mimetic-viewer: %s\n", error.c_str());
+      return kExitInput;
+    }
+    g_glfw_backend = false;
+  } else {
+    if (!glfwInit()) {
+      std::fprintf(stderr, "mimetic-viewer: cannot start GLFW (no display? the window needs one; "
+                           "headless runs can use --egl or xvfb-run -a mimetic-viewer ...)\n");
+      return kExitInput;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    if (args.headless()) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    window = glfwCreateWindow(args.headless() ? args.width : 1600,
+                              args.headless() ? args.height : 950, "mimetic-viewer", nullptr,
+                              nullptr);
+    if (!window) {
+      std::fprintf(stderr, "mimetic-viewer: cannot create an OpenGL 3.3 core context\n");
+      glfwTerminate();
+      return kExitInput;
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(args.headless() ? 0 : 1);
   }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  if (args.headless()) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-  GLFWwindow* window = glfwCreateWindow(args.headless() ? args.width : 1600,
-                                        args.headless() ? args.height : 950, "mimetic-viewer",
-                                        nullptr, nullptr);
-  if (!window) {
-    std::fprintf(stderr, "mimetic-viewer: cannot create an OpenGL 3.3 core context\n");
-    glfwTerminate();
-    return kExitInput;
-  }
-  glfwMakeContextCurrent(window);
-  glfwSwapInterval(args.headless() ? 0 : 1);
   int rc = 0;
   {
     App app(unsigned(args.threads));
@@ -347,7 +369,7 @@ int Main(int argc, char** argv) {
       ImGui::CreateContext();
       ImGui::GetIO().IniFilename = nullptr;  // layout is not saved between runs
       ImGui::StyleColorsDark();
-      ImGui_ImplGlfw_InitForOpenGL(window, true);
+      if (window) ImGui_ImplGlfw_InitForOpenGL(window, true);
       ImGui_ImplOpenGL3_Init("#version 330 core");
       if (args.headless()) {
         rc = Headless(args, &app, window);
@@ -361,13 +383,15 @@ int Main(int argc, char** argv) {
       }
       ReleaseRigPanels(&app);
       ImGui_ImplOpenGL3_Shutdown();
-      ImGui_ImplGlfw_Shutdown();
+      if (window) ImGui_ImplGlfw_Shutdown();
       ImGui::DestroyContext();
       app.renderer.Shutdown();
     }
   }
-  glfwDestroyWindow(window);
-  glfwTerminate();
+  if (window) {
+    glfwDestroyWindow(window);
+    glfwTerminate();
+  }
   return rc;
 }
 

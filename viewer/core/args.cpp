@@ -37,7 +37,7 @@ const char* ViewerUsage() {
          "                      [--panel muscle-editor|uv-curves|directions]\n"
          "                      [--bench-frames N] [--threads N]\n"
          "                      [--script FILE] [--autosave-seconds N] [--recover]\n"
-         "                      [--fine DIR [--fine-depth D]] [--ui-trace FILE]\n\n"
+         "                      [--fine DIR [--fine-depth D]] [--ui-trace FILE] [--egl]\n\n"
          "Shows RIG (a .rig.json or a compiled .mrig) live: orbit, pan and zoom, skin shading,\n"
          "overlays, a slider per muscle, expressions and clips (docs/viewer.md). A file that\n"
          "fails to load is reported in the Messages panel; the viewer keeps what it had.\n\n"
@@ -77,6 +77,9 @@ const char* ViewerUsage() {
          "                       screen rectangles of the widgets the UI tests drive to FILE\n"
          "                       as JSON (written atomically; docs/viewer.md \"Tested by\n"
          "                       driving the UI\")\n"
+         "  --egl                (headless runs) make the OpenGL context through EGL, with no\n"
+         "                       window and no X display: a GPU's driver directly, or Mesa's\n"
+         "                       surfaceless platform; the default when DISPLAY is not set\n"
          "  -h, --help           this text\n";
 }
 
@@ -105,6 +108,10 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
     }
     if (a == "--recover") {
       out->recover = true;
+      continue;
+    }
+    if (a == "--egl") {
+      out->egl = true;
       continue;
     }
     static const char* kValued[] = {"--clip", "--library", "--time", "--set", "--screenshot",
@@ -242,6 +249,11 @@ bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std:
   if (!out->ui_trace.empty() && out->headless()) {
     *error = "--ui-trace traces the window's widgets: it excludes --screenshot, --bench-frames "
              "and --script";
+    return false;
+  }
+  if (out->egl && !out->headless()) {
+    *error = "--egl makes a headless run's context: it needs --screenshot, --bench-frames or "
+             "--script (the window uses the display)";
     return false;
   }
   if (out->headless() && out->rig.empty()) {

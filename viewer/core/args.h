@@ -3,7 +3,7 @@
 //   mimetic-viewer [RIG] [--clip CLIP] [--library LIB] [--time T | --set NAME=V ...]
 //                  [--screenshot OUT.png [--size WxH] [--overlay NAME] [--view V] [--ui] [--select MUSCLE]] [--panel NAME]
 //                  [--bench-frames N] [--threads N] [--script FILE] [--autosave-seconds N] [--recover]
-//                  [--fine DIR [--fine-depth D]] [--ui-trace FILE]
+//                  [--fine DIR [--fine-depth D]] [--ui-trace FILE] [--egl]
 #pragma once
 
 #include <string>
@@ -39,6 +39,7 @@ struct ViewerArgs {
   bool has_fine_depth = false;    // --fine-depth given (needs --fine)
   float fine_depth = 0.15f;       // --fine-depth D, mesh units
   std::string ui_trace;           // --ui-trace FILE: the window writes its widgets' rects (tests)
+  bool egl = false;               // --egl: a headless run's context through EGL, no X display
   bool help = false;              // --help / -h
   bool headless() const { return !screenshot.empty() || bench_frames > 0 || !script.empty(); }
 };
@@ -46,7 +47,8 @@ struct ViewerArgs {
 // Parses `args` (without the program name). On a usage problem returns false with `error` set
 // to one line naming the option and what was expected; the caller prints it with the usage
 // and exits 2. Rules: --time needs --clip; --set and --clip exclude each other; --size, --overlay,
-// --view, --ui and --select need --screenshot (or --bench-frames or --script); a headless run needs RIG; --screenshot ends in .png.
+// --view, --ui and --select need --screenshot (or --bench-frames or --script); a headless run needs RIG; --screenshot ends in .png;
+// --egl needs a headless run.
 bool ParseViewerArgs(const std::vector<std::string>& args, ViewerArgs* out, std::string* error);
 
 // The usage text (--help).
