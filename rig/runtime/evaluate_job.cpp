@@ -639,8 +639,11 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       add(p);
       for (uint32_t k = noff[p]; k < noff[p + 1]; ++k) add(nbr[k]);
     }
+    // The quick test holds here too: a point whose offset is not 0 had one before the first
+    // pass (a 0 stays 0), so its smallest bound was computed above.
     ParallelFor(f.job, n_redo, [&](uint32_t lo, uint32_t hi) {
-      for (uint32_t i = lo; i < hi; ++i) b[redo[i]] = SlopeLimitPoint(a, noff, nbr, x1, redo[i]);
+      for (uint32_t i = lo; i < hi; ++i)
+        b[redo[i]] = SlopeLimitPointQuick(a, noff, nbr, x1, min_bound, redo[i]);
     });
     n_changed = 0;
     for (uint32_t i = 0; i < n_redo; ++i) {
