@@ -235,6 +235,21 @@ TEST(ViewerHeadless, EglWithoutADisplayDrawsWhatTheWindowDraws) {
   }
 }
 
+// With no EGL driver to be found (glvnd pointed at a vendor file that does not exist), a
+// headless run without a display exits 1 naming what it could not do; nothing is written.
+TEST(ViewerHeadless, NoEglDriverExits1WithTheReason) {
+  const std::string out = test::TempDir() + "/no_egl.png";
+  const test::ToolResult r = test::RunCommand(
+      "env -u DISPLAY __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl_vendor.json " +
+          test::ShellQuote(MIMETIC_VIEWER_PATH),
+      {test::SourceDir() + "/assets/surface/surface.rig.json", "--screenshot", out, "--egl"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("cannot make an OpenGL 3.3 core context through EGL"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(ViewerHeadless, UsageErrorsExit2) {
   const test::ToolResult r = test::RunCommand(test::ShellQuote(MIMETIC_VIEWER_PATH),
                                               {"--overlay", "bogus", "--screenshot", "o.png", "r"});

@@ -336,6 +336,8 @@ int Main(int argc, char** argv) {
       return kExitInput;
     }
     g_glfw_backend = false;
+    if (args.bench_frames > 0)
+      std::printf("mimetic-viewer: OpenGL through EGL, %s\n", egl_context.description().c_str());
   } else {
     if (!glfwInit()) {
       std::fprintf(stderr, "mimetic-viewer: cannot start GLFW (no display? the window needs one; "
