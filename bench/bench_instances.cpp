@@ -32,6 +32,11 @@
 //                                 ends of each range (the worker from the front, the caller
 //                                 from the back): each core keeps about the same points from
 //                                 stage to stage
+//   BM_InstancesTwoThreadsClips/<n>  the two-ended pool on poses from animation: each instance
+//                                 plays the bundled clips (fear, frowning, smile, surprise) one
+//                                 after another at 60 frames a second, where the others drive
+//                                 every muscle on its own wave at once (a stress pose that
+//                                 folds the skin far more than any expression does)
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -52,6 +57,9 @@
 #endif
 
 #include "bench/evaluate_setup.h"
+#include "expressions/runtime/clip_sample_job.h"
+#include "io/clip_file.h"
+#include "io/expression_library.h"
 #include "io/rig_loader.h"
 #include "rig/runtime/evaluate_job.h"
 
@@ -87,6 +95,44 @@ struct Instance : bench::EvaluateSetup {
            (activations.capacity() + positions.capacity() + normals.capacity()) * sizeof(float);
   }
 };
+
+// The bundled clips (assets/clips: fear, frowning, smile, surprise, 2.5 s each, built on the
+// sample head with the default expression library), for poses that real animation makes
+// instead of every muscle on a wave at once.
+const std::vector<CompiledClip>& HeadClips() {
+  static std::vector<CompiledClip> clips;
+  if (!clips.empty()) return clips;
+  const std::string dir = std::string(MIMETIC_SOURCE_DIR) + "/assets/";
+  Diagnostics diag;
+  std::vector<Expression> library;
+  if (!LoadExpressionLibrary(dir + "expressions/default.library.json", &library, &diag)) {
+    std::fprintf(stderr, "mimetic-bench: %s", diag.Format().c_str());
+    std::exit(1);
+  }
+  for (const char* name : {"fear", "frowning", "smile", "surprise"}) {
+    ClipSpec spec;
+    CompiledClip clip;
+    if (!LoadClip(dir + "clips/" + name + ".clip.json", &spec, &diag) ||
+        !BuildClip(spec, HeadRig().muscle_names(), library, &clip, &diag)) {
+      std::fprintf(stderr, "mimetic-bench: clip %s\n%s", name, diag.Format().c_str());
+      std::exit(1);
+    }
+    clips.push_back(std::move(clip));
+  }
+  return clips;
+}
+
+// Instance i's pose at `frame` from the clips: each plays one clip after another at 60 frames
+// a second (150 frames each), instance i starting with clip i mod 4.
+void ClipPose(Instance* inst, uint32_t frame, uint32_t i) {
+  const std::vector<CompiledClip>& clips = HeadClips();
+  ClipSampleJob sample;
+  sample.clip = &clips[(frame / 150 + i) % clips.size()];
+  sample.time = float(frame % 150) / 60.f;
+  sample.out_activations = inst->activations;
+  sample.out_jaw = span<float>(&inst->job.jaw, 1);
+  if (!sample.Run()) std::abort();  // built above for this rig: cannot fail
+}
 
 std::vector<std::unique_ptr<Instance>> MakeInstances(const Rig& rig, uint32_t n) {
   std::vector<std::unique_ptr<Instance>> v;
@@ -248,8 +294,10 @@ void BM_Instances(benchmark::State& state) {
 }
 
 void TwoThreads(benchmark::State& state, uint32_t chunks,
-                std::chrono::microseconds spin = {}, bool two_ended = false) {
+                std::chrono::microseconds spin = {}, bool two_ended = false,
+                bool clips = false) {
   const Rig& rig = HeadRig();
+  if (clips) HeadClips();
   const uint32_t n = uint32_t(state.range(0));
   std::vector<std::unique_ptr<Instance>> serial = MakeInstances(rig, n);
   std::vector<std::unique_ptr<Instance>> threaded = MakeInstances(rig, n);
@@ -262,11 +310,17 @@ void TwoThreads(benchmark::State& state, uint32_t chunks,
   Clock::duration one{}, two{};
   uint32_t frame = 0;
   double mismatches = 0;
-  for (auto _ : state) {
+  auto pose = [&](std::vector<std::unique_ptr<Instance>>& v, uint32_t f) {
     for (uint32_t i = 0; i < n; ++i) {
-      serial[i]->Pose(frame, i);
-      threaded[i]->Pose(frame, i);
+      if (clips)
+        ClipPose(v[i].get(), f, i);
+      else
+        v[i]->Pose(f, i);
     }
+  };
+  for (auto _ : state) {
+    pose(serial, frame);
+    pose(threaded, frame);
     FrameWork ws{&serial}, wt{&threaded};
     const Clock::time_point t0 = Clock::now();
     RunInstances(&ws, 0, n);
@@ -305,6 +359,9 @@ void BM_InstancesTwoThreadsSpinning(benchmark::State& state) {
 void BM_InstancesTwoThreadsTwoEnded(benchmark::State& state) {
   TwoThreads(state, 32, std::chrono::microseconds(200), true);
 }
+void BM_InstancesTwoThreadsClips(benchmark::State& state) {
+  TwoThreads(state, 32, std::chrono::microseconds(200), true, true);
+}
 
 }  // namespace
 
@@ -322,3 +379,4 @@ BENCHMARK(BM_InstancesTwoThreadsChunked)
     ->UseRealTime();
 BENCHMARK(BM_InstancesTwoThreadsSpinning)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_InstancesTwoThreadsTwoEnded)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_InstancesTwoThreadsClips)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
