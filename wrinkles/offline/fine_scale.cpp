@@ -577,22 +577,35 @@ FieldImage RasterizeField(const FineScaleMesh& mesh, span<const float2> corner_u
 
 namespace {
 
-// Segments bucketed on a coarse grid, for the crossing test.
+// Segments bucketed on a coarse grid, for the crossing test. A segment is listed in every
+// cell its bounding box touches, so two segments whose boxes overlap share a cell (the cell
+// of any point of the overlap: floor is monotone), and a query over PQ's box sees every
+// segment that can cross PQ. Each cell keeps its segments' geometry in blocks of
+// kBlock (128 bytes), newest block first: a query reads a cell's few blocks, not one scattered
+// record per segment.
 class SegmentGrid {
  public:
   SegmentGrid(int size, int cell) : cell_(cell), cells_((size + cell - 1) / cell) {
     head_.assign(size_t(cells_) * size_t(cells_), -1);
   }
-  void Add(uint32_t segment, float2 p, float2 q) {
-    ForCells(p, q, [&](size_t c) {
-      entries_.push_back({segment, head_[c]});
-      head_[c] = int32_t(entries_.size() - 1);
+  void Add(const FurrowSegment& s) {
+    ForCells(s.p, s.q, [&](size_t c) {
+      int32_t b = head_[c];
+      if (b < 0 || blocks_[size_t(b)].count == kBlock) {
+        blocks_.push_back(Block{b, 0, {}});
+        b = head_[c] = int32_t(blocks_.size() - 1);
+      }
+      Block& block = blocks_[size_t(b)];
+      block.segments[block.count++] = s;
     });
   }
   template <class Fn>
   void Visit(float2 p, float2 q, const Fn& fn) const {
     ForCells(p, q, [&](size_t c) {
-      for (int32_t e = head_[c]; e >= 0; e = entries_[size_t(e)].next) fn(entries_[size_t(e)].segment);
+      for (int32_t b = head_[c]; b >= 0; b = blocks_[size_t(b)].next) {
+        const Block& block = blocks_[size_t(b)];
+        for (uint32_t k = 0; k < block.count; ++k) fn(block.segments[k]);
+      }
     });
   }
 
@@ -600,18 +613,20 @@ class SegmentGrid {
   template <class Fn>
   void ForCells(float2 p, float2 q, const Fn& fn) const {
     auto cell = [&](float v) { return std::clamp(int(std::floor(v / float(cell_))), 0, cells_ - 1); };
-    const int x0 = cell(std::min(p.x, q.x) - 1.f), x1 = cell(std::max(p.x, q.x) + 1.f);
-    const int y0 = cell(std::min(p.y, q.y) - 1.f), y1 = cell(std::max(p.y, q.y) + 1.f);
+    const int x0 = cell(std::min(p.x, q.x)), x1 = cell(std::max(p.x, q.x));
+    const int y0 = cell(std::min(p.y, q.y)), y1 = cell(std::max(p.y, q.y));
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(cells_) + size_t(x));
   }
-  struct Entry {
-    uint32_t segment;
+  static constexpr uint32_t kBlock = 6;
+  struct Block {
     int32_t next;
+    uint32_t count;
+    FurrowSegment segments[kBlock];
   };
   int cell_, cells_;
   std::vector<int32_t> head_;
-  std::vector<Entry> entries_;
+  std::vector<Block> blocks_;
 };
 
 // Parameter t in [0, 1] along pq where it crosses ab, or -1.
@@ -745,8 +760,7 @@ struct Carver {
       float best = 2.f;
       const float bx0 = std::min(p.x, q.x), bx1 = std::max(p.x, q.x);
       const float by0 = std::min(p.y, q.y), by1 = std::max(p.y, q.y);
-      grid.Visit(p, q, [&](uint32_t s) {
-        const FurrowSegment& g = segments[s];
+      grid.Visit(p, q, [&](const FurrowSegment& g) {
         if (g.furrow == id) return;
         // Bounding boxes first (most candidates in a cell are nowhere near PQ).
         if (std::max(g.p.x, g.q.x) < bx0 || std::min(g.p.x, g.q.x) > bx1 ||
@@ -763,8 +777,8 @@ struct Carver {
       Draw(p, q, fp, side.segments ? last : start_params_);  // steps 5-6
       *last = fp;
       if (side.segments == 0 && sign > 0.f) first_params_ = fp;
-      grid.Add(uint32_t(segments.size()), p, q);
       segments.push_back({p, q, id});
+      grid.Add(segments.back());
       ++side.segments;
       side.end = end;
       prev = d;
