@@ -522,43 +522,81 @@ float2 TextureDirectionAt(const FineScaleMesh& mesh, span<const float2> corner_u
   return {0.f, 0.f};
 }
 
-FieldImage RasterizeField(const FineScaleMesh& mesh, span<const float2> corner_uvs,
-                          span<const float3> field, int size) {
-  FieldImage img;
-  img.size = size;
+namespace {
+
+// The pixels x of row `y` whose centres can pass the barycentric test of RasterizeInto: each
+// barycentric is linear along the row, w_k(X) = (u_k + v_k X) inv; its bound w_k >= eps is
+// solved in double, and the span widened by a pixel each way so that float rounding of the
+// exact test never finds a pixel outside it. The test itself decides, as before.
+void RowSpan(const float2 px[3], float inv, float eps, int y, int* x0, int* x1) {
+  const double py = y + 0.5, lo_eps = double(eps) - 1e-4;
+  double lo = -1e30, hi = 1e30;
+  for (int k = 0; k < 3; ++k) {
+    const float2 a = px[(k + 1) % 3], b = px[(k + 2) % 3];
+    // w_k = ((a.x - X)(b.y - py) - (b.x - X)(a.y - py)) inv = (u + v X) inv
+    const double u = (double(a.x) * (b.y - py) - double(b.x) * (a.y - py)) * inv;
+    const double v = (double(a.y) - double(b.y)) * inv;
+    if (v > 1e-12) lo = std::max(lo, (lo_eps - u) / v);
+    else if (v < -1e-12) hi = std::min(hi, (lo_eps - u) / v);
+    else if (u < lo_eps - 1e-3) hi = -1e30;  // the row misses this edge's side entirely
+  }
+  if (!(hi >= lo)) { *x1 = *x0 - 1; return; }
+  *x0 = std::max(*x0, int(std::floor(std::max(lo, -1e9) - 0.5)) - 1);
+  *x1 = std::min(*x1, int(std::ceil(std::min(hi, 1e9) - 0.5)) + 1);
+}
+
+// Rasterises every field of `fields` into out[f] in one walk over the triangles (the same
+// barycentrics for all), in triangle order, so each image is what one field alone would give.
+void RasterizeInto(const FineScaleMesh& mesh, span<const float2> corner_uvs,
+                   span<const span<const float3>> fields, int size, FieldImage* out) {
   const size_t pixels = size_t(size) * size_t(size);
-  img.direction.assign(pixels, float2{0.f, 0.f});
-  img.magnitude.assign(pixels, 0.f);
-  img.mapped.assign(pixels, 0);
+  const size_t nf = fields.size();
+  for (size_t f = 0; f < nf; ++f) {
+    out[f].size = size;
+    out[f].direction.assign(pixels, float2{0.f, 0.f});
+    out[f].magnitude.assign(pixels, 0.f);
+    out[f].mapped.assign(pixels, 0);
+  }
+  constexpr size_t kMaxFields = 2;
+  if (nf == 0 || nf > kMaxFields) return;
   const float fs = float(size);
   for (size_t t = 0; 3 * t + 2 < mesh.triangles.size() && 3 * t + 2 < corner_uvs.size(); ++t) {
     const uint32_t c[3] = {mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]};
-    if (c[0] >= field.size() || c[1] >= field.size() || c[2] >= field.size()) continue;
     float2 px[3];
     for (int k = 0; k < 3; ++k)
       px[k] = float2{corner_uvs[3 * t + k].x * fs, corner_uvs[3 * t + k].y * fs};
     const float area = (px[1].x - px[0].x) * (px[2].y - px[0].y) - (px[2].x - px[0].x) * (px[1].y - px[0].y);
     if (!(std::abs(area) > 1e-12f)) continue;
-    // Each corner's vector in this triangle's chart (unit direction times magnitude).
-    float2 vec[3];
-    float mag[3];
-    const float3 e1 = mesh.points[c[1]] - mesh.points[c[0]], e2 = mesh.points[c[2]] - mesh.points[c[0]];
-    const float2 g1 = Sub2(px[1], px[0]), g2 = Sub2(px[2], px[0]);
-    bool ok = true;
-    for (int k = 0; k < 3; ++k) {
-      float2 v;
-      ok = ok && ToTexture(e1, e2, g1, g2, field[c[k]], &v);
-      mag[k] = Length(field[c[k]]);
-      const float2 u = Unit2(v);
-      vec[k] = float2{u.x * mag[k], u.y * mag[k]};
+    // Each field's corner vectors in this triangle's chart (unit direction times magnitude).
+    float2 vec[kMaxFields][3];
+    float mag[kMaxFields][3];
+    bool draw[kMaxFields] = {};
+    bool any = false;
+    for (size_t f = 0; f < nf; ++f) {
+      const span<const float3> field = fields[f];
+      if (c[0] >= field.size() || c[1] >= field.size() || c[2] >= field.size()) continue;
+      const float3 e1 = mesh.points[c[1]] - mesh.points[c[0]], e2 = mesh.points[c[2]] - mesh.points[c[0]];
+      const float2 g1 = Sub2(px[1], px[0]), g2 = Sub2(px[2], px[0]);
+      bool ok = true;
+      for (int k = 0; k < 3; ++k) {
+        float2 v;
+        ok = ok && ToTexture(e1, e2, g1, g2, field[c[k]], &v);
+        mag[f][k] = Length(field[c[k]]);
+        const float2 u = Unit2(v);
+        vec[f][k] = float2{u.x * mag[f][k], u.y * mag[f][k]};
+      }
+      draw[f] = ok;
+      any = any || ok;
     }
-    if (!ok) continue;
+    if (!any) continue;
     const float minx = std::min({px[0].x, px[1].x, px[2].x}), maxx = std::max({px[0].x, px[1].x, px[2].x});
     const float miny = std::min({px[0].y, px[1].y, px[2].y}), maxy = std::max({px[0].y, px[1].y, px[2].y});
-    const int x0 = std::max(0, int(std::floor(minx - 0.5f))), x1 = std::min(size - 1, int(std::ceil(maxx)));
+    const int bx0 = std::max(0, int(std::floor(minx - 0.5f))), bx1 = std::min(size - 1, int(std::ceil(maxx)));
     const int y0 = std::max(0, int(std::floor(miny - 0.5f))), y1 = std::min(size - 1, int(std::ceil(maxy)));
     const float inv = 1.f / area, eps = -1e-5f;
-    for (int y = y0; y <= y1; ++y)
+    for (int y = y0; y <= y1; ++y) {
+      int x0 = bx0, x1 = bx1;
+      RowSpan(px, inv, eps, y, &x0, &x1);
       for (int x = x0; x <= x1; ++x) {
         const float2 p{x + 0.5f, y + 0.5f};
         const float w0 = ((px[1].x - p.x) * (px[2].y - p.y) - (px[2].x - p.x) * (px[1].y - p.y)) * inv;
@@ -566,13 +604,35 @@ FieldImage RasterizeField(const FineScaleMesh& mesh, span<const float2> corner_u
         const float w2 = 1.f - w0 - w1;
         if (w0 < eps || w1 < eps || w2 < eps) continue;
         const size_t i = size_t(y) * size_t(size) + size_t(x);
-        img.direction[i] = Unit2(float2{w0 * vec[0].x + w1 * vec[1].x + w2 * vec[2].x,
-                                        w0 * vec[0].y + w1 * vec[1].y + w2 * vec[2].y});
-        img.magnitude[i] = w0 * mag[0] + w1 * mag[1] + w2 * mag[2];
-        img.mapped[i] = 1;
+        for (size_t f = 0; f < nf; ++f) {
+          if (!draw[f]) continue;
+          const float2* v = vec[f];
+          const float* m = mag[f];
+          out[f].direction[i] = Unit2(float2{w0 * v[0].x + w1 * v[1].x + w2 * v[2].x,
+                                             w0 * v[0].y + w1 * v[1].y + w2 * v[2].y});
+          out[f].magnitude[i] = w0 * m[0] + w1 * m[1] + w2 * m[2];
+          out[f].mapped[i] = 1;
+        }
       }
+    }
   }
+}
+
+}  // namespace
+
+FieldImage RasterizeField(const FineScaleMesh& mesh, span<const float2> corner_uvs,
+                          span<const float3> field, int size) {
+  FieldImage img;
+  const span<const float3> one[1] = {field};
+  RasterizeInto(mesh, corner_uvs, one, size, &img);
   return img;
+}
+
+void RasterizeFields(const FineScaleMesh& mesh, span<const float2> corner_uvs,
+                     span<const float3> field1, span<const float3> field2, int size,
+                     FieldImage out[2]) {
+  const span<const float3> two[2] = {field1, field2};
+  RasterizeInto(mesh, corner_uvs, two, size, out);
 }
 
 namespace {
@@ -643,7 +703,11 @@ struct Carver {
   const CarveOptions& options;
   CarveResult* out;
   int size;
-  std::vector<uint8_t> occupied;
+  // Occupancy and the mapped area as bitmaps (bit x % 64 of word x / 64 of a row): 512 kB
+  // each at 2048 x 2048, so both stay in cache while furrows wander over the image. Padding
+  // bits past a row's end read occupied and unmapped.
+  size_t words = 0;  // per row
+  std::vector<uint64_t> occupied, mapped;
   SegmentGrid grid;
   std::vector<FurrowSegment> segments;  // always kept (the crossing test reads them)
   std::mt19937_64 rng;
@@ -651,13 +715,30 @@ struct Carver {
 
   Carver(const FieldImage& f, const CarveOptions& o, CarveResult* r)
       : field(f), options(o), out(r), size(f.size), grid(f.size, 8), rng(o.seed) {
-    occupied.resize(f.mapped.size());
-    for (size_t i = 0; i < occupied.size(); ++i) occupied[i] = f.mapped[i] ? 0 : 1;
+    words = (size_t(size) + 63) / 64;
+    occupied.assign(words * size_t(size), ~uint64_t(0));
+    mapped.assign(words * size_t(size), 0);
+    for (size_t y = 0; y < size_t(size); ++y)
+      for (size_t x = 0; x < size_t(size); ++x)
+        if (f.mapped[y * size_t(size) + x]) {
+          occupied[y * words + x / 64] &= ~(uint64_t(1) << (x % 64));
+          mapped[y * words + x / 64] |= uint64_t(1) << (x % 64);
+        }
+  }
+  bool Occupied(size_t x, size_t y) const { return (occupied[y * words + x / 64] >> (x % 64)) & 1; }
+  // Sets bits [x0, x1] of row y.
+  void Occupy(size_t y, int x0, int x1) {
+    uint64_t* row = &occupied[y * words];
+    for (int w = x0 / 64; w <= x1 / 64; ++w) {
+      const int lo = std::max(x0, w * 64) - w * 64, hi = std::min(x1, w * 64 + 63) - w * 64;
+      row[w] |= (~uint64_t(0) >> (63 - hi)) & (~uint64_t(0) << lo);
+    }
   }
 
   bool Inside(float2 p) const {
     if (!(p.x >= 0.f && p.y >= 0.f && p.x < float(size) && p.y < float(size))) return false;
-    return field.mapped[size_t(int(p.y)) * size_t(size) + size_t(int(p.x))] != 0;
+    const size_t x = size_t(int(p.x));
+    return (mapped[size_t(int(p.y)) * words + x / 64] >> (x % 64)) & 1;
   }
   size_t Pixel(float2 p) const { return size_t(int(p.y)) * size_t(size) + size_t(int(p.x)); }
 
@@ -668,16 +749,17 @@ struct Carver {
   }
 
   // Draws segment PQ: occupancy at every pixel centre within W_o of it, height with width
-  // W_h. Squared distances first (the square root only inside the height band), over each
-  // row's slice of the rectangle {a in [a_lo, L + R], |b| <= R} around PQ (a along PQ from P,
-  // b across, R the larger reach), which holds the capsule. With `prev` (the segment that
-  // ended at P, of this furrow) no larger in W_o, W_h and depth, everything within reach of P
-  // is already drawn at least as strongly (min / or of smaller values leaves it), so a_lo = 0;
-  // else a_lo = -R. The same image either way.
+  // W_h. Each is drawn over the rows of the rectangle {a in [a_lo, L + R], |b| <= R} around PQ
+  // (a along PQ from P, b across, R its reach: W_o for the occupancy, the height band W_h / 2 +
+  // 1/2 for the height), which holds its capsule. With `prev` (the segment that ended at P, of
+  // this furrow) no larger in W_o, W_h and depth, everything within reach of P is already
+  // drawn at least as strongly (min / or of smaller values leaves it), so a_lo = 0; else
+  // a_lo = -R. The same image either way. A capsule meets a row in one run of pixels (it is
+  // convex): the occupancy tests pixels inward from the rectangle's ends and sets the run
+  // between the first that pass; the height tests every pixel of the band's run.
   void Draw(float2 p, float2 q, const FurrowParams& fp, const FurrowParams* prev) {
     const float band = 0.5f * fp.width + 0.5f, band2 = band * band;
     const float occ2 = fp.spacing * fp.spacing;
-    const float reach = std::max(band, fp.spacing);
     const float depth = 1.f - fp.intensity;
     float* h = out->height.data();
     const float2 dq = Sub2(q, p);
@@ -686,43 +768,57 @@ struct Carver {
                          depth <= 1.f - prev->intensity;
     const float2 u = len > 1e-6f ? float2{dq.x / len, dq.y / len} : float2{1.f, 0.f};
     const float2 n{-u.y, u.x};
-    const float a_lo = (covered && len > 1e-6f ? 0.f : -reach) - 1e-3f, a_hi = len + reach + 1e-3f;
-    const float b_hi = reach + 1e-3f;
-    const int y0 = std::max(0, int(std::floor(std::min(p.y, q.y) - reach - 0.5f)));
-    const int y1 = std::min(size - 1, int(std::ceil(std::max(p.y, q.y) + reach)));
-    for (int y = y0; y <= y1; ++y) {
-      const float cy = y + 0.5f - p.y;
-      // x - p.x in [lo, hi] from both slabs (a coefficient near 0 leaves its slab a test on cy).
-      float lo = -1e30f, hi = 1e30f;
-      auto slab = [&](float cx, float cyc, float mn, float mx) {
-        const float k = cy * cyc;
-        if (std::fabs(cx) > 1e-6f) {
-          float e0 = (mn - k) / cx, e1 = (mx - k) / cx;
-          if (e0 > e1) std::swap(e0, e1);
-          lo = std::max(lo, e0);
-          hi = std::min(hi, e1);
-        } else if (k < mn || k > mx) {
-          hi = -1e30f;
-        }
-      };
-      slab(u.x, u.y, a_lo, a_hi);
-      slab(n.x, n.y, -b_hi, b_hi);
-      if (!(hi >= lo)) continue;
-      const int x0 = std::max(0, int(std::ceil(p.x + lo - 0.5f)));
-      const int x1 = std::min(size - 1, int(std::floor(p.x + hi - 0.5f)));
-      uint8_t* occ = &occupied[size_t(y) * size_t(size)];
+    auto d2_at = [&](int x, float cy) {
+      const float cx = x + 0.5f - p.x;
+      const float t = std::clamp((cx * dq.x + cy * dq.y) * inv, 0.f, 1.f);
+      const float ex = cx - t * dq.x, ey = cy - t * dq.y;
+      return ex * ex + ey * ey;
+    };
+    // Calls row(y, cy, x0, x1) for each row's pixel run of the rectangle with reach `reach`.
+    auto rect_rows = [&](float reach, const auto& row) {
+      const float a_lo = (covered && len > 1e-6f ? 0.f : -reach) - 1e-3f, a_hi = len + reach + 1e-3f;
+      const float b_hi = reach + 1e-3f;
+      const int y0 = std::max(0, int(std::floor(std::min(p.y, q.y) - reach - 0.5f)));
+      const int y1 = std::min(size - 1, int(std::ceil(std::max(p.y, q.y) + reach)));
+      for (int y = y0; y <= y1; ++y) {
+        const float cy = y + 0.5f - p.y;
+        // x - p.x in [lo, hi] from both slabs (a coefficient near 0 leaves its slab a test on cy).
+        float lo = -1e30f, hi = 1e30f;
+        auto slab = [&](float cx, float cyc, float mn, float mx) {
+          const float k = cy * cyc;
+          if (std::fabs(cx) > 1e-6f) {
+            float e0 = (mn - k) / cx, e1 = (mx - k) / cx;
+            if (e0 > e1) std::swap(e0, e1);
+            lo = std::max(lo, e0);
+            hi = std::min(hi, e1);
+          } else if (k < mn || k > mx) {
+            hi = -1e30f;
+          }
+        };
+        slab(u.x, u.y, a_lo, a_hi);
+        slab(n.x, n.y, -b_hi, b_hi);
+        if (!(hi >= lo)) continue;
+        const int x0 = std::max(0, int(std::ceil(p.x + lo - 0.5f)));
+        const int x1 = std::min(size - 1, int(std::floor(p.x + hi - 0.5f)));
+        if (x0 <= x1) row(y, cy, x0, x1);
+      }
+    };
+    rect_rows(fp.spacing, [&](int y, float cy, int x0, int x1) {
+      while (x0 <= x1 && !(d2_at(x0, cy) <= occ2)) ++x0;
+      while (x1 >= x0 && !(d2_at(x1, cy) <= occ2)) --x1;
+      if (x0 <= x1) Occupy(size_t(y), x0, x1);
+    });
+    if (!(depth > 0.f)) return;
+    rect_rows(band, [&](int y, float cy, int x0, int x1) {
       float* hr = h + size_t(y) * size_t(size);
       for (int x = x0; x <= x1; ++x) {
-        const float cx = x + 0.5f - p.x;
-        const float t = std::clamp((cx * dq.x + cy * dq.y) * inv, 0.f, 1.f);
-        const float ex = cx - t * dq.x, ey = cy - t * dq.y, d2 = ex * ex + ey * ey;
-        if (d2 <= occ2) occ[x] = 1;
-        if (depth > 0.f && d2 < band2) {
+        const float d2 = d2_at(x, cy);
+        if (d2 < band2) {
           const float cov = Coverage(std::sqrt(d2), fp.width);
           if (cov > 0.f) hr[x] = std::min(hr[x], 1.f - depth * cov);
         }
       }
-    }
+    });
   }
 
   // One side of a furrow from `start` along sign * d (000 §5.2 steps 1-7).
@@ -826,7 +922,7 @@ struct Carver {
     uint32_t failures = 0;
     while (failures < options.max_failures) {
       const size_t i = pick(rng);
-      if (occupied[i]) { ++failures; continue; }
+      if (Occupied(i % size_t(size), i / size_t(size))) { ++failures; continue; }
       failures = 0;
       Start(float2{float(i % size_t(size)) + 0.5f, float(i / size_t(size)) + 0.5f});
       ++out->random_starts;
@@ -834,10 +930,18 @@ struct Carver {
     if (options.progress) options.progress(0.5f);
     // Then every pixel still free.
     for (int y = 0; y < size; ++y) {
-      for (int x = 0; x < size; ++x) {
-        if (occupied[size_t(y) * size_t(size) + size_t(x)]) continue;
-        Start(float2{x + 0.5f, y + 0.5f});
-        ++out->scan_starts;
+      const uint64_t* row = &occupied[size_t(y) * words];
+      for (size_t w = 0; w < words; ++w) {
+        // The free bits of this word from `from` on, read again after each start (a furrow
+        // may occupy pixels ahead of the scan).
+        for (uint32_t from = 0; from < 64;) {
+          const uint64_t free = ~row[w] & (~uint64_t(0) << from);
+          if (!free) break;
+          const uint32_t bit = uint32_t(__builtin_ctzll(free));
+          Start(float2{float(w * 64 + bit) + 0.5f, y + 0.5f});
+          ++out->scan_starts;
+          from = bit + 1;
+        }
       }
       if (options.progress && (y & 63) == 63) options.progress(0.5f + 0.5f * float(y + 1) / float(size));
     }
@@ -921,7 +1025,7 @@ bool MakeFineScaleMaps(const FineScaleSpec& spec, const FineScaleMesh& mesh,
   std::vector<float3> fields[2];
   if (!InterpolateSpecFields(spec, mesh, anchor_points, fields, diag)) return false;
   FieldImage images[2];
-  for (int f = 0; f < 2; ++f) images[f] = RasterizeField(mesh, uvs, fields[f], options.size);
+  RasterizeFields(mesh, uvs, fields[0], fields[1], options.size, images);
   out->size = options.size;
   CarveResult results[2];
   float done[2] = {0.f, 0.f};

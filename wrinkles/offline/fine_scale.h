@@ -147,6 +147,10 @@ struct FieldImage {
 // normalised; the magnitude is interpolated linearly.
 FieldImage RasterizeField(const FineScaleMesh& mesh, span<const float2> corner_uvs,
                           span<const float3> field, int size);
+// Both fields of a rig in one walk over the triangles: out[f] equals RasterizeField of field f.
+void RasterizeFields(const FineScaleMesh& mesh, span<const float2> corner_uvs,
+                     span<const float3> field1, span<const float3> field2, int size,
+                     FieldImage out[2]);
 
 // One carved segment, pixels (image space).
 struct FurrowSegment {
