@@ -839,6 +839,18 @@ struct Carver {
       const float cs = std::cos(theta), sn = std::sin(theta);
       d = float2{cs * d.x - sn * d.y, sn * d.x + cs * d.y};
       float2 q{p.x + fp.length * d.x, p.y + fp.length * d.y};  // step 4
+      // Where the next step reads and this segment's height band writes, asked for early
+      // (the border walk and the crossing test come first): cache misses, not arithmetic,
+      // are most of the carving's time.
+      if (q.x >= 0.f && q.y >= 0.f && q.x < float(size) && q.y < float(size)) {
+        const size_t next = Pixel(q);
+        __builtin_prefetch(&field.direction[next]);
+        __builtin_prefetch(&field.magnitude[next]);
+        const float band = 0.5f * fp.width + 0.5f;
+        const int x = int(0.5f * (p.x + q.x));
+        const int ya = std::max(0, int(std::min(p.y, q.y) - band)), yb = std::min(size - 1, int(std::max(p.y, q.y) + band));
+        for (int y = ya; y <= yb; ++y) __builtin_prefetch(&out->height[size_t(y) * size_t(size) + size_t(x)], 1);
+      }
       FurrowEnd end = FurrowEnd::kBudget;
       // The border: the last sample inside the mapped area, 1/4 pixel steps.
       const int steps = std::max(1, int(std::ceil(fp.length * 4.f)));
