@@ -3,11 +3,13 @@
 //   BM_FineScaleMaps/<size>       MakeFineScaleMaps: both fields interpolated and rasterised,
 //                                 both carvings, merge, noise, normal map (no PNG encoding)
 //   BM_FineScaleCarve/<size>      the two carvings alone (CarveFurrows on prepared field images)
-//   BM_FineScaleReference/<size>  the in-repo reference kernel: one BumpNormalMap pass over a
-//                                 size x size height map (a plain streaming image pass), for
-//                                 the ratio on a shared machine
+//   BM_FineScaleReference/<size>  the in-repo reference kernel: one pass of ReferenceBumpPass
+//                                 below over a size x size height map (a plain streaming image
+//                                 pass), for the ratio on a shared machine
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -101,12 +103,36 @@ void BM_FineScaleCarve(benchmark::State& state) {
   state.counters["furrows_field2"] = double(segments);
 }
 
+// The reference kernel: BumpNormalMap as it was on 2026-12-03 (clamped reads per texel,
+// NormalizeOr, lroundf), kept here unchanged so that the reference stays one fixed amount of
+// work while the library's own pass gets faster (it now gives the same bytes in about half
+// the time).
+std::vector<uint8_t> ReferenceBumpPass(const std::vector<float>& height, int size, float k_bump) {
+  std::vector<uint8_t> out(size_t(size) * size_t(size) * 3);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      auto h = [&](int xx, int yy) {
+        xx = std::clamp(xx, 0, size - 1);
+        yy = std::clamp(yy, 0, size - 1);
+        return height[size_t(yy) * size_t(size) + size_t(xx)];
+      };
+      const float dx = 0.5f * (h(x + 1, y) - h(x - 1, y));
+      const float dy = 0.5f * (h(x, y + 1) - h(x, y - 1));
+      const float3 n = NormalizeOr(float3{-k_bump * dx, k_bump * dy, 1.f}, float3{0.f, 0.f, 1.f});
+      uint8_t* o = &out[3 * (size_t(y) * size_t(size) + size_t(x))];
+      o[0] = uint8_t(std::lround(127.5f * (n.x + 1.f)));
+      o[1] = uint8_t(std::lround(127.5f * (n.y + 1.f)));
+      o[2] = uint8_t(std::lround(127.5f * (n.z + 1.f)));
+    }
+  return out;
+}
+
 void BM_FineScaleReference(benchmark::State& state) {
   const int size = int(state.range(0));
   std::vector<float> h(size_t(size) * size);
   for (size_t i = 0; i < h.size(); ++i) h[i] = float((i * 2654435761u) & 1023) / 1023.f;
   for (auto _ : state) {
-    std::vector<uint8_t> n = BumpNormalMap(h, size, 1.f, 1);
+    std::vector<uint8_t> n = ReferenceBumpPass(h, size, 1.f);
     benchmark::DoNotOptimize(n.data());
   }
 }

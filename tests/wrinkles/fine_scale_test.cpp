@@ -1,6 +1,8 @@
 // Fine-scale wrinkle textures (docs/model.md §20-22): direction fields, texture space, furrow
 // carving and the normal map. Expectations from 000 eq. 1 and §3/§5, 003 eq. 3.1-3.2 and §4.1,
 // computed here by hand or by a second method (brute force over all segments).
+#include <algorithm>
+#include <random>
 #include "wrinkles/offline/fine_scale.h"
 
 #include <gtest/gtest.h>
@@ -464,6 +466,46 @@ TEST(FineScale, BumpNormalMapIsTheNormalOfTheHeightSlope) {
     for (int x = 0; x < size; ++x) h[y * size + x] = 0.01f * y;
   const std::vector<uint8_t> m = BumpNormalMap(h, size, 20.f, 1);
   EXPECT_GT(m[3 * (5 * size + 7) + 1], 128);
+}
+
+TEST(FineScale, BumpNormalMapIsEveryTexelsDefinitionToTheByte) {
+  // Each texel from its definition (clamped central differences, the normal of
+  // (-k dx, k dy, 1), lround of 127.5 (n + 1)), on random heights with NaN and infinities
+  // among them, at sizes whose borders are most of the image, with 1 and 2 threads.
+  for (int size : {1, 2, 3, 67}) {
+    std::mt19937 rng{uint32_t(size)};
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    std::vector<float> h(size_t(size) * size);
+    for (float& v : h) v = u(rng);
+    if (size > 3) h[5] = NAN, h[70] = INFINITY, h[140] = -INFINITY;
+    for (int threads : {1, 2}) {
+      const std::vector<uint8_t> n = BumpNormalMap(h, size, 7.f, threads);
+      ASSERT_EQ(n.size(), size_t(size) * size * 3);
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          auto at = [&](int xx, int yy) {
+            return h[size_t(std::clamp(yy, 0, size - 1)) * size + size_t(std::clamp(xx, 0, size - 1))];
+          };
+          const double dx = 0.5 * (double(at(x + 1, y)) - at(x - 1, y));
+          const double dy = 0.5 * (double(at(x, y + 1)) - at(x, y - 1));
+          double v[3] = {-7.0 * dx, 7.0 * dy, 1.0};
+          const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + 1.0);
+          if (std::isfinite(len))
+            for (double& c : v) c /= len;
+          else
+            v[0] = v[1] = 0.0, v[2] = 1.0;
+          for (int c = 0; c < 3; ++c) {
+            // The float pass may round a value within 1e-5 of a half the other way.
+            const double want = 127.5 * (v[c] + 1.0);
+            const int got = n[3 * (size_t(y) * size + x) + c];
+            if (std::abs(want - std::floor(want) - 0.5) > 1e-4)
+              ASSERT_EQ(got, int(std::lround(want))) << size << " " << x << "," << y << " c" << c;
+            else
+              ASSERT_NEAR(got, want, 0.5 + 1e-4) << size << " " << x << "," << y << " c" << c;
+          }
+        }
+    }
+  }
 }
 
 TEST(FineScale, BadSpecsAreNamed) {

@@ -993,24 +993,52 @@ void AddHeightNoise(float k_noise, uint64_t seed, std::vector<float>* height) {
   for (float& h : *height) h = std::max(0.f, h - k_noise * unit(rng));
 }
 
+namespace {
+
+// lround(v) for finite v >= 0 (half away from zero): v - trunc(v) is exact in float.
+inline int RoundNonNegative(float v) {
+  const int r = int(v);
+  return r + (v - float(r) >= 0.5f ? 1 : 0);
+}
+
+// One texel of the bump normal map from its four neighbours' heights (the normal of
+// (-k dx, k dy, 1), normalised as NormalizeOr does, each component to [0, 255]). A NaN or
+// infinite slope (heights that are not finite) gives the flat normal (0, 0, 1).
+inline void BumpTexel(float left, float right, float up, float down, float k_bump, uint8_t* o) {
+  const float dx = 0.5f * (right - left), dy = 0.5f * (down - up);
+  const float nx = -k_bump * dx, ny = k_bump * dy, nz = 1.f;
+  const float len2 = nx * nx + ny * ny + nz * nz;
+  float3 n{0.f, 0.f, 1.f};
+  if (len2 > 1e-30f && len2 < std::numeric_limits<float>::infinity()) {
+    const float s = 1.f / std::sqrt(len2);
+    n = float3{nx * s, ny * s, nz * s};
+  }
+  o[0] = uint8_t(RoundNonNegative(127.5f * (n.x + 1.f)));
+  o[1] = uint8_t(RoundNonNegative(127.5f * (n.y + 1.f)));
+  o[2] = uint8_t(RoundNonNegative(127.5f * (n.z + 1.f)));
+}
+
+}  // namespace
+
 std::vector<uint8_t> BumpNormalMap(span<const float> height, int size, float k_bump, int threads) {
   std::vector<uint8_t> out(size_t(size) * size_t(size) * 3);
+  // Central differences, clamped at the border (the edge texel stands in for its missing
+  // neighbour).
   auto rows = [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < size; ++x) {
-        auto h = [&](int xx, int yy) {
-          xx = std::clamp(xx, 0, size - 1);
-          yy = std::clamp(yy, 0, size - 1);
-          return height[size_t(yy) * size_t(size) + size_t(xx)];
-        };
-        const float dx = 0.5f * (h(x + 1, y) - h(x - 1, y));
-        const float dy = 0.5f * (h(x, y + 1) - h(x, y - 1));
-        const float3 n = NormalizeOr(float3{-k_bump * dx, k_bump * dy, 1.f}, float3{0.f, 0.f, 1.f});
-        uint8_t* o = &out[3 * (size_t(y) * size_t(size) + size_t(x))];
-        o[0] = uint8_t(std::lround(127.5f * (n.x + 1.f)));
-        o[1] = uint8_t(std::lround(127.5f * (n.y + 1.f)));
-        o[2] = uint8_t(std::lround(127.5f * (n.z + 1.f)));
-      }
+    for (int y = y0; y < y1; ++y) {
+      const float* up = &height[size_t(std::max(y - 1, 0)) * size_t(size)];
+      const float* row = &height[size_t(y) * size_t(size)];
+      const float* down = &height[size_t(std::min(y + 1, size - 1)) * size_t(size)];
+      uint8_t* o = &out[3 * size_t(y) * size_t(size)];
+      auto texel = [&](int x) {
+        const int l = x > 0 ? x - 1 : 0, r = x + 1 < size ? x + 1 : size - 1;
+        BumpTexel(row[l], row[r], up[x], down[x], k_bump, o + 3 * size_t(x));
+      };
+      texel(0);
+      for (int x = 1; x + 1 < size; ++x)
+        BumpTexel(row[x - 1], row[x + 1], up[x], down[x], k_bump, o + 3 * size_t(x));
+      if (size > 1) texel(size - 1);
+    }
   };
   if (threads >= 2 && size >= 64) {
     std::thread t(rows, 0, size / 2);
