@@ -468,6 +468,103 @@ TEST(FineScale, BumpNormalMapIsTheNormalOfTheHeightSlope) {
   EXPECT_GT(m[3 * (5 * size + 7) + 1], 128);
 }
 
+TEST(FineScale, RasterizedFieldsAreEveryPixelsTriangleWalkedInOrder) {
+  // A brute force over every pixel and every triangle in order (the barycentric test and the
+  // interpolation as docs/model.md says, each triangle's vectors in its own chart) against
+  // RasterizeField and the two-field RasterizeFields, to the bit: overlapping triangles (the
+  // later wins), slivers, triangles partly off the image, one folded over (negative area).
+  const int size = 61;
+  std::mt19937 rng{7u};
+  std::uniform_real_distribution<float> u(-0.15f, 1.15f), z(-1.f, 1.f);
+  std::vector<float3> pts;
+  std::vector<uint32_t> tris;
+  std::vector<float2> uvs;
+  for (int t = 0; t < 60; ++t) {
+    const float2 a{u(rng), u(rng)};
+    float2 b{u(rng), u(rng)}, c{u(rng), u(rng)};
+    if (t % 7 == 3) c = float2{0.5f * (a.x + b.x) + 1e-4f, 0.5f * (a.y + b.y)};  // a sliver
+    if (t % 5 == 0) b = float2{a.x + 0.08f * z(rng), a.y + 0.08f * z(rng)}, c = float2{a.x + 0.08f * z(rng), a.y + 0.08f * z(rng)};
+    for (float2 w : {a, b, c}) {
+      tris.push_back(uint32_t(pts.size()));
+      pts.push_back(float3{w.x, w.y, 0.1f * z(rng)});
+      uvs.push_back(w);
+    }
+  }
+  std::vector<float3> f1(pts.size()), f2(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) {
+    f1[i] = float3{z(rng), z(rng), 0.f};
+    f2[i] = float3{0.3f * z(rng), z(rng), 0.05f};
+  }
+  f2[4] = float3{0.f, 0.f, 0.f};  // a vanishing vector
+  const FineScaleMesh mesh{pts, tris, uvs};
+  auto brute = [&](const std::vector<float3>& field) {
+    FieldImage img;
+    img.size = size;
+    img.direction.assign(size_t(size) * size, float2{0.f, 0.f});
+    img.magnitude.assign(size_t(size) * size, 0.f);
+    img.mapped.assign(size_t(size) * size, 0);
+    auto unit = [](float x, float y) {
+      const float l = std::sqrt(x * x + y * y);
+      return l > 1e-30f ? float2{x / l, y / l} : float2{0.f, 0.f};
+    };
+    for (size_t t = 0; t < tris.size() / 3; ++t) {
+      float2 px[3];
+      float3 v3[3];
+      for (int k = 0; k < 3; ++k) {
+        px[k] = float2{uvs[3 * t + k].x * size, uvs[3 * t + k].y * size};
+        v3[k] = field[tris[3 * t + k]];
+      }
+      const float area = (px[1].x - px[0].x) * (px[2].y - px[0].y) - (px[2].x - px[0].x) * (px[1].y - px[0].y);
+      if (!(std::abs(area) > 1e-12f)) continue;
+      // The chart: v = a e1 + b e2 in 3D (least squares) -> a g1 + b g2 in pixels.
+      const float3 e1 = pts[tris[3 * t + 1]] - pts[tris[3 * t]], e2 = pts[tris[3 * t + 2]] - pts[tris[3 * t]];
+      const float2 g1{px[1].x - px[0].x, px[1].y - px[0].y}, g2{px[2].x - px[0].x, px[2].y - px[0].y};
+      float2 vec[3];
+      float mag[3];
+      for (int k = 0; k < 3; ++k) {
+        const double a11 = Dot(e1, e1), a12 = Dot(e1, e2), a22 = Dot(e2, e2), det = a11 * a22 - a12 * a12;
+        const double b1 = Dot(v3[k], e1), b2 = Dot(v3[k], e2);
+        const double ca = (a22 * b1 - a12 * b2) / det, cb = (a11 * b2 - a12 * b1) / det;
+        const float2 d = unit(float(ca * g1.x + cb * g2.x), float(ca * g1.y + cb * g2.y));
+        mag[k] = Length(v3[k]);
+        vec[k] = float2{d.x * mag[k], d.y * mag[k]};
+      }
+      const float inv = 1.f / area;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const float2 p{x + 0.5f, y + 0.5f};
+          const float w0 = ((px[1].x - p.x) * (px[2].y - p.y) - (px[2].x - p.x) * (px[1].y - p.y)) * inv;
+          const float w1 = ((px[2].x - p.x) * (px[0].y - p.y) - (px[0].x - p.x) * (px[2].y - p.y)) * inv;
+          const float w2 = 1.f - w0 - w1;
+          if (w0 < -1e-5f || w1 < -1e-5f || w2 < -1e-5f) continue;
+          const size_t i = size_t(y) * size + size_t(x);
+          img.direction[i] = unit(w0 * vec[0].x + w1 * vec[1].x + w2 * vec[2].x,
+                                  w0 * vec[0].y + w1 * vec[1].y + w2 * vec[2].y);
+          img.magnitude[i] = w0 * mag[0] + w1 * mag[1] + w2 * mag[2];
+          img.mapped[i] = 1;
+        }
+    }
+    return img;
+  };
+  const FieldImage want[2] = {brute(f1), brute(f2)};
+  FieldImage two[2];
+  RasterizeFields(mesh, uvs, f1, f2, size, two);
+  const FieldImage one[2] = {RasterizeField(mesh, uvs, f1, size), RasterizeField(mesh, uvs, f2, size)};
+  size_t mapped = 0;
+  for (int f = 0; f < 2; ++f)
+    for (const FieldImage* got : {&one[f], static_cast<const FieldImage*>(&two[f])}) {
+      ASSERT_EQ(got->size, size);
+      for (size_t i = 0; i < want[f].mapped.size(); ++i) {
+        ASSERT_EQ(got->mapped[i], want[f].mapped[i]) << "field " << f << " pixel " << i;
+        ASSERT_EQ(got->magnitude[i], want[f].magnitude[i]) << "field " << f << " pixel " << i;
+        ASSERT_EQ(got->direction[i].x, want[f].direction[i].x) << "field " << f << " pixel " << i;
+        ASSERT_EQ(got->direction[i].y, want[f].direction[i].y) << "field " << f << " pixel " << i;
+        mapped += got->mapped[i];
+      }
+    }
+  EXPECT_GT(mapped, size_t(size) * size);  // most of the image, in all four
+}
+
 TEST(FineScale, BumpNormalMapIsEveryTexelsDefinitionToTheByte) {
   // Each texel from its definition (clamped central differences, the normal of
   // (-k dx, k dy, 1), lround of 127.5 (n + 1)), on random heights with NaN and infinities

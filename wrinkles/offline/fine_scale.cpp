@@ -9,12 +9,30 @@
 #include <random>
 #include <thread>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "geometry/topology.h"
 
 namespace mimetic {
 
 namespace {
 
+// max(lo, min(hi, floor(v))) and the same of ceil(v), NaN -> lo: std::floor and std::ceil
+// are long inline sequences without SSE4.1; these are one conversion each, the same integers.
+inline int FloorIn(float v, int lo, int hi) {
+  if (!(v >= float(lo))) return lo;
+  if (v >= float(hi)) return hi;
+  const int i = int(v);
+  return i - (float(i) > v ? 1 : 0);
+}
+inline int CeilIn(float v, int lo, int hi) {
+  if (!(v >= float(lo))) return lo;
+  if (v >= float(hi)) return hi;
+  const int i = int(v);
+  return i + (float(i) < v ? 1 : 0);
+}
 
 bool Finite(float3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 float Dot2(float2 a, float2 b) { return a.x * b.x + a.y * b.y; }
@@ -524,26 +542,59 @@ float2 TextureDirectionAt(const FineScaleMesh& mesh, span<const float2> corner_u
 
 namespace {
 
-// The pixels x of row `y` whose centres can pass the barycentric test of RasterizeInto: each
-// barycentric is linear along the row, w_k(X) = (u_k + v_k X) inv; its bound w_k >= eps is
-// solved in double, and the span widened by a pixel each way so that float rounding of the
-// exact test never finds a pixel outside it. The test itself decides, as before.
-void RowSpan(const float2 px[3], float inv, float eps, int y, int* x0, int* x1) {
-  const double py = y + 0.5, lo_eps = double(eps) - 1e-4;
-  double lo = -1e30, hi = 1e30;
-  for (int k = 0; k < 3; ++k) {
-    const float2 a = px[(k + 1) % 3], b = px[(k + 2) % 3];
-    // w_k = ((a.x - X)(b.y - py) - (b.x - X)(a.y - py)) inv = (u + v X) inv
-    const double u = (double(a.x) * (b.y - py) - double(b.x) * (a.y - py)) * inv;
-    const double v = (double(a.y) - double(b.y)) * inv;
-    if (v > 1e-12) lo = std::max(lo, (lo_eps - u) / v);
-    else if (v < -1e-12) hi = std::min(hi, (lo_eps - u) / v);
-    else if (u < lo_eps - 1e-3) hi = -1e30;  // the row misses this edge's side entirely
+// The pixels x of each row whose centres can pass the barycentric test of RasterizeInto:
+// each barycentric is linear, w_k(X, Y) = (u_k(Y) + v_k X) inv with u_k linear in Y, so its
+// bound w_k >= eps is X >= or <= A_k + B_k Y (in double, set up once per triangle); the span
+// is widened by a pixel each way so that float rounding of the exact test never finds a pixel
+// outside it. The test itself decides, as before.
+class RowSpans {
+ public:
+  RowSpans(const float2 px[3], float inv, float eps) {
+    const double lo_eps = double(eps) - 1e-4;
+    for (int k = 0; k < 3; ++k) {
+      const float2 a = px[(k + 1) % 3], b = px[(k + 2) % 3];
+      // w_k = ((a.x - X)(b.y - Y) - (b.x - X)(a.y - Y)) inv = (u0 + u1 Y + v X) inv
+      const double u0 = (double(a.x) * b.y - double(b.x) * a.y) * inv;
+      const double u1 = (double(b.x) - double(a.x)) * inv;
+      const double v = (double(a.y) - double(b.y)) * inv;
+      Bound& e = bounds_[k];
+      if (v > 1e-12 || v < -1e-12) {
+        e.kind = v > 0 ? 1 : -1;  // X >= (lo_eps - u) / v, or <= for v < 0
+        e.a = (lo_eps - u0) / v;
+        e.b = -u1 / v;
+      } else {
+        e.kind = 0;  // w_k does not change along a row: the row passes or misses whole
+        e.a = u0 - (lo_eps - 1e-3);
+        e.b = u1;
+      }
+    }
   }
-  if (!(hi >= lo)) { *x1 = *x0 - 1; return; }
-  *x0 = std::max(*x0, int(std::floor(std::max(lo, -1e9) - 0.5)) - 1);
-  *x1 = std::min(*x1, int(std::ceil(std::min(hi, 1e9) - 0.5)) + 1);
-}
+  // Narrows [*x0, *x1] to row y's span (empty: *x1 < *x0).
+  void Row(int y, int* x0, int* x1) const {
+    const double py = y + 0.5;
+    double lo = -1e9, hi = 1e9;
+    for (const Bound& e : bounds_) {
+      const double t = e.a + e.b * py;
+      if (e.kind > 0) lo = std::max(lo, t);
+      else if (e.kind < 0) hi = std::min(hi, t);
+      else if (t < 0.0) hi = -1e9;
+    }
+    if (!(hi >= lo)) { *x1 = *x0 - 1; return; }
+    *x0 = std::max(*x0, Floor(lo - 0.5) - 1);
+    *x1 = std::min(*x1, -Floor(-(hi - 0.5)) + 1);
+  }
+
+ private:
+  static int Floor(double v) {  // v in [-1e9 - 1, 1e9 + 1]
+    const int i = int(v);
+    return i - (v < double(i) ? 1 : 0);
+  }
+  struct Bound {
+    int kind;
+    double a, b;
+  };
+  Bound bounds_[3];
+};
 
 // Rasterises every field of `fields` into out[f] in one walk over the triangles (the same
 // barycentrics for all), in triangle order, so each image is what one field alone would give.
@@ -594,10 +645,64 @@ void RasterizeInto(const FineScaleMesh& mesh, span<const float2> corner_uvs,
     const int bx0 = std::max(0, int(std::floor(minx - 0.5f))), bx1 = std::min(size - 1, int(std::ceil(maxx)));
     const int y0 = std::max(0, int(std::floor(miny - 0.5f))), y1 = std::min(size - 1, int(std::ceil(maxy)));
     const float inv = 1.f / area, eps = -1e-5f;
+    const RowSpans spans(px, inv, eps);
     for (int y = y0; y <= y1; ++y) {
       int x0 = bx0, x1 = bx1;
-      RowSpan(px, inv, eps, y, &x0, &x1);
-      for (int x = x0; x <= x1; ++x) {
+      spans.Row(y, &x0, &x1);
+      int x = x0;
+#if defined(__SSE2__)
+      // Four pixels at a time: the scalar operations below in the same order in each lane
+      // (IEEE products, sums, square roots and quotients), so the same bits.
+      const __m128 fpy = _mm_set1_ps(y + 0.5f), veps = _mm_set1_ps(eps), vone = _mm_set1_ps(1.f);
+      const __m128 vinv = _mm_set1_ps(inv), tiny = _mm_set1_ps(1e-30f);
+      const __m128 a0y = _mm_sub_ps(_mm_set1_ps(px[0].y), fpy), a1y = _mm_sub_ps(_mm_set1_ps(px[1].y), fpy);
+      const __m128 a2y = _mm_sub_ps(_mm_set1_ps(px[2].y), fpy);
+      // The last group may reach past x1 (its lanes there are masked off: they rewrite what
+      // is there) but never past the image.
+      for (; x <= x1 && size_t(y) * size_t(size) + size_t(x) + 3 < pixels; x += 4) {
+        const __m128 fpx = _mm_add_ps(_mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3))),
+                                      _mm_set1_ps(0.5f));  // x + 0.5f, as below
+        const __m128 a0x = _mm_sub_ps(_mm_set1_ps(px[0].x), fpx), a1x = _mm_sub_ps(_mm_set1_ps(px[1].x), fpx);
+        const __m128 a2x = _mm_sub_ps(_mm_set1_ps(px[2].x), fpx);
+        const __m128 w0 = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(a1x, a2y), _mm_mul_ps(a2x, a1y)), vinv);
+        const __m128 w1 = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(a2x, a0y), _mm_mul_ps(a0x, a2y)), vinv);
+        const __m128 w2 = _mm_sub_ps(_mm_sub_ps(vone, w0), w1);
+        // !(w < eps) for all three (NaN draws, as the scalar test lets it through).
+        const __m128i lane = _mm_add_epi32(_mm_set1_epi32(x), _mm_setr_epi32(0, 1, 2, 3));
+        const __m128 valid = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(x1 + 1)));
+        const __m128 in = _mm_and_ps(
+            valid, _mm_and_ps(_mm_and_ps(_mm_cmpnlt_ps(w0, veps), _mm_cmpnlt_ps(w1, veps)),
+                              _mm_cmpnlt_ps(w2, veps)));
+        const int bits = _mm_movemask_ps(in);
+        if (bits == 0) continue;
+        const size_t i = size_t(y) * size_t(size) + size_t(x);
+        for (size_t f = 0; f < nf; ++f) {
+          if (!draw[f]) continue;
+          const float2* v = vec[f];
+          const float* m = mag[f];
+          auto lerp = [&](float c0, float c1, float c2) {
+            return _mm_add_ps(_mm_add_ps(_mm_mul_ps(w0, _mm_set1_ps(c0)), _mm_mul_ps(w1, _mm_set1_ps(c1))),
+                              _mm_mul_ps(w2, _mm_set1_ps(c2)));
+          };
+          const __m128 dx = lerp(v[0].x, v[1].x, v[2].x), dy = lerp(v[0].y, v[1].y, v[2].y);
+          const __m128 mg = lerp(m[0], m[1], m[2]);
+          const __m128 l = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)));
+          const __m128 ok = _mm_cmpgt_ps(l, tiny);
+          const __m128 ux = _mm_and_ps(ok, _mm_div_ps(dx, l)), uy = _mm_and_ps(ok, _mm_div_ps(dy, l));
+          auto blend = [&](float* at, __m128 val, __m128 mask) {
+            const __m128 old = _mm_loadu_ps(at);
+            _mm_storeu_ps(at, _mm_or_ps(_mm_and_ps(mask, val), _mm_andnot_ps(mask, old)));
+          };
+          float* d = &out[f].direction[i].x;
+          blend(d, _mm_unpacklo_ps(ux, uy), _mm_unpacklo_ps(in, in));
+          blend(d + 4, _mm_unpackhi_ps(ux, uy), _mm_unpackhi_ps(in, in));
+          blend(&out[f].magnitude[i], mg, in);
+          for (int k = 0; k < 4; ++k)
+            if (bits >> k & 1) out[f].mapped[i + size_t(k)] = 1;
+        }
+      }
+#endif
+      for (; x <= x1; ++x) {
         const float2 p{x + 0.5f, y + 0.5f};
         const float w0 = ((px[1].x - p.x) * (px[2].y - p.y) - (px[2].x - p.x) * (px[1].y - p.y)) * inv;
         const float w1 = ((px[2].x - p.x) * (px[0].y - p.y) - (px[0].x - p.x) * (px[2].y - p.y)) * inv;
@@ -672,7 +777,7 @@ class SegmentGrid {
  private:
   template <class Fn>
   void ForCells(float2 p, float2 q, const Fn& fn) const {
-    auto cell = [&](float v) { return std::clamp(int(std::floor(v / float(cell_))), 0, cells_ - 1); };
+    auto cell = [&](float v) { return FloorIn(v / float(cell_), 0, cells_ - 1); };
     const int x0 = cell(std::min(p.x, q.x)), x1 = cell(std::max(p.x, q.x));
     const int y0 = cell(std::min(p.y, q.y)), y1 = cell(std::max(p.y, q.y));
     for (int y = y0; y <= y1; ++y)
@@ -778,8 +883,8 @@ struct Carver {
     auto rect_rows = [&](float reach, const auto& row) {
       const float a_lo = (covered && len > 1e-6f ? 0.f : -reach) - 1e-3f, a_hi = len + reach + 1e-3f;
       const float b_hi = reach + 1e-3f;
-      const int y0 = std::max(0, int(std::floor(std::min(p.y, q.y) - reach - 0.5f)));
-      const int y1 = std::min(size - 1, int(std::ceil(std::max(p.y, q.y) + reach)));
+      const int y0 = FloorIn(std::min(p.y, q.y) - reach - 0.5f, 0, size);
+      const int y1 = CeilIn(std::max(p.y, q.y) + reach, -1, size - 1);
       for (int y = y0; y <= y1; ++y) {
         const float cy = y + 0.5f - p.y;
         // x - p.x in [lo, hi] from both slabs (a coefficient near 0 leaves its slab a test on cy).
@@ -798,8 +903,8 @@ struct Carver {
         slab(u.x, u.y, a_lo, a_hi);
         slab(n.x, n.y, -b_hi, b_hi);
         if (!(hi >= lo)) continue;
-        const int x0 = std::max(0, int(std::ceil(p.x + lo - 0.5f)));
-        const int x1 = std::min(size - 1, int(std::floor(p.x + hi - 0.5f)));
+        const int x0 = CeilIn(p.x + lo - 0.5f, 0, size);
+        const int x1 = FloorIn(p.x + hi - 0.5f, -1, size - 1);
         if (x0 <= x1) row(y, cy, x0, x1);
       }
     };
@@ -853,7 +958,7 @@ struct Carver {
       }
       FurrowEnd end = FurrowEnd::kBudget;
       // The border: the last sample inside the mapped area, 1/4 pixel steps.
-      const int steps = std::max(1, int(std::ceil(fp.length * 4.f)));
+      const int steps = CeilIn(fp.length * 4.f, 1, 1 << 24);
       for (int k = 1; k <= steps; ++k) {
         const float t = float(k) / float(steps);
         const float2 s{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
