@@ -885,23 +885,32 @@ struct Carver {
       const float b_hi = reach + 1e-3f;
       const int y0 = FloorIn(std::min(p.y, q.y) - reach - 0.5f, 0, size);
       const int y1 = CeilIn(std::max(p.y, q.y) + reach, -1, size - 1);
+      // x - p.x in [lo, hi] from both slabs, mn <= cx X + cyc cy <= mx: X between
+      // (mn - k) / cx and (mx - k) / cx, k = cy cyc, by a reciprocal set up once (a coefficient
+      // near 0 leaves its slab a test on cy). The bounds only need to hold the capsule, 1e-3
+      // wide of it, and the a >= 0 cut of a covered start, where what is left out was drawn.
+      struct Slab {
+        float cyc, mn, mx, ic;
+        bool along;  // |cx| > 1e-6
+      };
+      auto make_slab = [](float cx, float cyc, float mn, float mx) {
+        const bool along = std::fabs(cx) > 1e-6f;
+        const float ic = along ? 1.f / cx : 0.f;
+        return ic < 0.f ? Slab{cyc, mx, mn, ic, along} : Slab{cyc, mn, mx, ic, along};
+      };
+      const Slab slabs[2] = {make_slab(u.x, u.y, a_lo, a_hi), make_slab(n.x, n.y, -b_hi, b_hi)};
       for (int y = y0; y <= y1; ++y) {
         const float cy = y + 0.5f - p.y;
-        // x - p.x in [lo, hi] from both slabs (a coefficient near 0 leaves its slab a test on cy).
         float lo = -1e30f, hi = 1e30f;
-        auto slab = [&](float cx, float cyc, float mn, float mx) {
-          const float k = cy * cyc;
-          if (std::fabs(cx) > 1e-6f) {
-            float e0 = (mn - k) / cx, e1 = (mx - k) / cx;
-            if (e0 > e1) std::swap(e0, e1);
-            lo = std::max(lo, e0);
-            hi = std::min(hi, e1);
-          } else if (k < mn || k > mx) {
+        for (const Slab& sl : slabs) {
+          const float k = cy * sl.cyc;
+          if (sl.along) {
+            lo = std::max(lo, (sl.mn - k) * sl.ic);
+            hi = std::min(hi, (sl.mx - k) * sl.ic);
+          } else if (k < std::min(sl.mn, sl.mx) || k > std::max(sl.mn, sl.mx)) {
             hi = -1e30f;
           }
-        };
-        slab(u.x, u.y, a_lo, a_hi);
-        slab(n.x, n.y, -b_hi, b_hi);
+        }
         if (!(hi >= lo)) continue;
         const int x0 = CeilIn(p.x + lo - 0.5f, 0, size);
         const int x1 = FloorIn(p.x + hi - 0.5f, -1, size - 1);
