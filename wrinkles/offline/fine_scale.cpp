@@ -830,6 +830,19 @@ struct Carver {
           mapped[y * words + x / 64] |= uint64_t(1) << (x % 64);
         }
   }
+  // Every pixel of [x0, x1] x [y0, y1] is mapped (false when the box leaves the image).
+  bool AllMapped(int x0, int y0, int x1, int y1) const {
+    if (x0 < 0 || y0 < 0 || x1 >= size || y1 >= size) return false;
+    for (int y = y0; y <= y1; ++y) {
+      const uint64_t* row = &mapped[size_t(y) * words];
+      for (int w = x0 / 64; w <= x1 / 64; ++w) {
+        const int lo = std::max(x0, w * 64) - w * 64, hi = std::min(x1, w * 64 + 63) - w * 64;
+        const uint64_t mask = (~uint64_t(0) >> (63 - hi)) & (~uint64_t(0) << lo);
+        if ((row[w] & mask) != mask) return false;
+      }
+    }
+    return true;
+  }
   bool Occupied(size_t x, size_t y) const { return (occupied[y * words + x / 64] >> (x % 64)) & 1; }
   // Sets bits [x0, x1] of row y.
   void Occupy(size_t y, int x0, int x1) {
@@ -966,9 +979,12 @@ struct Carver {
         for (int y = ya; y <= yb; ++y) __builtin_prefetch(&out->height[size_t(y) * size_t(size) + size_t(x)], 1);
       }
       FurrowEnd end = FurrowEnd::kBudget;
-      // The border: the last sample inside the mapped area, 1/4 pixel steps.
+      // The border: the last sample inside the mapped area, 1/4 pixel steps. Skipped when
+      // every pixel of PQ's box, a pixel wider, is mapped (then every sample is inside).
       const int steps = CeilIn(fp.length * 4.f, 1, 1 << 24);
-      for (int k = 1; k <= steps; ++k) {
+      const bool all_mapped = AllMapped(FloorIn(std::min(p.x, q.x) - 1.f, -1, size), FloorIn(std::min(p.y, q.y) - 1.f, -1, size),
+                                        FloorIn(std::max(p.x, q.x) + 1.f, -1, size), FloorIn(std::max(p.y, q.y) + 1.f, -1, size));
+      for (int k = 1; k <= steps && !all_mapped; ++k) {
         const float t = float(k) / float(steps);
         const float2 s{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
         if (!Inside(s)) {
