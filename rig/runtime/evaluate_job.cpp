@@ -36,7 +36,8 @@ void EvaluateContext::Resize(const Rig& rig) {
   point_fine_.assign(2 * size_t(point_count_),
                      rig.fine_scale().empty() ? 0.f : rig.fine_scale().rest_amplitude);
   point_sums_.assign(point_count_, float4{});
-  fine_edge_lengths_.assign(t.fine_edge_count(), 0.f);
+  fine_edge_lengths_.assign(t.fine_edge_count() + 1, 0.f);
+  fine_edge_lengths_.back() = 1.f;  // the slot of missing sides (RigTables::fine_probe_edges)
   edge_lengths_.assign(t.edge_count(), 0.f);
   wrinkle_offsets_.assign(point_count_, 0.f);
   thickness_a_.assign(point_count_ + 1, 0.f);  // static points keep 0 (r = 1 there)
@@ -1068,10 +1069,66 @@ void StageTension(const FrameState& f) {
   }
 }
 
+// exp(x) for the fine-scale modulation's stretched side (x <= 0): Cephes' expf (range
+// reduction by ln 2 in two parts, a degree-6 polynomial, 2^n from the exponent bits), about
+// 1 ulp, x below -87 taken as -87. One sequence of operations for the scalar and the SSE2
+// form, so a probe gets the same bits in either (and so with any split of the points).
+constexpr float kExpLog2e = 1.44269504088896341f, kExpC1 = 0.693359375f, kExpC2 = -2.12194440e-4f;
+constexpr float kExpP[6] = {1.9875691500e-4f, 1.3981999507e-3f, 8.3334519073e-3f,
+                            4.1665795894e-2f, 1.6666665459e-1f, 5.0000001201e-1f};
+inline float ExpNonPositive(float x) {
+  x = x > -87.f ? x : -87.f;
+  const float nf = std::nearbyint(x * kExpLog2e);
+  const float r = (x - nf * kExpC1) - nf * kExpC2;
+  const float z = r * r;
+  float y = kExpP[0];
+  for (int k = 1; k < 6; ++k) y = y * r + kExpP[k];
+  y = (y * z + r) + 1.f;
+  const uint32_t bits = uint32_t(int32_t(nf) + 127) << 23;
+  float p;
+  std::memcpy(&p, &bits, 4);
+  return y * p;
+}
+#if defined(__SSE2__)
+inline __m128 ExpNonPositive4(__m128 x) {
+  x = _mm_max_ps(x, _mm_set1_ps(-87.f));
+  const __m128i n = _mm_cvtps_epi32(_mm_mul_ps(x, _mm_set1_ps(kExpLog2e)));  // nearest, as nearbyint
+  const __m128 nf = _mm_cvtepi32_ps(n);
+  const __m128 r = _mm_sub_ps(_mm_sub_ps(x, _mm_mul_ps(nf, _mm_set1_ps(kExpC1))), _mm_mul_ps(nf, _mm_set1_ps(kExpC2)));
+  const __m128 z = _mm_mul_ps(r, r);
+  __m128 y = _mm_set1_ps(kExpP[0]);
+  for (int k = 1; k < 6; ++k) y = _mm_add_ps(_mm_mul_ps(y, r), _mm_set1_ps(kExpP[k]));
+  y = _mm_add_ps(_mm_add_ps(_mm_mul_ps(y, z), r), _mm_set1_ps(1.f));
+  const __m128 p = _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23));
+  return _mm_mul_ps(y, p);
+}
+#endif
+
+// One fine-scale probe's amplitude M(s) (docs/model.md §23) from the blocked tables
+// (RigTables::fine_probe_edges / fine_probe_params: `e` and `q` point at its lane, slots
+// kFineProbeBlock apart): s per side as SideShrinkageFromLengths, the sides' mean, then
+// DirectionalModulation with ExpNonPositive for the stretched side. `c` = 1/r - 1.
+inline float FineProbeAmplitude(const float* lengths, const uint32_t* e, const float* q, float r,
+                                float c) {
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  float side[2];
+  for (uint32_t j = 0; j < 2; ++j) {
+    const float l2 = lengths[e[2 * j * B]], l3 = lengths[e[(2 * j + 1) * B]];
+    const float beta = q[3 * j * B], r2 = q[(3 * j + 1) * B], r3 = q[(3 * j + 2) * B];
+    const float den = (1.f - beta) * (l3 * r2) + beta * (l2 * r3);
+    const float ratio = den > 0.f ? (l2 * l3) / den : 0.f;
+    side[j] = l2 == r2 && l3 == r3 ? 0.f : 1.f - ratio;
+  }
+  float s = (side[0] + side[1]) * q[6 * B];
+  if (s != s) s = 0.f;
+  if (s >= 0.f) return (1.f - r) * (s < 1.f ? s : 1.f) + r;
+  return r > 0.f ? r * ExpNonPositive(c * s) : 0.f;
+}
+
 // docs/model.md §23: the fine-scale probes' edge lengths on X1 (each edge once), then per
-// point with probes s across each fine-scale field (ProbeShrinkage, the curve wrinkles'
-// expression) and M(s) = DirectionalModulation(s, r). Each edge and each point writes its own
-// values only.
+// probe s across its field and M(s) (FineProbeAmplitude), four probes at a time in SSE2 lanes
+// where a whole block lies in the range (the same operations: the same bits as the scalar
+// form, whatever the split). Each edge and each point writes its own values only.
 void StageFineScale(const FrameState& f) {
   const RigFineScale& fs = f.rig.fine_scale();
   const uint32_t* pairs = f.tables.fine_edge_pairs.data();
@@ -1080,18 +1137,55 @@ void StageFineScale(const FrameState& f) {
   ParallelFor(f.job, f.tables.fine_edge_count(), [&](uint32_t b, uint32_t e) {
     EdgeLengths(x, pairs, b, e, lengths);
   });
-  const ShrinkageProbe* probes = fs.probes.data();
-  const uint32_t* probe_edges = f.tables.fine_probe_edges.data();
-  const float r = fs.rest_amplitude;
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  const uint32_t* edges = f.tables.fine_probe_edges.data();
+  const float* params = f.tables.fine_probe_params.data();
+  const float r = std::clamp(fs.rest_amplitude, 0.f, 1.f);  // as DirectionalModulation
+  const float c = r > 0.f ? 1.f / r - 1.f : 0.f;
   float* out = f.fine;
   ParallelFor(f.job, fs.point_count(), [&](uint32_t b, uint32_t e) {
-    for (uint32_t i = 2 * b; i < 2 * e; ++i) {
-      const uint32_t* pe = probe_edges + 4 * size_t(i);
-      const float s = ProbeShrinkage(probes[i], [&](uint32_t k, int which) {
-        return lengths[pe[2 * k + uint32_t(which)]];
-      });
-      out[i] = DirectionalModulation(s, r);  // 000 eq. 5
-    }
+    auto scalar = [&](uint32_t i) {
+      out[i] = FineProbeAmplitude(lengths, edges + (i / B) * 4 * B + i % B,
+                                  params + (i / B) * 7 * B + i % B, r, c);
+    };
+    uint32_t i = 2 * b;
+#if defined(__SSE2__)
+    static_assert(B == 4, "one SSE2 register a block");
+    for (; i < 2 * e && i % B != 0; ++i) scalar(i);
+    // Whole blocks from i (a multiple of B) while i + B <= end; returns where it stopped.
+    auto sse_blocks = [&](uint32_t i, uint32_t end) {
+      const __m128 one = _mm_set1_ps(1.f), zero = _mm_setzero_ps(), vr = _mm_set1_ps(r);
+      const __m128 vc = _mm_set1_ps(c), one_r = _mm_set1_ps(1.f - r);
+      for (; i + B <= end; i += B) {
+        const uint32_t* eb = edges + (i / B) * 4 * B;
+        const float* qb = params + (i / B) * 7 * B;
+        __m128 side[2];
+        for (uint32_t j = 0; j < 2; ++j) {
+          const uint32_t* e2 = eb + 2 * j * B;
+          const uint32_t* e3 = eb + (2 * j + 1) * B;
+          const __m128 l2 = _mm_setr_ps(lengths[e2[0]], lengths[e2[1]], lengths[e2[2]], lengths[e2[3]]);
+          const __m128 l3 = _mm_setr_ps(lengths[e3[0]], lengths[e3[1]], lengths[e3[2]], lengths[e3[3]]);
+          const __m128 beta = _mm_loadu_ps(qb + 3 * j * B), r2 = _mm_loadu_ps(qb + (3 * j + 1) * B);
+          const __m128 r3 = _mm_loadu_ps(qb + (3 * j + 2) * B);
+          const __m128 den = _mm_add_ps(_mm_mul_ps(_mm_sub_ps(one, beta), _mm_mul_ps(l3, r2)),
+                                        _mm_mul_ps(beta, _mm_mul_ps(l2, r3)));
+          const __m128 ratio = _mm_and_ps(_mm_cmpgt_ps(den, zero), _mm_div_ps(_mm_mul_ps(l2, l3), den));
+          const __m128 rest = _mm_and_ps(_mm_cmpeq_ps(l2, r2), _mm_cmpeq_ps(l3, r3));
+          side[j] = _mm_andnot_ps(rest, _mm_sub_ps(one, ratio));
+        }
+        __m128 s = _mm_mul_ps(_mm_add_ps(side[0], side[1]), _mm_loadu_ps(qb + 6 * B));
+        s = _mm_and_ps(s, _mm_cmpeq_ps(s, s));  // NaN -> 0
+        const __m128 pos = _mm_cmpge_ps(s, zero);
+        const __m128 mp = _mm_add_ps(_mm_mul_ps(one_r, _mm_min_ps(s, one)), vr);
+        __m128 mn = zero;
+        if (_mm_movemask_ps(pos) != 0xF && r > 0.f) mn = _mm_mul_ps(vr, ExpNonPositive4(_mm_mul_ps(vc, s)));
+        _mm_storeu_ps(out + i, _mm_or_ps(_mm_and_ps(pos, mp), _mm_andnot_ps(pos, mn)));
+      }
+      return i;
+    };
+    i = sse_blocks(i, 2 * e);
+#endif
+    for (; i < 2 * e; ++i) scalar(i);
   });
 }
 

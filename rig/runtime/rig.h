@@ -182,7 +182,16 @@ struct RigTables {
   // Fine-scale probes' edges (docs/model.md §23), numbered apart from the ones above: measured
   // only by frames that request out_fine_amplitudes.
   std::vector<uint32_t> fine_edge_pairs;   // 2 per edge
-  std::vector<uint32_t> fine_probe_edges;  // 4 per fine-scale probe: sides' v1v2, v1v3
+  // The fine-scale probes in blocks of kFineProbeBlock (the last block padded), slot-major
+  // within a block so that a block's lanes load together: per block, edges [slot][lane]
+  // (slots: side 0's v1v2, v1v3, side 1's v1v2, v1v3; a side the probe lacks, or a rest length
+  // that is not positive, reads fine_edge_count(), a length that is always 1) and params
+  // [kind][lane] (kinds: side 0's beta, rest v1v2, rest v1v3, side 1's the same, then the
+  // probe's mean factor: 1/2 for two sides, else 1). A missing side has rest lengths 1 and
+  // beta 0, so its shrinkage is 0. docs/model.md §23.
+  static constexpr uint32_t kFineProbeBlock = 4;
+  std::vector<uint32_t> fine_probe_edges;  // 4 * kFineProbeBlock per block
+  std::vector<float> fine_probe_params;    // 7 * kFineProbeBlock per block
   // Per active point: its muscle-wrinkle rows (a range of the rows above) and its
   // curve-wrinkle rows (CSR into RigCurveWrinkles rows).
   std::vector<uint32_t> point_row_offsets;    // active points + 1

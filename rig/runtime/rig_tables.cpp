@@ -317,10 +317,37 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
   // Fine-scale probes (docs/model.md §23): their edges numbered apart (only a frame that asks
   // for out_fine_amplitudes measures them), 4 per probe (sides' v1v2, v1v3).
   const RigFineScale& f = r.fine_scale;
-  t.fine_probe_edges.assign(4 * f.probes.size(), 0u);
+  std::vector<uint32_t> probe_slots(4 * f.probes.size(), 0u);
   AssignEdgeIds(r.point_count(), [&](auto&& edge) {
-    ProbeLookups(f.probes, t.fine_probe_edges.data(), edge);
+    ProbeLookups(f.probes, probe_slots.data(), edge);
   }, &t.fine_edge_pairs);
+  // The blocked layout (RigTables::fine_probe_edges): what SideShrinkageFromLengths does with
+  // a rest length that is not positive (l = L = 1) is a read of the length-1 slot.
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  const uint32_t one = t.fine_edge_count();
+  const size_t blocks = (f.probes.size() + B - 1) / B;
+  t.fine_probe_edges.assign(blocks * 4 * B, one);
+  t.fine_probe_params.assign(blocks * 7 * B, 0.f);
+  for (size_t i = 0; i < blocks * B; ++i) {
+    uint32_t* e = &t.fine_probe_edges[(i / B) * 4 * B + i % B];
+    float* q = &t.fine_probe_params[(i / B) * 7 * B + i % B];
+    const ShrinkageProbe* probe = i < f.probes.size() ? &f.probes[i] : nullptr;
+    for (uint32_t s = 0; s < 2; ++s) {
+      q[(3 * s + 1) * B] = q[(3 * s + 2) * B] = 1.f;
+      if (!probe || s >= probe->side_count) continue;
+      const ShrinkageSide& side = probe->sides[s];
+      q[3 * s * B] = side.beta;
+      if (side.rest_length2 > 0.f) {
+        q[(3 * s + 1) * B] = side.rest_length2;
+        e[2 * s * B] = probe_slots[4 * i + 2 * s];
+      }
+      if (side.rest_length3 > 0.f) {
+        q[(3 * s + 2) * B] = side.rest_length3;
+        e[(2 * s + 1) * B] = probe_slots[4 * i + 2 * s + 1];
+      }
+    }
+    q[6 * B] = probe && probe->side_count == 2 ? 0.5f : 1.f;
+  }
   // Each point's curve-wrinkle rows, as CSR in row order.
   t.point_curve_offsets.assign(size_t(active) + 1, 0u);
   for (uint32_t i = 0; i < c.row_count(); ++i) ++t.point_curve_offsets[size_t(c.points[i]) + 1];
