@@ -133,6 +133,9 @@ bool SavePng16(const std::string& path, const Gray16Image& image, Diagnostics* d
     return false;
   }
   spng_set_option(ctx, SPNG_ENCODE_TO_BUFFER, 1);
+  // zlib level 3 instead of libspng's default 6: `mimetic texture --size 2048` writes three
+  // of these in 1 s less (of 5.2 s), the files 4.5% larger (docs/performance.md).
+  spng_set_option(ctx, SPNG_IMG_COMPRESSION_LEVEL, 3);
   spng_ihdr ihdr{};
   ihdr.width = uint32_t(image.width);
   ihdr.height = uint32_t(image.height);
