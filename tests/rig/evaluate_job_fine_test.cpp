@@ -2,6 +2,7 @@
 // points, a sheet compressed across field 1 and stretched across field 2, the builder's probes
 // against the public DirectionalShrinkageJob, bit-identical splits, zero allocation and the
 // job's checks.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -191,6 +192,32 @@ TEST(EvaluateJobFine, BitIdenticalSplitsZeroAllocationAndNoEffectOnPositions) {
   const long before = g_allocations.load();
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(job.Run());
   EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+// A scheduler that hands out ranges of 1, 2 and 3 items in turn, serially: the fine-scale
+// probes then start at every alignment of their four-probe blocks, so most go through the
+// scalar form and the rest through other lanes than in one whole range.
+void RaggedRanges(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
+  uint32_t step = 1;
+  for (uint32_t b = 0; b < count; b += step, step = step % 3 + 1) task(data, b, std::min(count, b + step));
+}
+
+TEST(EvaluateJobFine, LanesAndScalarGiveTheSameBitsAtEveryAlignment) {
+  const Surface s = FineSurface(40, 8);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(s.rig);
+  std::vector<float> a1, a2, p1, p2;
+  ASSERT_TRUE(RunFine(s.rig, &c1, &a1, &p1, nullptr, act));
+  ASSERT_TRUE(RunFine(s.rig, &c2, &a2, &p2, RaggedRanges, act));
+  size_t stretched = 0, compressed = 0;
+  for (size_t i = 0; i < a1.size(); ++i) {
+    ASSERT_EQ(std::memcmp(&a1[i], &a2[i], 4), 0) << "amplitude " << i << ": " << a1[i] << " vs " << a2[i];
+    stretched += a1[i] < 0.4f - 1e-4f;
+    compressed += a1[i] > 0.4f + 1e-4f;
+  }
+  // Both sides of M(s) (the exponential and the line) were exercised.
+  EXPECT_GT(stretched, 10u);
+  EXPECT_GT(compressed, 10u);
 }
 
 TEST(EvaluateJobFine, TheJobRefusesShortOrMisalignedOutputsAndARigWithoutMapsGivesZero) {
