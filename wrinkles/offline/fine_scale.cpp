@@ -814,7 +814,7 @@ struct Carver {
   size_t words = 0;  // per row
   std::vector<uint64_t> occupied, mapped;
   SegmentGrid grid;
-  std::vector<FurrowSegment> segments;  // always kept (the crossing test reads them)
+  std::vector<FurrowSegment> segments;  // this field's segments (the crossing test reads the grid's copies)
   std::mt19937_64 rng;
   std::uniform_real_distribution<float> unit{-1.f, 1.f};
 
@@ -1056,9 +1056,9 @@ struct Carver {
     out->height.assign(pixels, 1.f);
     out->furrows.clear();
     out->segments.clear();
-    size_t mapped = 0;
-    for (uint8_t m : field.mapped) mapped += m;
-    if (mapped == 0) return;
+    size_t mapped_pixels = 0;
+    for (uint8_t m : field.mapped) mapped_pixels += m;
+    if (mapped_pixels == 0) return;
     // Random starts (pixel centres) until max_failures picks in a row are occupied.
     std::uniform_int_distribution<size_t> pick(0, pixels - 1);
     uint32_t failures = 0;
