@@ -36,9 +36,8 @@ void EvaluateContext::Resize(const Rig& rig) {
   point_fine_.assign(2 * size_t(point_count_),
                      rig.fine_scale().empty() ? 0.f : rig.fine_scale().rest_amplitude);
   point_sums_.assign(point_count_, float4{});
-  fine_edge_lengths_.assign(t.fine_edge_count() + 1, 0.f);
-  fine_edge_lengths_.back() = 1.f;  // the slot of missing sides (RigTables::fine_probe_edges)
-  edge_lengths_.assign(t.edge_count(), 0.f);
+  edge_lengths_.assign(size_t(t.edge_count()) + t.fine_edge_count() + 1, 0.f);
+  edge_lengths_.back() = 1.f;  // the slot of missing sides (RigTables::fine_probe_edges)
   wrinkle_offsets_.assign(point_count_, 0.f);
   thickness_a_.assign(point_count_ + 1, 0.f);  // static points keep 0 (r = 1 there)
   thickness_b_.assign(point_count_ + 1, 0.f);
@@ -79,7 +78,7 @@ static size_t Bytes(const std::vector<T>& v) {
 
 size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
-         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(fine_edge_lengths_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
+         Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_min_bounds_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
@@ -224,14 +223,13 @@ struct FrameState {
   bool edges;                      // StageStrain measures the edge lengths
   float* compressions;             // #P compression eps (context), StageTension
   float* fine;                     // 2 #P fine-scale amplitudes (context), StageFineScale
-  float* fine_lengths;             // RigTables::fine_edge_count() (context)
   const float* activations;        // #muscles, sanitised
   const float3* base;              // #P: the pose the muscles add to (the rest pose)
   float3* points;                  // #P + pad: X1, then X3 (context)
   float4* faces;                   // #T face slots (context)
   float* ratios;                   // #P area ratios (context)
   float4* sums;                    // #P gathered face slots (context)
-  float* edge_lengths;             // RigTables::edge_count() (context)
+  float* edge_lengths;             // RigTables::edge_count() + fine_edge_count() + 1 (context)
   float* wrinkle_offsets;          // #P (context)
   bool limit_folds;                // StageLimit runs (job.limit_folds and a skin layer ran)
   float* thickness_a;              // #P (context)
@@ -1125,17 +1123,25 @@ inline float FineProbeAmplitude(const float* lengths, const uint32_t* e, const f
   return r > 0.f ? r * ExpNonPositive(c * s) : 0.f;
 }
 
-// docs/model.md §23: the fine-scale probes' edge lengths on X1 (each edge once), then per
+// docs/model.md §23: the fine-scale probes' edge lengths on X1 (each edge once, with the
+// strain's edges: the probes read most of them and StageStrain then skips its pass), then per
 // probe s across its field and M(s) (FineProbeAmplitude), four probes at a time in SSE2 lanes
 // where a whole block lies in the range (the same operations: the same bits as the scalar
 // form, whatever the split). Each edge and each point writes its own values only.
 void StageFineScale(const FrameState& f) {
   const RigFineScale& fs = f.rig.fine_scale();
-  const uint32_t* pairs = f.tables.fine_edge_pairs.data();
-  float* lengths = f.fine_lengths;
+  const uint32_t* pairs = f.tables.edge_pairs.data();
+  const uint32_t* fine_pairs = f.tables.fine_edge_pairs.data();
+  const uint32_t strain_edges = f.tables.edge_count();
+  float* lengths = f.edge_lengths;
   const float3* x = f.points;
-  ParallelFor(f.job, f.tables.fine_edge_count(), [&](uint32_t b, uint32_t e) {
-    EdgeLengths(x, pairs, b, e, lengths);
+  // The strain's edges and the probes' own ones, as one range (the strain's come first).
+  ParallelFor(f.job, strain_edges + f.tables.fine_edge_count(), [&](uint32_t b, uint32_t e) {
+    if (b < strain_edges) EdgeLengths(x, pairs, b, std::min(e, strain_edges), lengths);
+    if (e > strain_edges) {
+      const uint32_t fb = b > strain_edges ? b - strain_edges : 0u;
+      EdgeLengths(x, fine_pairs, fb, e - strain_edges, lengths + strain_edges);
+    }
   });
   constexpr uint32_t B = RigTables::kFineProbeBlock;
   const uint32_t* edges = f.tables.fine_probe_edges.data();
@@ -1262,7 +1268,6 @@ bool EvaluateJob::Run() const {
       .edges = false,
       .compressions = ctx.point_compressions_.data(),
       .fine = ctx.point_fine_.data(),
-      .fine_lengths = ctx.fine_edge_lengths_.data(),
       .activations = ctx.activations_.data(),
       .base = r.rest_points().data(),
       .points = ctx.points_.data(),  // padded (face_kernels.h)
@@ -1299,7 +1304,10 @@ bool EvaluateJob::Run() const {
   ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
   if (ctx.jaw_ > 0.f && !r.jaw().empty()) StageJaw(f, ctx.jaw_);
-  if (!out_fine_amplitudes.empty() && !r.fine_scale().empty()) StageFineScale(f);  // on X1
+  if (!out_fine_amplitudes.empty() && !r.fine_scale().empty()) {
+    StageFineScale(f);  // on X1
+    f.edges = false;    // it measured the strain's edges on X1 too: StageStrain has them
+  }
   bool faces_current = false;
   if (f.skin()) {
     StageStrain(f);

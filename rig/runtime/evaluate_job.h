@@ -112,9 +112,10 @@ class EvaluateContext {
   std::vector<float> point_ratios_;    // #P: area ratio r, >= 0
   std::vector<float> point_compressions_;  // #P: eps of StageTension, 0 without rows
   std::vector<float> point_fine_;      // 2 #P: fine-scale amplitudes (StageFineScale)
-  std::vector<float> fine_edge_lengths_;  // RigTables::fine_edge_count(): this frame's
   std::vector<float4> point_sums_;     // #P: gathered face slots (StageDisplace)
-  std::vector<float> edge_lengths_;    // RigTables::edge_count(): this frame's, mesh units
+  std::vector<float> edge_lengths_;    // RigTables::edge_count() + fine_edge_count() + 1:
+                                       // this frame's, mesh units (the last is always 1: the
+                                       // slot of RigTables::fine_probe_edges' missing sides)
   std::vector<float> wrinkle_offsets_; // #P: summed wrinkle displacement of the points in
                                        // RigTables::wrinkle_points this frame, mesh units
   std::vector<float> thickness_a_;     // #P: thickness offsets, slope-limit ping-pong (StageDisplace)

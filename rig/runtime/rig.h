@@ -179,13 +179,16 @@ struct RigTables {
   std::vector<float> entry_coeffs;         // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
   std::vector<float> row_profiles;         // H(w_i) At_i per row, mesh units
   std::vector<uint32_t> probe_edges;       // 4 per curve-wrinkle probe: sides' v1v2, v1v3
-  // Fine-scale probes' edges (docs/model.md §23), numbered apart from the ones above: measured
-  // only by frames that request out_fine_amplitudes.
+  // Fine-scale probes' edges (docs/model.md §23) that no strain measure reads: they follow the
+  // strain's edges as ids [edge_count(), edge_count() + fine_edge_count()), measured only by
+  // frames that request out_fine_amplitudes (such a frame measures the strain's edges with
+  // them, once: the probes read those too).
   std::vector<uint32_t> fine_edge_pairs;   // 2 per edge
   // The fine-scale probes in blocks of kFineProbeBlock (the last block padded), slot-major
   // within a block so that a block's lanes load together: per block, edges [slot][lane]
   // (slots: side 0's v1v2, v1v3, side 1's v1v2, v1v3; a side the probe lacks, or a rest length
-  // that is not positive, reads fine_edge_count(), a length that is always 1) and params
+  // that is not positive, reads edge_count() + fine_edge_count(), a length that is always 1;
+  // the other ids as above: a strain edge's or edge_count() + a fine_edge_pairs index) and params
   // [kind][lane] (kinds: side 0's beta, rest v1v2, rest v1v3, side 1's the same, then the
   // probe's mean factor: 1/2 for two sides, else 1). A missing side has rest lengths 1 and
   // beta 0, so its shrinkage is 0. docs/model.md §23.

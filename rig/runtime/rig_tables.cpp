@@ -302,8 +302,16 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
     t.point_row_offsets[p + 1] = uint32_t(row);
   }
   // Edge ids in first-seen order (AssignEdgeIds): each entry's edge (its point and its
-  // neighbour, the rows point-major as above), then each curve-wrinkle probe's sides.
+  // neighbour, the rows point-major as above), then each curve-wrinkle probe's sides, then the
+  // fine-scale probes' sides (docs/model.md §23, 4 per probe: sides' v1v2, v1v3). The strain's
+  // lookups come first, so its edges are ids [0, E) whatever the fine-scale probes add; the
+  // edges only those probes read follow as [E, E + F) (RigTables::fine_edge_pairs), and the
+  // probes' edges the strain reads too keep their strain ids (one length a frame for both).
   t.probe_edges.assign(4 * c.probes.size(), 0u);
+  const RigFineScale& f = r.fine_scale;
+  std::vector<uint32_t> probe_slots(4 * f.probes.size(), 0u);
+  std::vector<uint32_t> all_pairs;
+  size_t strain_pairs = 0;  // 2 E, counted as the strain's lookups go by (the second walk)
   AssignEdgeIds(r.point_count(), [&](auto&& edge) {
     uint32_t* entry_edge = t.entry_edges.data();
     for (const RowRef& ref : row_refs) {
@@ -313,18 +321,15 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
         edge(p, w.edge_neighbors[k], entry_edge++);
     }
     ProbeLookups(c.probes, t.probe_edges.data(), edge);
-  }, &t.edge_pairs);
-  // Fine-scale probes (docs/model.md §23): their edges numbered apart (only a frame that asks
-  // for out_fine_amplitudes measures them), 4 per probe (sides' v1v2, v1v3).
-  const RigFineScale& f = r.fine_scale;
-  std::vector<uint32_t> probe_slots(4 * f.probes.size(), 0u);
-  AssignEdgeIds(r.point_count(), [&](auto&& edge) {
+    strain_pairs = all_pairs.size();
     ProbeLookups(f.probes, probe_slots.data(), edge);
-  }, &t.fine_edge_pairs);
+  }, &all_pairs);
+  t.edge_pairs.assign(all_pairs.begin(), all_pairs.begin() + strain_pairs);
+  t.fine_edge_pairs.assign(all_pairs.begin() + strain_pairs, all_pairs.end());
   // The blocked layout (RigTables::fine_probe_edges): what SideShrinkageFromLengths does with
   // a rest length that is not positive (l = L = 1) is a read of the length-1 slot.
   constexpr uint32_t B = RigTables::kFineProbeBlock;
-  const uint32_t one = t.fine_edge_count();
+  const uint32_t one = t.edge_count() + t.fine_edge_count();
   const size_t blocks = (f.probes.size() + B - 1) / B;
   t.fine_probe_edges.assign(blocks * 4 * B, one);
   t.fine_probe_params.assign(blocks * 7 * B, 0.f);

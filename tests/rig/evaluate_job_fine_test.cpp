@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "content/procedural.h"
@@ -118,10 +120,11 @@ struct Surface {
   RigSpec spec;
   Rig rig;
 };
-Surface FineSurface(uint32_t side, uint32_t muscles) {
+Surface FineSurface(uint32_t side, uint32_t muscles, bool skin_layers = false) {
   Surface s;
   s.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
   s.spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 10.f, 0.15f, 3.f);
+  if (skin_layers) AddEverySkinLayer(&s.spec, 0.4f, 6.f);
   FineScaleSpec fs;
   fs.fields[0].name = "along_x";
   fs.fields[0].anchors = {{0, {0.5f, 0.f, 0.f}}, {side * side - 1, {0.7f, 0.f, 0.f}}};
@@ -192,6 +195,80 @@ TEST(EvaluateJobFine, BitIdenticalSplitsZeroAllocationAndNoEffectOnPositions) {
   const long before = g_allocations.load();
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(job.Run());
   EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+// With the wrinkle layers on, the strain and the probes share most edges: the probes read the
+// strain's ids for those (each edge measured once a frame, by StageFineScale, and StageStrain
+// skips its pass). The tables: every probe slot names the edge of its own corners, the probes'
+// own edges are none of the strain's, and some probe edges are the strain's. The frame: the
+// amplitudes are the public shrinkage job's on X1, and the positions (which the strain's
+// lengths drive) are the bits of a frame without the output, on fresh contexts.
+TEST(EvaluateJobFine, ProbesReadTheStrainsEdgesAndTheStrainStillSeesThem) {
+  const Surface s = FineSurface(30, 6, true);
+  const RigTables& t = s.rig.tables();
+  const RigFineScale& fs = s.rig.fine_scale();
+  const uint32_t E = t.edge_count(), F = t.fine_edge_count();
+  ASSERT_GT(E, 0u);
+  auto pair_of = [&](uint32_t id) {
+    const uint32_t* p = id < E ? &t.edge_pairs[2 * id] : &t.fine_edge_pairs[2 * (id - E)];
+    return std::pair<uint32_t, uint32_t>(std::min(p[0], p[1]), std::max(p[0], p[1]));
+  };
+  std::set<std::pair<uint32_t, uint32_t>> strain;
+  for (uint32_t e = 0; e < E; ++e) strain.insert(pair_of(e));
+  EXPECT_EQ(strain.size(), E);
+  for (uint32_t k = 0; k < F; ++k) EXPECT_EQ(strain.count(pair_of(E + k)), 0u) << "fine edge " << k;
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  size_t shared = 0, own = 0;
+  for (size_t i = 0; i < fs.probes.size(); ++i) {
+    const ShrinkageProbe& probe = fs.probes[i];
+    const uint32_t* e = &t.fine_probe_edges[(i / B) * 4 * B + i % B];
+    for (uint32_t side = 0; side < 2; ++side)
+      for (uint32_t j = 0; j < 2; ++j) {
+        const uint32_t id = e[(2 * side + j) * B];
+        const float rest = side < probe.side_count
+                               ? (j == 0 ? probe.sides[side].rest_length2 : probe.sides[side].rest_length3)
+                               : 0.f;
+        if (rest <= 0.f) {
+          EXPECT_EQ(id, E + F) << "probe " << i << ": the length-1 slot";
+          continue;
+        }
+        const uint32_t other = j == 0 ? probe.sides[side].v2 : probe.sides[side].v3;
+        EXPECT_EQ(pair_of(id), std::make_pair(std::min(probe.point, other), std::max(probe.point, other)))
+            << "probe " << i << " side " << side;
+        (id < E ? shared : own)++;
+      }
+  }
+  EXPECT_GT(shared, 100u);
+  EXPECT_GT(own, 0u);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(s.rig), c3(s.rig);
+  std::vector<float> amps, p1, p2;
+  ASSERT_TRUE(RunFine(s.rig, &c1, &amps, &p1, nullptr, act));
+  std::vector<float> p3(p1.size());
+  EvaluateJob job;
+  job.rig = &s.rig;
+  job.context = &c3;
+  job.activations = act;
+  job.out_positions = p3;
+  ASSERT_TRUE(job.Run());
+  EXPECT_EQ(std::memcmp(p1.data(), p3.data(), p1.size() * 4), 0);
+  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &c2));
+  std::vector<float> sh(fs.probes.size());
+  const DirectionalShrinkageJob shrink{.positions = c2.points(),
+                                       .probes = fs.probes,
+                                       .end = fs.probes.size(),
+                                       .out_shrinkage = sh};
+  ASSERT_TRUE(shrink.Run());
+  size_t moved = 0;
+  for (uint32_t v = 0; v < s.rig.vertex_count(); ++v) {
+    const uint32_t p = s.rig.vertex_points()[v];
+    for (int k = 0; k < 2; ++k) {
+      const float expect = p < fs.point_count() ? DirectionalModulation(sh[2 * p + k], 0.4f) : 0.4f;
+      EXPECT_NEAR(amps[2 * v + k], expect, 1e-6f) << "vertex " << v << " field " << k;
+      moved += std::fabs(amps[2 * v + k] - 0.4f) > 1e-3f;
+    }
+  }
+  EXPECT_GT(moved, 20u);
 }
 
 // A scheduler that hands out ranges of 1, 2 and 3 items in turn, serially: the fine-scale
