@@ -16,6 +16,12 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__GNUC__) && !defined(__AVX__) && defined(__x86_64__)
+#include <immintrin.h>
+#define MIMETIC_FINE_AVX 1  // the fine-scale probes' eight-lane form, chosen at run time
+#else
+#define MIMETIC_FINE_AVX 0
+#endif
 
 namespace mimetic {
 
@@ -1102,6 +1108,77 @@ inline __m128 ExpNonPositive4(__m128 x) {
 }
 #endif
 
+#if MIMETIC_FINE_AVX
+// ExpNonPositive4 on eight lanes with AVX (no AVX2: the exponent bits go through the two SSE2
+// halves; no FMA: nothing is contracted), so each lane gets ExpNonPositive's bits.
+__attribute__((target("avx"))) inline __m256 ExpNonPositive8(__m256 x) {
+  x = _mm256_max_ps(x, _mm256_set1_ps(-87.f));
+  const __m256i n = _mm256_cvtps_epi32(_mm256_mul_ps(x, _mm256_set1_ps(kExpLog2e)));
+  const __m256 nf = _mm256_cvtepi32_ps(n);
+  const __m256 r = _mm256_sub_ps(_mm256_sub_ps(x, _mm256_mul_ps(nf, _mm256_set1_ps(kExpC1))),
+                                 _mm256_mul_ps(nf, _mm256_set1_ps(kExpC2)));
+  const __m256 z = _mm256_mul_ps(r, r);
+  __m256 y = _mm256_set1_ps(kExpP[0]);
+  for (int k = 1; k < 6; ++k) y = _mm256_add_ps(_mm256_mul_ps(y, r), _mm256_set1_ps(kExpP[k]));
+  y = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(y, z), r), _mm256_set1_ps(1.f));
+  const __m128i bias = _mm_set1_epi32(127);
+  const __m128i lo = _mm_slli_epi32(_mm_add_epi32(_mm256_castsi256_si128(n), bias), 23);
+  const __m128i hi = _mm_slli_epi32(_mm_add_epi32(_mm256_extractf128_si256(n, 1), bias), 23);
+  const __m256 p = _mm256_castsi256_ps(_mm256_insertf128_si256(_mm256_castsi128_si256(lo), hi, 1));
+  return _mm256_mul_ps(y, p);
+}
+
+// A parameter kind of two consecutive blocks (q and q + 7 kFineProbeBlock), and an edge
+// slot's lengths of two blocks (e and e + 4 kFineProbeBlock).
+__attribute__((target("avx"))) inline __m256 FineParams8(const float* q) {
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(q)), _mm_loadu_ps(q + 7 * B), 1);
+}
+__attribute__((target("avx"))) inline __m256 FineLengths8(const float* lengths, const uint32_t* e) {
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  return _mm256_setr_ps(lengths[e[0]], lengths[e[1]], lengths[e[2]], lengths[e[3]],
+                        lengths[e[4 * B]], lengths[e[4 * B + 1]], lengths[e[4 * B + 2]],
+                        lengths[e[4 * B + 3]]);
+}
+
+// Two blocks of fine-scale probes at a time (block k in the low half, k + 1 in the high one):
+// the SSE2 block form of StageFineScale on eight lanes, the same operations per lane. From i
+// (a multiple of kFineProbeBlock) while i + 2 kFineProbeBlock <= end; returns where it stopped.
+__attribute__((target("avx"))) uint32_t FineProbeBlocksAvx(const float* lengths,
+                                                           const uint32_t* edges,
+                                                           const float* params, float r, float c,
+                                                           uint32_t i, uint32_t end, float* out) {
+  constexpr uint32_t B = RigTables::kFineProbeBlock;
+  const __m256 one = _mm256_set1_ps(1.f), zero = _mm256_setzero_ps(), vr = _mm256_set1_ps(r);
+  const __m256 vc = _mm256_set1_ps(c), one_r = _mm256_set1_ps(1.f - r);
+  for (; i + 2 * B <= end; i += 2 * B) {
+    const uint32_t* eb = edges + (i / B) * 4 * B;
+    const float* qb = params + (i / B) * 7 * B;
+    __m256 side[2];
+    for (uint32_t j = 0; j < 2; ++j) {
+      const __m256 l2 = FineLengths8(lengths, eb + 2 * j * B);
+      const __m256 l3 = FineLengths8(lengths, eb + (2 * j + 1) * B);
+      const __m256 beta = FineParams8(qb + 3 * j * B), r2 = FineParams8(qb + (3 * j + 1) * B);
+      const __m256 r3 = FineParams8(qb + (3 * j + 2) * B);
+      const __m256 den = _mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(one, beta), _mm256_mul_ps(l3, r2)),
+                                       _mm256_mul_ps(beta, _mm256_mul_ps(l2, r3)));
+      const __m256 ratio = _mm256_and_ps(_mm256_cmp_ps(den, zero, _CMP_GT_OQ),
+                                         _mm256_div_ps(_mm256_mul_ps(l2, l3), den));
+      const __m256 rest = _mm256_and_ps(_mm256_cmp_ps(l2, r2, _CMP_EQ_OQ), _mm256_cmp_ps(l3, r3, _CMP_EQ_OQ));
+      side[j] = _mm256_andnot_ps(rest, _mm256_sub_ps(one, ratio));
+    }
+    __m256 s = _mm256_mul_ps(_mm256_add_ps(side[0], side[1]), FineParams8(qb + 6 * B));
+    s = _mm256_and_ps(s, _mm256_cmp_ps(s, s, _CMP_EQ_OQ));  // NaN -> 0
+    const __m256 pos = _mm256_cmp_ps(s, zero, _CMP_GE_OQ);
+    const __m256 mp = _mm256_add_ps(_mm256_mul_ps(one_r, _mm256_min_ps(s, one)), vr);
+    __m256 mn = zero;
+    if (_mm256_movemask_ps(pos) != 0xFF && r > 0.f) mn = _mm256_mul_ps(vr, ExpNonPositive8(_mm256_mul_ps(vc, s)));
+    _mm256_storeu_ps(out + i, _mm256_or_ps(_mm256_and_ps(pos, mp), _mm256_andnot_ps(pos, mn)));
+  }
+  return i;
+}
+#endif
+
 // One fine-scale probe's amplitude M(s) (docs/model.md §23) from the blocked tables
 // (RigTables::fine_probe_edges / fine_probe_params: `e` and `q` point at its lane, slots
 // kFineProbeBlock apart): s per side as SideShrinkageFromLengths, the sides' mean, then
@@ -1125,9 +1202,9 @@ inline float FineProbeAmplitude(const float* lengths, const uint32_t* e, const f
 
 // docs/model.md §23: the fine-scale probes' edge lengths on X1 (each edge once, with the
 // strain's edges: the probes read most of them and StageStrain then skips its pass), then per
-// probe s across its field and M(s) (FineProbeAmplitude), four probes at a time in SSE2 lanes
-// where a whole block lies in the range (the same operations: the same bits as the scalar
-// form, whatever the split). Each edge and each point writes its own values only.
+// probe s across its field and M(s) (FineProbeAmplitude), eight probes at a time with AVX
+// (FineProbeBlocksAvx, where the CPU has it) or four in SSE2 lanes where whole blocks lie in
+// the range (the same operations: the same bits as the scalar form, whatever the split). Each edge and each point writes its own values only.
 void StageFineScale(const FrameState& f) {
   const RigFineScale& fs = f.rig.fine_scale();
   const uint32_t* pairs = f.tables.edge_pairs.data();
@@ -1189,6 +1266,10 @@ void StageFineScale(const FrameState& f) {
       }
       return i;
     };
+#if MIMETIC_FINE_AVX
+    static const bool avx = __builtin_cpu_supports("avx");
+    if (avx) i = FineProbeBlocksAvx(lengths, edges, params, r, c, i, 2 * e, out);
+#endif
     i = sse_blocks(i, 2 * e);
 #endif
     for (; i < 2 * e; ++i) scalar(i);
