@@ -1151,29 +1151,46 @@ __attribute__((target("avx"))) uint32_t FineProbeBlocksAvx(const float* lengths,
   constexpr uint32_t B = RigTables::kFineProbeBlock;
   const __m256 one = _mm256_set1_ps(1.f), zero = _mm256_setzero_ps(), vr = _mm256_set1_ps(r);
   const __m256 vc = _mm256_set1_ps(c), one_r = _mm256_set1_ps(1.f - r);
-  for (; i + 2 * B <= end; i += 2 * B) {
-    const uint32_t* eb = edges + (i / B) * 4 * B;
-    const float* qb = params + (i / B) * 7 * B;
-    __m256 side[2];
-    for (uint32_t j = 0; j < 2; ++j) {
-      const __m256 l2 = FineLengths8(lengths, eb + 2 * j * B);
-      const __m256 l3 = FineLengths8(lengths, eb + (2 * j + 1) * B);
-      const __m256 beta = FineParams8(qb + 3 * j * B), r2 = FineParams8(qb + (3 * j + 1) * B);
-      const __m256 r3 = FineParams8(qb + (3 * j + 2) * B);
-      const __m256 den = _mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(one, beta), _mm256_mul_ps(l3, r2)),
-                                       _mm256_mul_ps(beta, _mm256_mul_ps(l2, r3)));
-      const __m256 ratio = _mm256_and_ps(_mm256_cmp_ps(den, zero, _CMP_GT_OQ),
-                                         _mm256_div_ps(_mm256_mul_ps(l2, l3), den));
-      const __m256 rest = _mm256_and_ps(_mm256_cmp_ps(l2, r2, _CMP_EQ_OQ), _mm256_cmp_ps(l3, r3, _CMP_EQ_OQ));
-      side[j] = _mm256_andnot_ps(rest, _mm256_sub_ps(one, ratio));
+  // In runs of up to kRun eight-probe groups: first s, written out as M(s) where s >= 0 and
+  // as s itself where it is negative (M >= 0 there, so the sign tells them apart), listing the
+  // groups with a negative lane without a branch; then M(s) = r exp(c s) on the listed groups
+  // only (about half of them in a moving face, and no mispredicted branch a group).
+  constexpr uint32_t kRun = 64;
+  uint32_t listed[kRun];
+  while (i + 2 * B <= end) {
+    uint32_t count = 0;
+    const uint32_t run_end = std::min(end, i + kRun * 2 * B);
+    for (; i + 2 * B <= run_end; i += 2 * B) {
+      const uint32_t* eb = edges + (i / B) * 4 * B;
+      const float* qb = params + (i / B) * 7 * B;
+      __m256 side[2];
+      for (uint32_t j = 0; j < 2; ++j) {
+        const __m256 l2 = FineLengths8(lengths, eb + 2 * j * B);
+        const __m256 l3 = FineLengths8(lengths, eb + (2 * j + 1) * B);
+        const __m256 beta = FineParams8(qb + 3 * j * B), r2 = FineParams8(qb + (3 * j + 1) * B);
+        const __m256 r3 = FineParams8(qb + (3 * j + 2) * B);
+        const __m256 den = _mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(one, beta), _mm256_mul_ps(l3, r2)),
+                                         _mm256_mul_ps(beta, _mm256_mul_ps(l2, r3)));
+        const __m256 ratio = _mm256_and_ps(_mm256_cmp_ps(den, zero, _CMP_GT_OQ),
+                                           _mm256_div_ps(_mm256_mul_ps(l2, l3), den));
+        const __m256 rest = _mm256_and_ps(_mm256_cmp_ps(l2, r2, _CMP_EQ_OQ), _mm256_cmp_ps(l3, r3, _CMP_EQ_OQ));
+        side[j] = _mm256_andnot_ps(rest, _mm256_sub_ps(one, ratio));
+      }
+      __m256 s = _mm256_mul_ps(_mm256_add_ps(side[0], side[1]), FineParams8(qb + 6 * B));
+      s = _mm256_and_ps(s, _mm256_cmp_ps(s, s, _CMP_EQ_OQ));  // NaN -> 0
+      const __m256 pos = _mm256_cmp_ps(s, zero, _CMP_GE_OQ);
+      const __m256 mp = _mm256_add_ps(_mm256_mul_ps(one_r, _mm256_min_ps(s, one)), vr);
+      _mm256_storeu_ps(out + i, _mm256_or_ps(_mm256_and_ps(pos, mp), _mm256_andnot_ps(pos, s)));
+      listed[count] = i;
+      count += _mm256_movemask_ps(pos) != 0xFF;
     }
-    __m256 s = _mm256_mul_ps(_mm256_add_ps(side[0], side[1]), FineParams8(qb + 6 * B));
-    s = _mm256_and_ps(s, _mm256_cmp_ps(s, s, _CMP_EQ_OQ));  // NaN -> 0
-    const __m256 pos = _mm256_cmp_ps(s, zero, _CMP_GE_OQ);
-    const __m256 mp = _mm256_add_ps(_mm256_mul_ps(one_r, _mm256_min_ps(s, one)), vr);
-    __m256 mn = zero;
-    if (_mm256_movemask_ps(pos) != 0xFF && r > 0.f) mn = _mm256_mul_ps(vr, ExpNonPositive8(_mm256_mul_ps(vc, s)));
-    _mm256_storeu_ps(out + i, _mm256_or_ps(_mm256_and_ps(pos, mp), _mm256_andnot_ps(pos, mn)));
+    for (uint32_t k = 0; k < count; ++k) {
+      float* o = out + listed[k];
+      const __m256 s = _mm256_loadu_ps(o);
+      const __m256 neg = _mm256_cmp_ps(s, zero, _CMP_LT_OQ);
+      const __m256 mn = r > 0.f ? _mm256_mul_ps(vr, ExpNonPositive8(_mm256_mul_ps(vc, s))) : zero;
+      _mm256_storeu_ps(o, _mm256_or_ps(_mm256_and_ps(neg, mn), _mm256_andnot_ps(neg, s)));
+    }
   }
   return i;
 }
