@@ -1,4 +1,5 @@
-// io/image.cpp: image files through stb, 16-bit greyscale PNG through libspng.
+// io/image.cpp: images read through stb (and 16-bit greyscale PNG through libspng), PNG
+// written through libspng.
 #include "io/image.h"
 
 #include <spng.h>
@@ -7,7 +8,6 @@
 #include <cstdlib>
 
 #include <stb/stb_image.h>
-#include <stb/stb_image_write.h>  // Debian's libstb.so holds the implementation (-lstb)
 
 #include <cstdint>
 #include <limits>
@@ -18,11 +18,6 @@ namespace mimetic {
 namespace {
 
 constexpr uint64_t kMaxImagePixels = uint64_t{1} << 28;  // 256 Mpixels
-
-void WriteToString(void* context, void* data, int size) {
-  static_cast<std::string*>(context)->append(static_cast<const char*>(data),
-                                             static_cast<size_t>(size));
-}
 
 // stb_image's terse failure reasons, in words; its own word is kept in parentheses.
 std::string FailureText(const char* reason) {
@@ -95,6 +90,45 @@ bool DecodeGrayImage(const std::string& bytes, GrayImage* out, std::string* reas
   return true;
 }
 
+namespace {
+
+// One PNG through libspng, saved atomically: 8-bit RGB or 16-bit greyscale (host-endian
+// samples: SPNG_FMT_PNG is the PNG's own layout and libspng swaps). zlib level 3 instead of
+// libspng's default 6: `mimetic texture --size 2048` writes its maps in about 1 s less, the
+// files 4-5% larger (docs/performance.md); stb_image_write's deflate, used before for 8-bit
+// images, was slower still.
+bool EncodePng(const std::string& path, int width, int height, uint8_t bit_depth,
+               uint8_t color_type, const void* pixels, size_t bytes_in, Diagnostics* d) {
+  spng_ctx* ctx = spng_ctx_new(SPNG_CTX_ENCODER);
+  if (!ctx) {
+    d->Error(path, "PNG encoding failed (libspng: out of memory)");
+    return false;
+  }
+  spng_set_option(ctx, SPNG_ENCODE_TO_BUFFER, 1);
+  spng_set_option(ctx, SPNG_IMG_COMPRESSION_LEVEL, 3);
+  spng_ihdr ihdr{};
+  ihdr.width = uint32_t(width);
+  ihdr.height = uint32_t(height);
+  ihdr.bit_depth = bit_depth;
+  ihdr.color_type = color_type;
+  int err = spng_set_ihdr(ctx, &ihdr);
+  if (!err)
+    err = spng_encode_image(ctx, pixels, bytes_in, SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
+  size_t len = 0;
+  void* buffer = err ? nullptr : spng_get_png_buffer(ctx, &len, &err);
+  spng_ctx_free(ctx);
+  if (err || !buffer) {
+    d->Error(path, std::string("PNG encoding failed (libspng: ") + spng_strerror(err) + ")");
+    free(buffer);
+    return false;
+  }
+  std::string bytes(static_cast<const char*>(buffer), len);
+  free(buffer);
+  return WriteFileAtomic(path, bytes, d);
+}
+
+}  // namespace
+
 bool SavePng(const std::string& path, const Image& image, Diagnostics* diag) {
   Diagnostics local;
   Diagnostics* d = diag ? diag : &local;
@@ -106,14 +140,8 @@ bool SavePng(const std::string& path, const Image& image, Diagnostics* diag) {
                        " bytes; expected positive size and width*height*3 bytes");
     return false;
   }
-  std::string bytes;
-  const int ok = stbi_write_png_to_func(WriteToString, &bytes, image.width, image.height, 3,
-                                        image.rgb.data(), image.width * 3);
-  if (!ok || bytes.empty()) {
-    d->Error(path, "PNG encoding failed (stb_image_write)");
-    return false;
-  }
-  return WriteFileAtomic(path, bytes, d);
+  return EncodePng(path, image.width, image.height, 8, SPNG_COLOR_TYPE_TRUECOLOR,
+                   image.rgb.data(), image.rgb.size(), d);
 }
 
 bool SavePng16(const std::string& path, const Gray16Image& image, Diagnostics* diag) {
@@ -127,36 +155,8 @@ bool SavePng16(const std::string& path, const Gray16Image& image, Diagnostics* d
                        " pixels; expected positive size and width*height pixels");
     return false;
   }
-  spng_ctx* ctx = spng_ctx_new(SPNG_CTX_ENCODER);
-  if (!ctx) {
-    d->Error(path, "PNG encoding failed (libspng: out of memory)");
-    return false;
-  }
-  spng_set_option(ctx, SPNG_ENCODE_TO_BUFFER, 1);
-  // zlib level 3 instead of libspng's default 6: `mimetic texture --size 2048` writes three
-  // of these in 1 s less (of 5.2 s), the files 4.5% larger (docs/performance.md).
-  spng_set_option(ctx, SPNG_IMG_COMPRESSION_LEVEL, 3);
-  spng_ihdr ihdr{};
-  ihdr.width = uint32_t(image.width);
-  ihdr.height = uint32_t(image.height);
-  ihdr.bit_depth = 16;
-  ihdr.color_type = SPNG_COLOR_TYPE_GRAYSCALE;
-  int err = spng_set_ihdr(ctx, &ihdr);
-  // SPNG_FMT_PNG: the PNG's own layout with host-endian 16-bit samples (libspng swaps).
-  if (!err)
-    err = spng_encode_image(ctx, image.pixels.data(), image.pixels.size() * 2, SPNG_FMT_PNG,
-                            SPNG_ENCODE_FINALIZE);
-  size_t len = 0;
-  void* buffer = err ? nullptr : spng_get_png_buffer(ctx, &len, &err);
-  spng_ctx_free(ctx);
-  if (err || !buffer) {
-    d->Error(path, std::string("PNG encoding failed (libspng: ") + spng_strerror(err) + ")");
-    free(buffer);
-    return false;
-  }
-  std::string bytes(static_cast<const char*>(buffer), len);
-  free(buffer);
-  return WriteFileAtomic(path, bytes, d);
+  return EncodePng(path, image.width, image.height, 16, SPNG_COLOR_TYPE_GRAYSCALE,
+                   image.pixels.data(), image.pixels.size() * 2, d);
 }
 
 bool DecodeGray16Png(const std::string& bytes, Gray16Image* out, std::string* reason) {

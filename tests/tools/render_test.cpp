@@ -194,6 +194,24 @@ TEST(Render, SavePngRoundTripsThePixels) {
   EXPECT_EQ(h, 64);
   EXPECT_EQ(std::memcmp(px, img.rgb.data(), img.rgb.size()), 0);
   stbi_image_free(px);
+  // Noise at an odd size (every PNG filter and no run of equal bytes), read by stb too.
+  Image noise;
+  noise.width = 67;
+  noise.height = 5;
+  uint32_t state = 12345u;
+  for (int i = 0; i < noise.width * noise.height * 3; ++i) {
+    state = state * 1664525u + 1013904223u;
+    noise.rgb.push_back(uint8_t(state >> 24));
+  }
+  ASSERT_TRUE(SavePng(path, noise, &diag)) << diag.Format();
+  ASSERT_TRUE(ReadFile(path, &bytes, &diag));
+  px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()),
+                             int(bytes.size()), &w, &h, &n, 3);
+  ASSERT_NE(px, nullptr);
+  EXPECT_EQ(w, 67);
+  EXPECT_EQ(h, 5);
+  EXPECT_EQ(std::memcmp(px, noise.rgb.data(), noise.rgb.size()), 0);
+  stbi_image_free(px);
   // Bad images and unwritable paths are reported, not thrown.
   Image bad;
   bad.width = 4;
