@@ -1,5 +1,5 @@
-// io/image.h: image files through stb (Debian's libstb: stb_image reads, stb_image_write
-// writes) and libspng (16-bit greyscale PNG).
+// io/image.h: image files read through stb (Debian's libstb: PNG, JPEG, TGA, BMP) and libspng
+// (16-bit greyscale PNG); every PNG written through libspng.
 #pragma once
 
 #include <string>
@@ -21,10 +21,10 @@ bool LoadGrayImage(const std::string& path, const std::string& where, const std:
 // reason (the <reason> above) when they are not an image stb_image reads.
 bool DecodeGrayImage(const std::string& bytes, GrayImage* out, std::string* reason);
 
-// Writes `image` as PNG atomically (stb_image_write into memory, then WriteFileAtomic).
+// Writes `image` as an 8-bit RGB PNG atomically (libspng into memory, then WriteFileAtomic).
 bool SavePng(const std::string& path, const Image& image, Diagnostics* diag);
 
-// Writes a 16-bit greyscale PNG atomically (libspng: stb_image_write has no 16-bit PNG).
+// Writes a 16-bit greyscale PNG atomically (the same way).
 bool SavePng16(const std::string& path, const Gray16Image& image, Diagnostics* diag);
 // Reads a PNG as 16-bit grey levels (libspng; an 8-bit or colour PNG is converted: its
 // luminance, 8 bits scaled by 257). Errors as LoadGrayImage's.
