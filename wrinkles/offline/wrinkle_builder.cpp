@@ -78,6 +78,12 @@ MuscleWrinkleSample SampleMuscleWrinkleRegion(const MuscleWrinkleSpec& spec,
   const float3 axis = NormalizeOr(tip - origin, {1.f, 0.f, 0.f});
   const float3 v = x - origin;
   const double l = Dot3(v, axis);  // linear: |x - mA| cos(phi_i) (eq. 1); sheet: along fiber
+  const double lambda = l / R;
+  if (!(lambda >= lambda_w && lambda <= 1.0)) {  // outside S_w along the axis (eq. 3): the
+    // rest is not needed (the rig builder's refinement field asks this of every sample)
+    out.direction = linear ? NormalizeOr(origin - x, axis * -1.f) : axis;
+    return out;
+  }
   double gamma, q;
   if (linear) {
     const double dist = Len3(v);
@@ -93,8 +99,7 @@ MuscleWrinkleSample SampleMuscleWrinkleRegion(const MuscleWrinkleSpec& spec,
     q = (h - spec.h_c) / (0.5 * muscle.width - spec.h_c);  // eq. 15
     out.direction = axis;
   }
-  const double lambda = l / R;
-  out.inside = lambda >= lambda_w && lambda <= 1.0 && gamma >= 0.0 && gamma <= 1.0;  // eq. 3
+  out.inside = gamma >= 0.0 && gamma <= 1.0;  // eq. 3 (lambda checked above)
   if (!out.inside) return out;
   double w = std::fmod(l - lambda_w * R, 2.0 * u);  // eq. 7
   if (w < 0.0) w = 0.0;
