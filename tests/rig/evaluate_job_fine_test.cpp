@@ -140,6 +140,43 @@ Surface FineSurface(uint32_t side, uint32_t muscles, bool skin_layers = false) {
 using test::SomeActivations;
 using test::TwoThreads;
 
+// A frame of `rig` that asks for positions only (no fine-scale amplitudes).
+EvaluateJob PositionsOnlyJob(const Rig& rig, EvaluateContext* ctx, const std::vector<float>& act,
+                             std::vector<float>& positions) {
+  EvaluateJob job;
+  job.rig = &rig;
+  job.context = ctx;
+  job.activations = act;
+  job.out_positions = positions;
+  return job;
+}
+
+// Second method for a frame's amplitudes: X1 from a frame with the skin layers off,
+// DirectionalShrinkageJob over the probes, DirectionalModulation (r = 0.4, FineSurface's).
+// Returns how many amplitudes the strain moved away from r.
+size_t ExpectPublicShrinkageAmplitudes(const Rig& rig, const std::vector<float>& act,
+                                       const std::vector<float>& amps) {
+  const RigFineScale& fs = rig.fine_scale();
+  EvaluateContext ctx(rig);
+  EXPECT_TRUE(test::RunPoseBeforeSkin(rig, act, &ctx));
+  std::vector<float> sh(fs.probes.size());
+  const DirectionalShrinkageJob job{.positions = ctx.points(),
+                                    .probes = fs.probes,
+                                    .end = fs.probes.size(),
+                                    .out_shrinkage = sh};
+  EXPECT_TRUE(job.Run());
+  size_t moved = 0;
+  for (uint32_t v = 0; v < rig.vertex_count(); ++v) {
+    const uint32_t p = rig.vertex_points()[v];
+    for (int k = 0; k < 2; ++k) {
+      const float expect = p < fs.point_count() ? DirectionalModulation(sh[2 * p + k], 0.4f) : 0.4f;
+      EXPECT_NEAR(amps[2 * v + k], expect, 1e-6f) << "vertex " << v << " field " << k;
+      moved += std::fabs(amps[2 * v + k] - 0.4f) > 1e-3f;
+    }
+  }
+  return moved;
+}
+
 TEST(EvaluateJobFine, BuilderProbesGiveThePublicShrinkageJobsAmplitudes) {
   const Surface s = FineSurface(30, 6);
   const RigFineScale& fs = s.rig.fine_scale();
@@ -150,26 +187,7 @@ TEST(EvaluateJobFine, BuilderProbesGiveThePublicShrinkageJobsAmplitudes) {
   EvaluateContext ctx(s.rig);
   std::vector<float> amps, pos;
   ASSERT_TRUE(RunFine(s.rig, &ctx, &amps, &pos, nullptr, act));
-  // Second method: X1 from a frame with the skin layers off, DirectionalShrinkageJob over the
-  // probes, DirectionalModulation.
-  EvaluateContext ctx1(s.rig);
-  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &ctx1));
-  std::vector<float> sh(fs.probes.size());
-  const DirectionalShrinkageJob job{.positions = ctx1.points(),
-                                    .probes = fs.probes,
-                                    .end = fs.probes.size(),
-                                    .out_shrinkage = sh};
-  ASSERT_TRUE(job.Run());
-  size_t moved = 0;
-  for (uint32_t v = 0; v < s.rig.vertex_count(); ++v) {
-    const uint32_t p = s.rig.vertex_points()[v];
-    for (int k = 0; k < 2; ++k) {
-      const float expect = p < fs.point_count() ? DirectionalModulation(sh[2 * p + k], 0.4f) : 0.4f;
-      EXPECT_NEAR(amps[2 * v + k], expect, 1e-6f) << "vertex " << v << " field " << k;
-      moved += std::fabs(amps[2 * v + k] - 0.4f) > 1e-3f;
-    }
-  }
-  EXPECT_GT(moved, 20u) << "the muscles strain the surface";
+  EXPECT_GT(ExpectPublicShrinkageAmplitudes(s.rig, act, amps), 20u) << "the muscles strain the surface";
 }
 
 TEST(EvaluateJobFine, BitIdenticalSplitsZeroAllocationAndNoEffectOnPositions) {
@@ -183,11 +201,7 @@ TEST(EvaluateJobFine, BitIdenticalSplitsZeroAllocationAndNoEffectOnPositions) {
   EXPECT_EQ(std::memcmp(p1.data(), p2.data(), p1.size() * 4), 0);
   // Positions are those of a frame without the output.
   std::vector<float> p3(p1.size());
-  EvaluateJob job;
-  job.rig = &s.rig;
-  job.context = &c3;
-  job.activations = act;
-  job.out_positions = p3;
+  EvaluateJob job = PositionsOnlyJob(s.rig, &c3, act, p3);
   ASSERT_TRUE(job.Run());
   EXPECT_EQ(std::memcmp(p1.data(), p3.data(), p1.size() * 4), 0);
   // Zero allocation per frame with the output on.
@@ -241,34 +255,14 @@ TEST(EvaluateJobFine, ProbesReadTheStrainsEdgesAndTheStrainStillSeesThem) {
   EXPECT_GT(shared, 100u);
   EXPECT_GT(own, 0u);
   const std::vector<float> act = SomeActivations(s.rig);
-  EvaluateContext c1(s.rig), c2(s.rig), c3(s.rig);
-  std::vector<float> amps, p1, p2;
+  EvaluateContext c1(s.rig), c3(s.rig);
+  std::vector<float> amps, p1;
   ASSERT_TRUE(RunFine(s.rig, &c1, &amps, &p1, nullptr, act));
   std::vector<float> p3(p1.size());
-  EvaluateJob job;
-  job.rig = &s.rig;
-  job.context = &c3;
-  job.activations = act;
-  job.out_positions = p3;
+  EvaluateJob job = PositionsOnlyJob(s.rig, &c3, act, p3);
   ASSERT_TRUE(job.Run());
   EXPECT_EQ(std::memcmp(p1.data(), p3.data(), p1.size() * 4), 0);
-  ASSERT_TRUE(test::RunPoseBeforeSkin(s.rig, act, &c2));
-  std::vector<float> sh(fs.probes.size());
-  const DirectionalShrinkageJob shrink{.positions = c2.points(),
-                                       .probes = fs.probes,
-                                       .end = fs.probes.size(),
-                                       .out_shrinkage = sh};
-  ASSERT_TRUE(shrink.Run());
-  size_t moved = 0;
-  for (uint32_t v = 0; v < s.rig.vertex_count(); ++v) {
-    const uint32_t p = s.rig.vertex_points()[v];
-    for (int k = 0; k < 2; ++k) {
-      const float expect = p < fs.point_count() ? DirectionalModulation(sh[2 * p + k], 0.4f) : 0.4f;
-      EXPECT_NEAR(amps[2 * v + k], expect, 1e-6f) << "vertex " << v << " field " << k;
-      moved += std::fabs(amps[2 * v + k] - 0.4f) > 1e-3f;
-    }
-  }
-  EXPECT_GT(moved, 20u);
+  EXPECT_GT(ExpectPublicShrinkageAmplitudes(s.rig, act, amps), 20u);
 }
 
 // A scheduler that hands out ranges of 1, 2 and 3 items in turn, serially: the fine-scale
