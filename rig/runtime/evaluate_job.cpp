@@ -1252,34 +1252,50 @@ void StageFineScale(const FrameState& f) {
 #if defined(__SSE2__)
     static_assert(B == 4, "one SSE2 register a block");
     for (; i < 2 * e && i % B != 0; ++i) scalar(i);
-    // Whole blocks from i (a multiple of B) while i + B <= end; returns where it stopped.
+    // Whole blocks from i (a multiple of B) while i + B <= end; returns where it stopped. As
+    // FineProbeBlocksAvx: s first for runs of up to kRun blocks (M(s) where s >= 0, s itself
+    // where it is negative, the blocks with a negative lane listed), then the exponential on
+    // the listed blocks only.
     auto sse_blocks = [&](uint32_t i, uint32_t end) {
       const __m128 one = _mm_set1_ps(1.f), zero = _mm_setzero_ps(), vr = _mm_set1_ps(r);
       const __m128 vc = _mm_set1_ps(c), one_r = _mm_set1_ps(1.f - r);
-      for (; i + B <= end; i += B) {
-        const uint32_t* eb = edges + (i / B) * 4 * B;
-        const float* qb = params + (i / B) * 7 * B;
-        __m128 side[2];
-        for (uint32_t j = 0; j < 2; ++j) {
-          const uint32_t* e2 = eb + 2 * j * B;
-          const uint32_t* e3 = eb + (2 * j + 1) * B;
-          const __m128 l2 = _mm_setr_ps(lengths[e2[0]], lengths[e2[1]], lengths[e2[2]], lengths[e2[3]]);
-          const __m128 l3 = _mm_setr_ps(lengths[e3[0]], lengths[e3[1]], lengths[e3[2]], lengths[e3[3]]);
-          const __m128 beta = _mm_loadu_ps(qb + 3 * j * B), r2 = _mm_loadu_ps(qb + (3 * j + 1) * B);
-          const __m128 r3 = _mm_loadu_ps(qb + (3 * j + 2) * B);
-          const __m128 den = _mm_add_ps(_mm_mul_ps(_mm_sub_ps(one, beta), _mm_mul_ps(l3, r2)),
-                                        _mm_mul_ps(beta, _mm_mul_ps(l2, r3)));
-          const __m128 ratio = _mm_and_ps(_mm_cmpgt_ps(den, zero), _mm_div_ps(_mm_mul_ps(l2, l3), den));
-          const __m128 rest = _mm_and_ps(_mm_cmpeq_ps(l2, r2), _mm_cmpeq_ps(l3, r3));
-          side[j] = _mm_andnot_ps(rest, _mm_sub_ps(one, ratio));
+      constexpr uint32_t kRun = 64;
+      uint32_t listed[kRun];
+      while (i + B <= end) {
+        uint32_t count = 0;
+        const uint32_t run_end = std::min(end, i + kRun * B);
+        for (; i + B <= run_end; i += B) {
+          const uint32_t* eb = edges + (i / B) * 4 * B;
+          const float* qb = params + (i / B) * 7 * B;
+          __m128 side[2];
+          for (uint32_t j = 0; j < 2; ++j) {
+            const uint32_t* e2 = eb + 2 * j * B;
+            const uint32_t* e3 = eb + (2 * j + 1) * B;
+            const __m128 l2 = _mm_setr_ps(lengths[e2[0]], lengths[e2[1]], lengths[e2[2]], lengths[e2[3]]);
+            const __m128 l3 = _mm_setr_ps(lengths[e3[0]], lengths[e3[1]], lengths[e3[2]], lengths[e3[3]]);
+            const __m128 beta = _mm_loadu_ps(qb + 3 * j * B), r2 = _mm_loadu_ps(qb + (3 * j + 1) * B);
+            const __m128 r3 = _mm_loadu_ps(qb + (3 * j + 2) * B);
+            const __m128 den = _mm_add_ps(_mm_mul_ps(_mm_sub_ps(one, beta), _mm_mul_ps(l3, r2)),
+                                          _mm_mul_ps(beta, _mm_mul_ps(l2, r3)));
+            const __m128 ratio = _mm_and_ps(_mm_cmpgt_ps(den, zero), _mm_div_ps(_mm_mul_ps(l2, l3), den));
+            const __m128 rest = _mm_and_ps(_mm_cmpeq_ps(l2, r2), _mm_cmpeq_ps(l3, r3));
+            side[j] = _mm_andnot_ps(rest, _mm_sub_ps(one, ratio));
+          }
+          __m128 s = _mm_mul_ps(_mm_add_ps(side[0], side[1]), _mm_loadu_ps(qb + 6 * B));
+          s = _mm_and_ps(s, _mm_cmpeq_ps(s, s));  // NaN -> 0
+          const __m128 pos = _mm_cmpge_ps(s, zero);
+          const __m128 mp = _mm_add_ps(_mm_mul_ps(one_r, _mm_min_ps(s, one)), vr);
+          _mm_storeu_ps(out + i, _mm_or_ps(_mm_and_ps(pos, mp), _mm_andnot_ps(pos, s)));
+          listed[count] = i;
+          count += _mm_movemask_ps(pos) != 0xF;
         }
-        __m128 s = _mm_mul_ps(_mm_add_ps(side[0], side[1]), _mm_loadu_ps(qb + 6 * B));
-        s = _mm_and_ps(s, _mm_cmpeq_ps(s, s));  // NaN -> 0
-        const __m128 pos = _mm_cmpge_ps(s, zero);
-        const __m128 mp = _mm_add_ps(_mm_mul_ps(one_r, _mm_min_ps(s, one)), vr);
-        __m128 mn = zero;
-        if (_mm_movemask_ps(pos) != 0xF && r > 0.f) mn = _mm_mul_ps(vr, ExpNonPositive4(_mm_mul_ps(vc, s)));
-        _mm_storeu_ps(out + i, _mm_or_ps(_mm_and_ps(pos, mp), _mm_andnot_ps(pos, mn)));
+        for (uint32_t k = 0; k < count; ++k) {
+          float* o = out + listed[k];
+          const __m128 s = _mm_loadu_ps(o);
+          const __m128 neg = _mm_cmplt_ps(s, zero);
+          const __m128 mn = r > 0.f ? _mm_mul_ps(vr, ExpNonPositive4(_mm_mul_ps(vc, s))) : zero;
+          _mm_storeu_ps(o, _mm_or_ps(_mm_and_ps(neg, mn), _mm_andnot_ps(neg, s)));
+        }
       }
       return i;
     };

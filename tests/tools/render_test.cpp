@@ -190,8 +190,9 @@ void ExpectPngRoundTrip(const Image& img, const std::string& path) {
   ASSERT_NE(px, nullptr);
   EXPECT_EQ(w, img.width);
   EXPECT_EQ(h, img.height);
-  if (w == img.width && h == img.height)
+  if (w == img.width && h == img.height) {
     EXPECT_EQ(std::memcmp(px, img.rgb.data(), img.rgb.size()), 0);
+  }
   stbi_image_free(px);
 }
 
