@@ -307,6 +307,12 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
     MuscleWrinkleSpec spec;
     WrinkleMuscleGeometry geometry;
     float target;
+    // A ball around the region's origin that holds S_w (001 eq. 3 / 14), with a margin: a
+    // sample outside it is outside the region, so SampleMuscleWrinkleRegion need not run.
+    // Linear: l = |v| cos(phi) <= R with phi <= the zone angle, so |v| <= R / cos(angle)
+    // (no ball past 89 degrees); sheet: l <= Ls and h <= Ws / 2.
+    float3 center;
+    double reach2;
   };
   struct Curve {
     CurveWrinkleSpec spec;
@@ -315,11 +321,23 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   };
   std::vector<MuscleRegion> regions;
   std::vector<Curve> curves;
+  auto sq = [](double v) { return v * v; };
   if (spec.layers.muscle_wrinkles) {
     for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
       if (!spec.muscle_wrinkles[m]) continue;
-      MuscleRegion r{*spec.muscle_wrinkles[m], WrinkleGeometryOf(spec.muscles[m]), 0.f};
+      MuscleRegion r{*spec.muscle_wrinkles[m], WrinkleGeometryOf(spec.muscles[m]), 0.f, {},
+                     std::numeric_limits<double>::infinity()};
       r.target = fraction * SampleMuscleWrinkleRegion(r.spec, r.geometry, {}).half_cycle;
+      const WrinkleMuscleGeometry& g = r.geometry;
+      if (g.kind == WrinkleMuscleKind::kLinear) {
+        r.center = g.attachment;
+        const double c = std::cos(double(g.zone_angle));
+        if (c >= std::cos(89.0 * 3.14159265358979323846 / 180.0)) r.reach2 = sq(double(g.radius) / c);
+      } else {
+        r.center = (g.attachment_line[0] + g.attachment_line[1]) * 0.5f;
+        r.reach2 = sq(double(g.length)) + sq(0.5 * g.width);
+      }
+      r.reach2 = r.reach2 * 1.001 + 1e-12;
       regions.push_back(r);
     }
   }
@@ -368,9 +386,12 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   }
   return [regions, curves](float3 position, float2 uv) {
     float target = std::numeric_limits<float>::infinity();
-    for (const MuscleRegion& r : regions)
-      if (r.target > 0.f && SampleMuscleWrinkleRegion(r.spec, r.geometry, position).inside)
-        target = std::min(target, r.target);
+    for (const MuscleRegion& r : regions) {
+      if (!(r.target > 0.f) || r.target >= target) continue;
+      const float3 v = position - r.center;
+      if (double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z > r.reach2) continue;
+      if (SampleMuscleWrinkleRegion(r.spec, r.geometry, position).inside) target = r.target;
+    }
     for (const Curve& c : curves) {
       if (!(c.target > 0.f) || c.target >= target) continue;
       // Distance to the box bounds the distance to the curve from below: a cheap reject.
