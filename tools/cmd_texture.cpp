@@ -87,7 +87,9 @@ int CmdTexture(const Args& args) {
 
   Diagnostics diag;
   LoadedRig loaded;
-  if (!LoadRig(rig_path, &loaded, &diag)) {
+  BuildOptions build;
+  build.fine_scale_probes = false;  // the maps solve the fields themselves (MakeFineScaleMaps)
+  if (!LoadRig(rig_path, &loaded, &diag, build)) {
     PrintDiagnostics(diag);
     std::fprintf(stderr, "mimetic texture: nothing was written\n");
     return kExitInput;

@@ -948,7 +948,8 @@ bool BuildRig(const RigSpec& spec_original, const MeshData& file_mesh_in,
   }
   data.active = active;
   stage(done += kSharePass, "fine scale");
-  if (spec.fine_scale && !CompileFineScale(*spec.fine_scale, file_mesh.vertex_count(), &data, diag))
+  if (spec.fine_scale && options.fine_scale_probes &&
+      !CompileFineScale(*spec.fine_scale, file_mesh.vertex_count(), &data, diag))
     return false;
   // The runtime derives its tables and checks everything once (rig/runtime/rig_tables.h).
   stage(done += kShareFine, "tables");

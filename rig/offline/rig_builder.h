@@ -40,6 +40,11 @@ struct BuildOptions {
   // are the sample head's measured stage times (rig/offline/rig_builder.cpp), so a bar moves
   // about evenly on any head. Empty: no calls. It must not throw.
   std::function<void(float done, const char* stage)> progress;
+  // False: the fine_scale block's per-point probes (docs/model.md §23) are not compiled, so
+  // the rig has no fine-scale amplitudes (RigFineScale empty) and the build skips the direction
+  // fields' sparse solve. For a caller that only needs the rig's mesh and spec, such as
+  // `mimetic texture` (which solves the fields itself for the maps).
+  bool fine_scale_probes = true;
 };
 
 // Welds and validates the mesh (weld.h), resolves the skin thickness per point (constant;

@@ -291,6 +291,33 @@ TEST(EvaluateJobFine, LanesAndScalarGiveTheSameBitsAtEveryAlignment) {
   EXPECT_GT(compressed, 10u);
 }
 
+// BuildOptions::fine_scale_probes = false (what `mimetic texture` builds): no probes, so no
+// amplitudes (0, as a rig without the block), and everything else the same: the points, the
+// triangles and a posed frame's positions to the bit.
+TEST(EvaluateJobFine, ABuildWithoutProbesKeepsEverythingButTheAmplitudes) {
+  const Surface s = FineSurface(30, 6, true);
+  BuildOptions options;
+  options.fine_scale_probes = false;
+  Rig bare;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(s.spec, s.mesh, options, &bare, &diag)) << diag.Format();
+  ASSERT_FALSE(s.rig.fine_scale().empty());
+  EXPECT_TRUE(bare.fine_scale().empty());
+  EXPECT_EQ(bare.tables().fine_edge_count(), 0u);
+  ASSERT_EQ(bare.point_count(), s.rig.point_count());
+  EXPECT_EQ(std::memcmp(bare.rest_points().data(), s.rig.rest_points().data(),
+                        sizeof(float3) * bare.point_count()), 0);
+  EXPECT_EQ(bare.data().triangles, s.rig.data().triangles);
+  const std::vector<float> act = SomeActivations(s.rig);
+  EvaluateContext c1(s.rig), c2(bare);
+  std::vector<float> a1, a2, p1, p2;
+  ASSERT_TRUE(RunFine(s.rig, &c1, &a1, &p1, nullptr, act));
+  ASSERT_TRUE(RunFine(bare, &c2, &a2, &p2, nullptr, act));
+  EXPECT_EQ(std::memcmp(p1.data(), p2.data(), p1.size() * 4), 0);
+  for (float a : a2) ASSERT_EQ(a, 0.f);
+  EXPECT_GT(ExpectPublicShrinkageAmplitudes(s.rig, act, a1), 20u);
+}
+
 TEST(EvaluateJobFine, TheJobRefusesShortOrMisalignedOutputsAndARigWithoutMapsGivesZero) {
   const Surface s = FineSurface(12, 2);
   EvaluateContext ctx(s.rig);
