@@ -332,7 +332,8 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
       if (g.kind == WrinkleMuscleKind::kLinear) {
         r.center = g.attachment;
         const double c = std::cos(double(g.zone_angle));
-        if (c >= std::cos(89.0 * 3.14159265358979323846 / 180.0)) r.reach2 = sq(double(g.radius) / c);
+        constexpr double kLimit = 89.0 * 3.14159265358979323846 / 180.0;  // radians
+        if (c >= std::cos(kLimit)) r.reach2 = sq(double(g.radius) / c);
       } else {
         r.center = (g.attachment_line[0] + g.attachment_line[1]) * 0.5f;
         r.reach2 = sq(double(g.length)) + sq(0.5 * g.width);

@@ -1221,7 +1221,8 @@ inline float FineProbeAmplitude(const float* lengths, const uint32_t* e, const f
 // strain's edges: the probes read most of them and StageStrain then skips its pass), then per
 // probe s across its field and M(s) (FineProbeAmplitude), eight probes at a time with AVX
 // (FineProbeBlocksAvx, where the CPU has it) or four in SSE2 lanes where whole blocks lie in
-// the range (the same operations: the same bits as the scalar form, whatever the split). Each edge and each point writes its own values only.
+// the range (the same operations: the same bits as the scalar form, whatever the split).
+// Each edge and each point writes its own values only.
 void StageFineScale(const FrameState& f) {
   const RigFineScale& fs = f.rig.fine_scale();
   const uint32_t* pairs = f.tables.edge_pairs.data();

@@ -814,7 +814,8 @@ struct Carver {
   size_t words = 0;  // per row
   std::vector<uint64_t> occupied, mapped;
   SegmentGrid grid;
-  std::vector<FurrowSegment> segments;  // this field's segments (the crossing test reads the grid's copies)
+  // This field's segments (the crossing test reads the grid's own copies).
+  std::vector<FurrowSegment> segments;
   std::mt19937_64 rng;
   std::uniform_real_distribution<float> unit{-1.f, 1.f};
 
