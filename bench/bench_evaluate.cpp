@@ -21,6 +21,8 @@
 //   BM_PairedJaw/<vertices>            every layer, frame by frame without and with the jaw
 //                                      moving (two contexts, the same activations); `ratio` =
 //                                      with / without (the jaw issue's budget: at most 1.10)
+//   BM_PairedJawNoLimiter/<vertices>   the same with the fold limiter off on both sides
+//                                      (EvaluateJob::limit_folds): the jaw's own cost
 //   BM_PairedHeadFine/<vertices>     every layer without and with out_fine_amplitudes (the two
 //                                      fine-scale amplitudes per vertex), frame by frame;
 //                                      `ratio` = with / without
@@ -273,6 +275,7 @@ template <class Vary>
 void RunPairedAgainstPlain(benchmark::State& state, const Rig& rig, EvaluateSetup* other,
                            const std::string& name, const Vary& vary) {
   EvaluateSetup plain(rig, SkinLayers{});
+  plain.job.limit_folds = other->job.limit_folds;
   using Clock = std::chrono::steady_clock;
   Clock::duration without{}, with{};
   uint32_t frame = 0;
@@ -314,10 +317,11 @@ void RunPairedFine(benchmark::State& state) {
 // docs/model.md §18: without the jaw and with it (JawOf); `ratio` = with / without. One
 // benchmark instead of BM_PairedHead against BM_PairedHeadJaw: the two sides share every
 // iteration, so drift of a shared machine hits both alike.
-void RunPairedJaw(benchmark::State& state) {
+void RunPairedJaw(benchmark::State& state, bool limit_folds = true) {
   const Rig& rig = GetFixture(true, int(state.range(0))).rig;
   if (rig.jaw().empty()) state.SkipWithError("the head rig has no jaw");
   EvaluateSetup jaw(rig, SkinLayers{});
+  jaw.job.limit_folds = limit_folds;
   RunPairedAgainstPlain(state, rig, &jaw, "jaw", [](EvaluateSetup& s, uint32_t frame) {
     s.job.jaw = JawOf(frame, true);
   });
@@ -386,6 +390,7 @@ void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
 void BM_PairedHeadJaw(benchmark::State& s) { RunPaired(s, true, true); }
 void BM_PairedHeadFine(benchmark::State& s) { RunPairedFine(s); }
 void BM_PairedJaw(benchmark::State& s) { RunPairedJaw(s); }
+void BM_PairedJawNoLimiter(benchmark::State& s) { RunPairedJaw(s, false); }
 void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
 void BM_EvaluateHeadHardPoseFullScan(benchmark::State& s) { RunHardPose(s, true); }
 
@@ -411,6 +416,7 @@ BENCHMARK(BM_PairedHead) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHeadJaw) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHeadFine) MIMETIC_SIZES;
 BENCHMARK(BM_PairedJaw) MIMETIC_SIZES;
+BENCHMARK(BM_PairedJawNoLimiter) MIMETIC_SIZES;
 #define MIMETIC_HARD_POSES                                                     \
   ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
       ->ComputeStatistics("min", Fastest)
