@@ -547,7 +547,10 @@ std::vector<Param> ParamsFor(const MuscleTemplate& seed, size_t i, const Calibra
     add(k, Get(m, k) - r, Get(m, k) + r, 0.04);
   add(Kind::kAttDepth, o.min_attachment_depth, 0.25, 0.02);
   add(Kind::kInsDepth, 0.005, o.max_insertion_depth, 0.008);
-  if (o.calibrate_motion) add(Kind::kMotion, 0.0, 1.0, 1.0);
+  // A motion the seed names is kept: an anatomical decision (the frontalis slides the brow
+  // skin over the bone, docs/model.md §17) that the muscles-alone residual cannot make, since
+  // it measures vertex positions and not the surface they make (docs/calibration.md).
+  if (o.calibrate_motion && !m.motion_given) add(Kind::kMotion, 0.0, 1.0, 1.0);
   return p;
 }
 

@@ -41,6 +41,8 @@ struct TemplateMuscle {
   float strength = 0.f;  // contraction at activation 1, units of s, >= 0
   MuscleFalloff falloff = MuscleFalloff::kWaters;  // copied into the fitted rig
   MuscleMotion motion = MuscleMotion::kChord;      // copied into the fitted rig
+  // True when the file names `motion`: mimetic calibrate then keeps it (docs/model.md §17).
+  bool motion_given = false;
   // True for the copy a `mirror` entry adds (it follows its source in `muscles`); the writer
   // writes the source with `"mirror": true` and not the copy.
   bool mirrored_copy = false;

@@ -447,7 +447,10 @@ void TemplateRules::Muscle(const View& m, std::vector<TemplateMuscle>* out,
   const bool mirror = Mirror(m, t.name, "muscle", &copy_name);
   m.Read("strength", &t.strength);
   if (size_t choice = 0; m.Choice("falloff", &choice)) t.falloff = static_cast<MuscleFalloff>(choice);
-  if (size_t choice = 0; m.Choice("motion", &choice)) t.motion = static_cast<MuscleMotion>(choice);
+  if (size_t choice = 0; m.Choice("motion", &choice)) {
+    t.motion = static_cast<MuscleMotion>(choice);
+    t.motion_given = true;
+  }
   if (m.variant() == "linear") {
     t.type = MuscleType::kLinear;
     Point(m.Member("attachment"), &t.attachment[0]);
@@ -664,7 +667,8 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     if (i + 1 < t.muscles.size() && t.muscles[i + 1].mirrored_copy) e["mirror"] = true;
     e["strength"] = Short(m.strength);
     if (m.falloff != MuscleFalloff::kWaters) e["falloff"] = MuscleFalloffName(m.falloff);
-    if (m.motion != MuscleMotion::kChord) e["motion"] = MuscleMotionName(m.motion);
+    if (m.motion_given || m.motion != MuscleMotion::kChord)
+      e["motion"] = MuscleMotionName(m.motion);
     if (linear) {
       e["attachment"] = PointJson(m.attachment[0], true);
       e["insertion"] = PointJson(m.insertion[0], true);

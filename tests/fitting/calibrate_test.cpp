@@ -136,6 +136,52 @@ TEST(Calibrate, RecoversTheStrengthAndPlacementThatMadeTheShapes) {
   EXPECT_LE(std::fabs(zl.insertion[0].offset.y - 0.05f), options.offset_reach + 1e-6f);
 }
 
+// One mirrored linear muscle on the cheek, away from the mouth and the eyes, that pulls the
+// cheek up and out; `motion` is inserted as given (e.g. R"("motion": "tangent",)", or empty).
+// Its name is in no anatomy rule or fold-over region (fitting/anatomy.h), so only the score
+// decides its motion.
+MuscleTemplate CheekTemplate(const std::string& motion) {
+  return Parse(R"({"format": "mimetic-muscle-template", "version": 1, "muscles": [
+      {"name": "cheek_lifter_L", "type": "linear", "mirror": true, "strength": 0.06,
+       "falloff": "smooth", )" + motion + R"(
+       "attachment": {"landmarks": [45], "offset": [0.15, -0.1], "depth": 0.12},
+       "insertion": {"landmarks": [54], "offset": [0.1, 0.25], "depth": 0.02},
+       "zone_angle_deg": 30, "falloff_start": 0.3, "falloff_end": 0.6}]})");
+}
+
+// The search tries a muscle's other motion only when the seed does not name one: a shape made
+// with a tangent muscle pulls an unnamed (chord) seed over to tangent, whose residual is 0,
+// while a seed that says "chord" keeps it.
+TEST(Calibrate, KeepsAMotionTheSeedNames) {
+  const MuscleTemplate truth = CheekTemplate(R"("motion": "tangent",)");
+  EXPECT_TRUE(truth.muscles[0].motion_given);
+  EXPECT_TRUE(truth.muscles[1].motion_given);  // the mirrored copy says what its source says
+  const MeshData lift = Pose(truth, {0.8f, 0.f});
+  const std::vector<CalibrationShape> shapes = {{"lift", &lift}};
+  CalibrationOptions options;
+  options.passes = 1;
+  double after[2] = {0.0, 0.0};  // objective after the run: [unnamed seed, named]
+  for (const bool named : {false, true}) {
+    const MuscleTemplate seed = CheekTemplate(named ? R"("motion": "chord",)" : "");
+    ASSERT_EQ(seed.muscles[0].motion, MuscleMotion::kChord);
+    EXPECT_EQ(seed.muscles[0].motion_given, named);
+    MuscleTemplate out;
+    CalibrationReport report;
+    Diagnostics diag;
+    ASSERT_TRUE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), shapes, options, &out,
+                                  &report, &diag))
+        << diag.Format();
+    EXPECT_EQ(out.muscles[0].motion, named ? MuscleMotion::kChord : MuscleMotion::kTangent)
+        << (named ? "named" : "unnamed");
+    EXPECT_EQ(out.muscles[1].motion, out.muscles[0].motion);
+    std::printf("%s seed: refused %d objective %.6f -> %.6f\n", named ? "named" : "unnamed",
+                report.refused_anatomy, report.objective_before, report.objective_after);
+    after[named] = report.objective_after;
+  }
+  // The shape is tangent motion: the run free to switch fits it far better than chord can.
+  EXPECT_LT(after[0], 0.05 * after[1]);
+}
+
 TEST(Calibrate, RefusesASeedWhoseMusclePullsAgainstItsAnatomy) {
   // A "zygomaticus major" attached below the mouth corner pulls it down, not up.
   std::string text = TemplateText(0.08f, 0.f, 0.05f);
