@@ -20,13 +20,17 @@ namespace mimetic {
 namespace {
 
 // One training shape: its displacement from the neutral, the per-vertex weights, and the
-// normal equations of the muscle basis under those weights (G = U^T W U, h = U^T W t).
+// normal equations of the muscle basis under those weights (G = U^T W U, h = U^T W t). With a
+// normal weight k, the score's metric M (per vertex w (I + k n n^T)) has its own (gm, hm, tmt).
 struct Target {
   std::vector<double> t;  // 3 per vertex
   std::vector<double> w;  // 1 per vertex
   double twt = 0.0;
   Eigen::MatrixXd g;
   Eigen::VectorXd h;
+  Eigen::MatrixXd gm;  // U^T M U (empty without a normal weight)
+  Eigen::VectorXd hm;  // U^T M t
+  double tmt = 0.0;    // t^T M t
 };
 
 enum class Kind { kStrength, kRs, kRf, kAngle, kLength, kWidth, kInsX, kInsY, kAttX, kAttY,
@@ -308,13 +312,19 @@ class Calibrator {
                                      t.t[3 * v + 2] * t.t[3 * v + 2]);
         t.w[v] = len > options_.region_fraction * largest ? 1.0 : options_.outside_weight;
         t.twt += t.w[v] * len * len;
+        const double tn = NormalPart(&t.t[3 * v], v);
+        t.tmt += t.w[v] * (len * len + options_.normal_weight * tn * tn);
       }
       targets_.push_back(std::move(t));
     }
     tmpl_ = tmpl;
     const size_t m = tmpl_.muscles.size();
     columns_.assign(m, std::vector<double>(3 * n, 0.0));
-    for (Target& t : targets_) t.g = Eigen::MatrixXd::Zero(m, m), t.h = Eigen::VectorXd::Zero(m);
+    for (Target& t : targets_) {
+      t.g = Eigen::MatrixXd::Zero(m, m), t.h = Eigen::VectorXd::Zero(m);
+      if (options_.normal_weight > 0.f)
+        t.gm = Eigen::MatrixXd::Zero(m, m), t.hm = Eigen::VectorXd::Zero(m);
+    }
     for (size_t i = 0; i < m; ++i) {
       if (tmpl_.muscles[i].mirrored_copy) continue;
       std::vector<std::vector<double>> cols;
@@ -445,14 +455,20 @@ class Calibrator {
     if (c != size_t(-1)) p.push_back(columns_[c]);
     return p;
   }
-  std::vector<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> Snapshot() const {
-    std::vector<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> s;
-    for (const Target& t : targets_) s.push_back({t.g, t.h});
+  struct Equations {
+    Eigen::MatrixXd g, gm;
+    Eigen::VectorXd h, hm;
+  };
+  std::vector<Equations> Snapshot() const {
+    std::vector<Equations> s;
+    for (const Target& t : targets_) s.push_back({t.g, t.gm, t.h, t.hm});
     return s;
   }
-  void Restore(const std::vector<std::pair<Eigen::MatrixXd, Eigen::VectorXd>>& s, size_t i,
-               const std::vector<std::vector<double>>& cols) {
-    for (size_t k = 0; k < targets_.size(); ++k) targets_[k].g = s[k].first, targets_[k].h = s[k].second;
+  void Restore(const std::vector<Equations>& s, size_t i, const std::vector<std::vector<double>>& cols) {
+    for (size_t k = 0; k < targets_.size(); ++k) {
+      Target& t = targets_[k];
+      t.g = s[k].g, t.gm = s[k].gm, t.h = s[k].h, t.hm = s[k].hm;
+    }
     columns_[i] = cols[0];
     const size_t c = CopyOf(tmpl_, i);
     if (c != size_t(-1) && cols.size() > 1) columns_[c] = cols[1];
@@ -475,14 +491,30 @@ class Calibrator {
             sum += t.w[v] * (ca[3 * v] * cb[3 * v] + ca[3 * v + 1] * cb[3 * v + 1] +
                              ca[3 * v + 2] * cb[3 * v + 2]);
           t.g(a, b) = t.g(b, a) = sum;
+          if (t.gm.size() == 0) continue;
+          double extra = 0.0;  // + k sum w (ca . n)(cb . n)
+          for (size_t v = 0; v < n; ++v)
+            if (t.w[v] != 0.0) extra += t.w[v] * NormalPart(&ca[3 * v], v) * NormalPart(&cb[3 * v], v);
+          t.gm(a, b) = t.gm(b, a) = sum + options_.normal_weight * extra;
         }
         double sum = 0.0;
         for (size_t v = 0; v < n; ++v)
           sum += t.w[v] * (ca[3 * v] * t.t[3 * v] + ca[3 * v + 1] * t.t[3 * v + 1] +
                            ca[3 * v + 2] * t.t[3 * v + 2]);
         t.h(a) = sum;
+        if (t.hm.size() == 0) continue;
+        double extra = 0.0;
+        for (size_t v = 0; v < n; ++v)
+          extra += t.w[v] * NormalPart(&ca[3 * v], v) * NormalPart(&t.t[3 * v], v);
+        t.hm(a) = sum + options_.normal_weight * extra;
       }
     }
+  }
+
+  // The component of a displacement (3 doubles) along the neutral's normal at vertex v.
+  double NormalPart(const double* d, size_t v) const {
+    const float3 n = normals_[v];
+    return d[0] * n.x + d[1] * n.y + d[2] * n.z;
   }
 
   // min over a in [0,1]^m of (U a - t)^T W (U a - t) / t^T W t, on the reduced system:
@@ -506,8 +538,14 @@ class Calibrator {
     p.lo = lo.data(), p.hi = hi.data();
     BoxLeastSquaresResult res;
     if (!SolveBoxLeastSquares(p, &res)) return 1.0;
-    const double residual = t.twt - c.squaredNorm() + res.residual2;
-    return std::max(0.0, residual) / t.twt;
+    if (t.gm.size() == 0) {
+      const double residual = t.twt - c.squaredNorm() + res.residual2;
+      return std::max(0.0, residual) / t.twt;
+    }
+    // The same activations, measured in the score's metric: (U a - t)^T M (U a - t).
+    const Eigen::Map<const Eigen::VectorXd> x(res.x.data(), m);
+    const double residual = x.dot(t.gm * x) - 2.0 * x.dot(t.hm) + t.tmt;
+    return std::max(0.0, residual) / t.tmt;
   }
 
   const MeshData& head_;

@@ -5,8 +5,9 @@
 // shape (same topology as the head) the muscles alone are solved for (bounded linear least
 // squares on the muscle basis, as `mimetic solve` does, weight 1 where the shape moves more
 // than `region_fraction` of its largest motion and `outside_weight` elsewhere). The score of a
-// shape is its residual over the neutral's (0 = reproduced, 1 = no better than not moving);
-// the objective is the mean score. A coordinate search then changes one parameter of one
+// shape is its residual over the neutral's (0 = reproduced, 1 = no better than not moving),
+// measured with the normal part of each vertex's residual counted `normal_weight` times more
+// (Bando's surface distance sees that part); the objective is the mean score. A coordinate search then changes one parameter of one
 // muscle at a time (strength, fall-off radii, zone angle or sheet size, the offsets of its
 // attachment and insertion, the attachment's depth, its motion), keeps a change when the
 // objective drops, and halves a parameter's step when neither direction helps. Mirrored
@@ -49,6 +50,10 @@ struct CalibrationOptions {
   int passes = 3;                 // coordinate-search sweeps over every parameter
   float region_fraction = 0.02f;  // of the shape's largest motion
   float outside_weight = 0.25f;
+  // The score's metric (docs/model.md §17): the residual's part along the neutral's vertex
+  // normal counts (1 + normal_weight) times, its tangential part once. The solve itself stays
+  // the plain weighted least squares of `mimetic solve`; 0 = the score is its residual.
+  float normal_weight = 0.f;
   float offset_reach = 0.2f;      // units of s, around the seed's offsets
   float min_attachment_depth = 0.03f;  // units of s
   float max_insertion_depth = 0.04f;   // units of s

@@ -21,7 +21,8 @@ namespace {
 
 const char* kCalibrateUsage =
     "usage: mimetic calibrate --out FILE [--seed FILE] [--data DIR] [--landmarks FILE]\n"
-    "                         [--train A,B,...] [--muscles A,B,...] [--passes N]\n\n"
+    "                         [--train A,B,...] [--muscles A,B,...] [--passes N]\n"
+    "                         [--normal-weight K]\n\n"
     "Calibrates a muscle template on real expression shapes: fits the seed template (default\n"
     "assets/calibration/seed.template.json) to ICT-FaceKit's neutral head (DIR/ict-facekit/\n"
     "ict_skin_neutral.obj, DIR default ../shared/data; landmarks default\n"
@@ -41,6 +42,10 @@ const char* kCalibrateUsage =
     "  --muscles A,B,...  change only these source muscles (default every one)\n"
     "  --passes N         coordinate-search sweeps (default 3, 1..20; it stops early when a\n"
     "                     sweep changes nothing)\n"
+    "  --normal-weight K  the score counts each vertex's residual along the neutral's normal\n"
+    "                     1 + K times (default 0; 0..100): the surface distance that\n"
+    "                     `mimetic compare` reports sees that part, the plain residual\n"
+    "                     weighs sliding and sinking alike (docs/model.md §17)\n"
     "Run from the repository root. Takes about five minutes a pass on one core.\n";
 
 int Fail(const Diagnostics& diag, const std::string& what) {
@@ -62,7 +67,7 @@ std::vector<std::string> SplitList(const std::string& s) {
 
 int CmdCalibrate(const Args& args) {
   const ParsedArgs parsed = ParseArgs(
-      args, {"out", "seed", "data", "landmarks", "train", "muscles", "passes"}, {});
+      args, {"out", "seed", "data", "landmarks", "train", "muscles", "passes", "normal-weight"}, {});
   if (parsed.help) return std::fputs(kCalibrateUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("calibrate", parsed.error, kCalibrateUsage);
   if (!parsed.positional.empty())
@@ -81,6 +86,14 @@ int CmdCalibrate(const Args& args) {
                                          "': expected a whole number in [1, 20]",
                         kCalibrateUsage);
     options.passes = int(v);
+  }
+  if (parsed.Has("normal-weight")) {
+    double v = 0;
+    if (!ParseNumber(parsed.Get("normal-weight"), 0, 100, &v))
+      return UsageError("calibrate", "--normal-weight '" + parsed.Get("normal-weight") +
+                                         "': expected a number in [0, 100]",
+                        kCalibrateUsage);
+    options.normal_weight = float(v);
   }
   if (parsed.Has("muscles")) options.muscles = SplitList(parsed.Get("muscles"));
   std::vector<const IctShape*> train;

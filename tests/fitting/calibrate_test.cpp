@@ -13,6 +13,7 @@
 #include "fitting/anatomy.h"
 #include "fitting/calibrate.h"
 #include "fitting/fit.h"
+#include "geometry/normals.h"
 #include "io/template_file.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
@@ -180,6 +181,71 @@ TEST(Calibrate, KeepsAMotionTheSeedNames) {
   }
   // The shape is tangent motion: the run free to switch fits it far better than chord can.
   EXPECT_LT(after[0], 0.05 * after[1]);
+}
+
+// The score with a normal weight k (docs/model.md §17): the solve is the plain weighted least
+// squares, the residual is measured with w (|r|^2 + k (r . n)^2). A shape made by the cheek
+// muscle at 0.8 plus a bump along the neutral's normals where the muscle does not reach: the
+// solve still finds 0.8 (the bump is orthogonal to every column), the residual is the bump, and
+// the score is computed here from its definition, vertex by vertex.
+TEST(Calibrate, NormalWeightCountsTheResidualAlongTheNormal) {
+  const MuscleTemplate tmpl = CheekTemplate("");
+  const MeshData& head = Head().mesh;
+  const MeshData lift = Pose(tmpl, {0.8f, 0.f});
+  const std::vector<float3> normals =
+      ComputeVertexNormals(head, VertexNormalOptions{.share_by_position = true});
+  // The bump: 0.4 mm along the normal on the forehead, which the cheek muscle leaves still.
+  MeshData shape = lift;
+  size_t bumped = 0;
+  for (size_t v = 0; v < head.vertex_count(); ++v) {
+    const float3 d = lift.positions[v] - head.positions[v];
+    if (d.x != 0.f || d.y != 0.f || d.z != 0.f) continue;
+    if (head.positions[v].y < 40.f || head.positions[v].z < 40.f) continue;
+    shape.positions[v] = head.positions[v] + 0.4f * normals[v];
+    ++bumped;
+  }
+  ASSERT_GT(bumped, 20u);
+  double expected[2] = {0.0, 0.0};  // k = 0, k = 3
+  const double ks[2] = {0.0, 3.0};
+  {
+    std::vector<double> t(3 * head.vertex_count());
+    double largest = 0.0;
+    for (size_t v = 0; v < head.vertex_count(); ++v) {
+      const float3 d = shape.positions[v] - head.positions[v];
+      t[3 * v] = d.x, t[3 * v + 1] = d.y, t[3 * v + 2] = d.z;
+      largest = std::max(largest, double(Length(d)));
+    }
+    for (int i = 0; i < 2; ++i) {
+      double num = 0.0, den = 0.0;
+      for (size_t v = 0; v < head.vertex_count(); ++v) {
+        const double* d = &t[3 * v];
+        const double len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        const double w = std::sqrt(len2) > 0.02 * largest ? 1.0 : 0.25;
+        const float3 n = normals[v];
+        const double dn = d[0] * n.x + d[1] * n.y + d[2] * n.z;
+        den += w * (len2 + ks[i] * dn * dn);
+        const float3 muscle = lift.positions[v] - head.positions[v];
+        if (muscle.x != 0.f || muscle.y != 0.f || muscle.z != 0.f) continue;
+        const float3 r = shape.positions[v] - lift.positions[v];  // the bump: the residual
+        const double rn = double(Dot(r, n));
+        num += w * (double(Dot(r, r)) + ks[i] * rn * rn);
+      }
+      expected[i] = num / den;
+    }
+  }
+  EXPECT_GT(expected[1], 1.2 * expected[0]);  // the bump is all normal: k = 3 sees it more
+  for (int i = 0; i < 2; ++i) {
+    CalibrationOptions options;
+    options.normal_weight = float(ks[i]);
+    std::vector<double> scores;
+    Diagnostics diag;
+    ASSERT_TRUE(ScoreTemplate(tmpl, head, HeadLandmarks(), {{"lift+bump", &shape}}, options,
+                              &scores, &diag))
+        << diag.Format();
+    ASSERT_EQ(scores.size(), 1u);
+    std::printf("k = %g: score %.6f, by hand %.6f\n", ks[i], scores[0], expected[i]);
+    EXPECT_NEAR(scores[0], expected[i], 1e-4 * expected[i]) << "k = " << ks[i];
+  }
 }
 
 TEST(Calibrate, RefusesASeedWhoseMusclePullsAgainstItsAnatomy) {
