@@ -161,6 +161,7 @@ TEST(Calibrate, KeepsAMotionTheSeedNames) {
   const std::vector<CalibrationShape> shapes = {{"lift", &lift}};
   CalibrationOptions options;
   options.passes = 1;
+  options.normal_weight = 0.f;  // the plain score (the normal weight has its own test below)
   double after[2] = {0.0, 0.0};  // objective after the run: [unnamed seed, named]
   for (const bool named : {false, true}) {
     const MuscleTemplate seed = CheekTemplate(named ? R"("motion": "chord",)" : "");
@@ -278,6 +279,26 @@ TEST(Calibrate, RefusesASeedThatTurnsATriangleOver) {
                                  &out, nullptr, &diag));
   EXPECT_TRUE(diag.Contains("zygomaticus_major_L")) << diag.Format();
   EXPECT_TRUE(diag.Contains("over or nearly (normal dot")) << diag.Format();
+}
+
+// Every muscle at 1 is checked too, not only the corners of the regions a muscle belongs to:
+// the cheek muscle above is in no region of fitting/anatomy.h, so without that check nothing
+// would stop it folding the cheek.
+TEST(Calibrate, RefusesASeedThatFoldsWithEveryMuscleAtOne) {
+  MuscleTemplate seed = CheekTemplate("");
+  seed.muscles[0].strength = seed.muscles[1].strength = 1.5f;
+  const MeshData lift = Pose(CheekTemplate(""), {0.8f, 0.f});
+  CalibrationOptions options;
+  MuscleTemplate out;
+  Diagnostics diag;
+  EXPECT_FALSE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), {{"lift", &lift}}, options,
+                                 &out, nullptr, &diag));
+  EXPECT_TRUE(diag.Contains("at 1 (all muscles) turns triangle")) << diag.Format();
+  // At the seed's own strength the same muscle passes.
+  Diagnostics ok;
+  EXPECT_TRUE(CalibrateTemplate(CheekTemplate(""), Head().mesh, HeadLandmarks(), {{"lift", &lift}},
+                                CalibrationOptions{.passes = 1}, &out, nullptr, &ok))
+      << ok.Format();
 }
 
 TEST(Calibrate, BadInputsAreNamed) {
