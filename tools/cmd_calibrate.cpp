@@ -43,7 +43,7 @@ const char* kCalibrateUsage =
     "  --passes N         coordinate-search sweeps (default 3, 1..20; it stops early when a\n"
     "                     sweep changes nothing)\n"
     "  --normal-weight K  the score counts each vertex's residual along the neutral's normal\n"
-    "                     1 + K times (default 0; 0..100): the surface distance that\n"
+    "                     1 + K times (default 1; 0..100): the surface distance that\n"
     "                     `mimetic compare` reports sees that part, the plain residual\n"
     "                     weighs sliding and sinking alike (docs/model.md §17)\n"
     "Run from the repository root. Takes about five minutes a pass on one core.\n";
