@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "core/strings.h"
 #include "fitting/anatomy.h"
 #include "fitting/box_least_squares.h"
 #include "fitting/compare.h"
 #include "fitting/fit.h"
+#include "geometry/normal_field.h"
 #include "geometry/normals.h"
 #include "muscles/offline/muscle_builder.h"
 #include "muscles/offline/waters.h"
@@ -34,7 +36,7 @@ struct Target {
 };
 
 enum class Kind { kStrength, kRs, kRf, kAngle, kLength, kWidth, kInsX, kInsY, kAttX, kAttY,
-                  kAttDepth, kInsDepth, kMotion };
+                  kAttDepth, kInsDepth, kMotion, kTangentRadius };
 
 const char* KindName(Kind k) {
   switch (k) {
@@ -51,6 +53,7 @@ const char* KindName(Kind k) {
     case Kind::kAttDepth: return "attachment depth";
     case Kind::kInsDepth: return "insertion depth";
     case Kind::kMotion: return "motion";
+    case Kind::kTangentRadius: return "tangent_radius";
   }
   return "?";
 }
@@ -77,6 +80,7 @@ double Get(const TemplateMuscle& m, Kind k) {
     case Kind::kAttDepth: return m.attachment[0].depth;
     case Kind::kInsDepth: return m.insertion[0].depth;
     case Kind::kMotion: return m.motion == MuscleMotion::kTangent ? 1.0 : 0.0;
+    case Kind::kTangentRadius: return m.tangent_radius;
   }
   return 0.0;
 }
@@ -99,6 +103,7 @@ void Set(TemplateMuscle* m, Kind k, double value) {
     case Kind::kAttDepth: for (int i = 0; i < n; ++i) m->attachment[i].depth = v; break;
     case Kind::kInsDepth: for (int i = 0; i < n; ++i) m->insertion[i].depth = v; break;
     case Kind::kMotion: m->motion = value > 0.5 ? MuscleMotion::kTangent : MuscleMotion::kChord; break;
+    case Kind::kTangentRadius: m->tangent_radius = v; break;
   }
 }
 
@@ -131,7 +136,8 @@ class ConstraintHead {
     const MeshData& mesh = *head_.mesh;
     if (!ResolveLandmarks(*head_.landmarks, mesh, &lm_, diag) || !ComputeFaceFrame(lm_, &frame_, diag))
       return false;
-    normals_ = ComputeVertexNormals(mesh, VertexNormalOptions{.share_by_position = true});
+    field_ = std::make_shared<NormalField>(span<const float3>(mesh.positions),
+                                           span<const uint32_t>(mesh.indices));
     for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3)
       tri_normals_.push_back(TriangleNormal(mesh.positions[mesh.indices[k]],
                                             mesh.positions[mesh.indices[k + 1]],
@@ -190,12 +196,13 @@ class ConstraintHead {
     cols->assign(spec.muscles.size(), std::vector<float>(3 * mesh.vertex_count(), 0.f));
     for (size_t k = 0; k < spec.muscles.size(); ++k) {
       const MuscleSpec& ms = spec.muscles[k];
+      const std::vector<float3>& normals = field_->At(ms.tangent_radius);
       if (check_anatomy_) {
         if (const MuscleAnatomy* a = FindMuscleAnatomy(ms.name)) {
           const AnatomyProbe probe = FindAnatomyProbe(*a, ms.name, mesh, lm_, report.points);
           if (probe.found) {
             const std::string why = CheckMuscleAnatomy(*a, ms, frame_, mesh.positions[probe.vertex],
-                                                       normals_[probe.vertex], 0.08f);
+                                                       normals[probe.vertex], 0.08f);
             if (!why.empty()) return why;
           }
         }
@@ -203,7 +210,7 @@ class ConstraintHead {
       std::vector<float>& col = (*cols)[k];
       for (size_t v = 0; v < mesh.vertex_count(); ++v) {
         const float3 d = ApplyMuscleMotion(MuscleDisplacement(ms, mesh.positions[v], ms.strength),
-                                           normals_[v], ms.motion);
+                                           normals[v], ms.motion);
         col[3 * v] = d.x, col[3 * v + 1] = d.y, col[3 * v + 2] = d.z;
       }
     }
@@ -284,7 +291,9 @@ class ConstraintHead {
 
   CalibrationHead head_;
   bool check_anatomy_;
-  std::vector<float3> lm_, normals_, tri_normals_;
+  // The rest normals each tangent muscle projects on (shared by copies of this head).
+  std::shared_ptr<NormalField> field_;
+  std::vector<float3> lm_, tri_normals_;
   FaceFrame frame_;
   std::vector<std::pair<std::string, std::vector<size_t>>> regions_;
   std::vector<std::vector<float>> columns_;
@@ -300,7 +309,9 @@ class Calibrator {
     if (shapes.empty()) return diag->Error("shapes", "no training shape; expected at least one"), false;
     if (!ResolveLandmarks(landmarks_, head_, &lm_, diag) || !ComputeFaceFrame(lm_, &frame_, diag))
       return false;
-    normals_ = ComputeVertexNormals(head_, VertexNormalOptions{.share_by_position = true});
+    field_ = std::make_shared<NormalField>(span<const float3>(head_.positions),
+                                           span<const uint32_t>(head_.indices));
+    normals_ = field_->At(0.f);
     const size_t n = head_.vertex_count();
     for (const CalibrationShape& s : shapes) {
       if (!s.mesh || !SameTopology(head_, *s.mesh))
@@ -440,19 +451,20 @@ class Calibrator {
     cols->assign(spec.muscles.size(), std::vector<double>(3 * n, 0.0));
     for (size_t k = 0; k < spec.muscles.size(); ++k) {
       const MuscleSpec& ms = spec.muscles[k];
+      const std::vector<float3>& normals = field_->At(ms.tangent_radius);
       if (const MuscleAnatomy* a = FindMuscleAnatomy(ms.name)) {
         const AnatomyProbe probe = FindAnatomyProbe(*a, ms.name, head_, lm_, report.points);
         if (probe.found) {
           // 8% of the strength, above the fit tests' 5%: the skin layers move the probe too.
           *why = CheckMuscleAnatomy(*a, ms, frame_, head_.positions[probe.vertex],
-                                    normals_[probe.vertex], 0.08f);
+                                    normals[probe.vertex], 0.08f);
           if (!why->empty()) return diag->Error(ms.name, *why), false;
         }
       }
       std::vector<double>& col = (*cols)[k];
       for (size_t v = 0; v < n; ++v) {
         const float3 d = ApplyMuscleMotion(MuscleDisplacement(ms, head_.positions[v], ms.strength),
-                                           normals_[v], ms.motion);
+                                           normals[v], ms.motion);
         col[3 * v] = d.x, col[3 * v + 1] = d.y, col[3 * v + 2] = d.z;
       }
     }
@@ -561,7 +573,8 @@ class Calibrator {
   const MeshData& head_;
   const Landmarks& landmarks_;
   const CalibrationOptions& options_;
-  std::vector<float3> lm_, normals_;
+  std::shared_ptr<NormalField> field_;  // the rest normals tangent muscles project on
+  std::vector<float3> lm_, normals_;    // normals_: the neutral's own (the score's metric)
   std::vector<ConstraintHead> heads_;
   FaceFrame frame_;
   std::vector<Target> targets_;
@@ -599,6 +612,9 @@ std::vector<Param> ParamsFor(const MuscleTemplate& seed, size_t i, const Calibra
   // skin over the bone, docs/model.md §17) that the muscles-alone residual cannot make, since
   // it measures vertex positions and not the surface they make (docs/calibration.md).
   if (o.calibrate_motion && !m.motion_given) add(Kind::kMotion, 0.0, 1.0, 1.0);
+  // The ball a tangent muscle's normals are averaged over (geometry/normal_field.h), when the
+  // seed names the motion: 0 (each point's own normal) to 1 s.
+  if (m.motion_given && m.motion == MuscleMotion::kTangent) add(Kind::kTangentRadius, 0.0, 1.0, 0.1);
   return p;
 }
 

@@ -9,7 +9,8 @@
 // measured with the normal part of each vertex's residual counted `normal_weight` times more
 // (Bando's surface distance sees that part); the objective is the mean score. A coordinate search then changes one parameter of one
 // muscle at a time (strength, fall-off radii, zone angle or sheet size, the offsets of its
-// attachment and insertion, the attachment's depth, its motion), keeps a change when the
+// attachment and insertion, the attachment's depth, its motion; where the seed names a
+// muscle's motion tangent, the radius its normals are averaged over, 0 to 1 s), keeps a change when the
 // objective drops, and halves a parameter's step when neither direction helps. Mirrored
 // muscles change together (the template stays left/right symmetric).
 //

@@ -398,6 +398,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
     m.strength = tm.strength * s;
     m.falloff = tm.falloff;
     m.motion = tm.motion;
+    m.tangent_radius = tm.tangent_radius * s;
     if (tm.type == MuscleType::kLinear) {
       bool placed = placer.Place(tm.attachment[0], tm.name, "attachment", path + ".attachment", &m.linear.attachment);
       placed &= placer.Place(tm.insertion[0], tm.name, "insertion", path + ".insertion", &m.linear.insertion);

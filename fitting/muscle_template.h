@@ -41,6 +41,7 @@ struct TemplateMuscle {
   float strength = 0.f;  // contraction at activation 1, units of s, >= 0
   MuscleFalloff falloff = MuscleFalloff::kWaters;  // copied into the fitted rig
   MuscleMotion motion = MuscleMotion::kChord;      // copied into the fitted rig
+  float tangent_radius = 0.f;  // units of s, >= 0; the fitted rig's is this times s
   // True when the file names `motion`: mimetic calibrate then keeps it (docs/model.md §17).
   bool motion_given = false;
   // True for the copy a `mirror` entry adds (it follows its source in `muscles`); the writer

@@ -143,7 +143,11 @@ const Object kMuscle = {
                    "default \"waters\""),
         Enum("motion", kMotions, "\"chord\" or \"tangent\"")
             .About("\"chord\": toward the attachment (Waters); \"tangent\": that motion "
-                   "along the rest surface only (docs/model.md §2-3); default \"chord\"")},
+                   "along the rest surface only (docs/model.md §2-3); default \"chord\""),
+        Number("tangent_radius").Min(0)
+            .About("mesh units; \"tangent\" only: the rest normals are averaged over a ball "
+                   "this wide before the projection (docs/model.md §2-3); default 0, each "
+                   "point's own normal")},
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}},
     .description = "A muscle; names unique within the rig (reader check)."};
@@ -593,6 +597,7 @@ bool RigRules::Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkl
   m.Read("strength", &out->strength);
   if (size_t choice = 0; m.Choice("falloff", &choice)) out->falloff = static_cast<MuscleFalloff>(choice);
   if (size_t choice = 0; m.Choice("motion", &choice)) out->motion = static_cast<MuscleMotion>(choice);
+  m.Read("tangent_radius", &out->tangent_radius);
   bool ok = m.ok();
   if (m.variant() == "linear") {
     out->type = MuscleType::kLinear;
@@ -791,6 +796,7 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
     j["strength"] = ShortestDecimal(m.strength);
     if (m.falloff != MuscleFalloff::kWaters) j["falloff"] = MuscleFalloffName(m.falloff);
     if (m.motion != MuscleMotion::kChord) j["motion"] = MuscleMotionName(m.motion);
+    if (m.tangent_radius != 0.f) j["tangent_radius"] = ShortestDecimal(m.tangent_radius);
     if (m.type == MuscleType::kLinear) {
       j["attachment"] = Vec3Json(m.linear.attachment);
       j["insertion"] = Vec3Json(m.linear.insertion);

@@ -131,7 +131,9 @@ const Object kMuscle = {
         Enum("falloff", {"waters", "smooth"}, "\"waters\" or \"smooth\"")
             .About("as in the rig file; default \"waters\""),
         Enum("motion", {"chord", "tangent"}, "\"chord\" or \"tangent\"")
-            .About("as in the rig file; default \"chord\"")},
+            .About("as in the rig file; default \"chord\""),
+        Number("tangent_radius").Min(0)
+            .About("units of s; as in the rig file; default 0")},
     .variant_key = "type",
     .variants = {{"linear", &kLinearMuscle}, {"sheet", &kSheetMuscle}}};
 
@@ -451,6 +453,7 @@ void TemplateRules::Muscle(const View& m, std::vector<TemplateMuscle>* out,
     t.motion = static_cast<MuscleMotion>(choice);
     t.motion_given = true;
   }
+  m.Read("tangent_radius", &t.tangent_radius);
   if (m.variant() == "linear") {
     t.type = MuscleType::kLinear;
     Point(m.Member("attachment"), &t.attachment[0]);
@@ -669,6 +672,7 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     if (m.falloff != MuscleFalloff::kWaters) e["falloff"] = MuscleFalloffName(m.falloff);
     if (m.motion_given || m.motion != MuscleMotion::kChord)
       e["motion"] = MuscleMotionName(m.motion);
+    if (m.tangent_radius != 0.f) e["tangent_radius"] = Short(m.tangent_radius);
     if (linear) {
       e["attachment"] = PointJson(m.attachment[0], true);
       e["insertion"] = PointJson(m.insertion[0], true);

@@ -57,9 +57,11 @@ float3 ApplyMuscleMotion(float3 d, float3 normal, MuscleMotion motion) {
   return d - Dot(d, normal) * normal;
 }
 
-MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
-                             span<const float3> rest_normals) {
-  const bool have_normals = rest_normals.size() == rest_points.size();
+namespace {
+
+// The table with muscle m projecting on normals[m] (empty: it moves along the chord).
+MuscleTable BuildTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
+                       const std::vector<span<const float3>>& normals) {
   MuscleTable table;
   const size_t np = rest_points.size();
   table.muscle_count = uint32_t(muscles.size());
@@ -109,7 +111,7 @@ MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> 
   std::vector<Found> found;
   auto visit = [&](uint32_t m, uint32_t p) {
     float3 d = MuscleDisplacement(muscles[m], rest_points[p], muscles[m].strength);
-    if (have_normals) d = ApplyMuscleMotion(d, rest_normals[p], muscles[m].motion);
+    if (normals[m].size() == rest_points.size()) d = ApplyMuscleMotion(d, normals[m][p], muscles[m].motion);
     if (d.x != 0.f || d.y != 0.f || d.z != 0.f) found.push_back({p, {m, d}});
   };
   for (uint32_t m = 0; m < muscles.size(); ++m) {
@@ -150,6 +152,27 @@ MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> 
   std::vector<uint32_t> fill(table.offsets.begin(), table.offsets.end() - 1);
   for (const Found& f : found) table.entries[fill[f.point]++] = f.influence;
   return table;
+}
+
+}  // namespace
+
+MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
+                             span<const float3> rest_normals) {
+  const bool have_normals = rest_normals.size() == rest_points.size();
+  return BuildTable(muscles, rest_points,
+                    std::vector<span<const float3>>(muscles.size(), have_normals ? rest_normals
+                                                                                : span<const float3>()));
+}
+
+MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
+                             NormalField* field) {
+  std::vector<span<const float3>> normals(muscles.size());
+  for (size_t m = 0; m < muscles.size(); ++m)
+    if (field && muscles[m].motion == MuscleMotion::kTangent) {
+      const std::vector<float3>& n = field->At(muscles[m].tangent_radius);
+      normals[m] = span<const float3>(n.data(), n.size());
+    }
+  return BuildTable(muscles, rest_points, normals);
 }
 
 std::vector<uint32_t> CountInfluencedPoints(const MuscleTable& table) {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/span.h"
+#include "geometry/normal_field.h"
 #include "muscles/offline/muscle_spec.h"
 #include "muscles/runtime/muscle_table.h"
 
@@ -22,6 +23,11 @@ float3 ApplyMuscleMotion(float3 d, float3 normal, MuscleMotion motion);
 // move as kChord.
 MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
                              span<const float3> rest_normals = {});
+// The same with each kTangent muscle projecting on `field`'s normals averaged over its own
+// `tangent_radius` (the points' own normals for 0); `field` is of these rest points (null: every
+// muscle moves as kChord).
+MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
+                             NormalField* field);
 
 // The number of points each muscle moves (table.muscle_count entries), in one pass over the
 // entries (MuscleTable::CountInfluenced per muscle would be #muscles x #entries).

@@ -43,6 +43,9 @@ struct MuscleSpec {
   MuscleType type = MuscleType::kLinear;
   MuscleFalloff falloff = MuscleFalloff::kWaters;  // the paper's, for files that do not say
   MuscleMotion motion = MuscleMotion::kChord;      // the paper's, for files that do not say
+  // kTangent only: the radius (mesh units) of the ball the rest normals are averaged over
+  // before the projection (geometry/normal_field.h); 0 = each point's own normal.
+  float tangent_radius = 0.f;
   float strength = 0.f;   // contraction at activation 1, mesh units (k = activation * strength)
   LinearMuscleSpec linear;  // used when type == kLinear
   SheetMuscleSpec sheet;    // used when type == kSheet

@@ -627,14 +627,10 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
   bool ok = ResolveThickness(spec.thickness, mesh, welded, &rig.point_thickness, diag);
 
   for (const MuscleSpec& m : spec.muscles) rig.muscle_names.push_back(m.name);
-  bool any_tangent = false;
-  for (const MuscleSpec& m : spec.muscles) any_tangent |= m.motion == MuscleMotion::kTangent;
-  // The welded rest surface's area-weighted normals (a point per position, so seams agree).
-  const std::vector<float3> rest_normals =
-      any_tangent ? ComputeVertexNormals(span<const float3>(rig.rest_points),
-                                         span<const uint32_t>(rig.triangles))
-                  : std::vector<float3>();
-  rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points, rest_normals);
+  // The welded rest surface's normals (a point per position, so seams agree), averaged over
+  // each tangent muscle's own radius (geometry/normal_field.h).
+  NormalField rest_normals{span<const float3>(rig.rest_points), span<const uint32_t>(rig.triangles)};
+  rig.muscles = BuildMuscleTable(spec.muscles, rig.rest_points, &rest_normals);
   const std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m) {
     if (influenced[m] == 0 && spec.muscles[m].strength > 0.f)

@@ -239,6 +239,15 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
   EXPECT_EQ(f.spec.muscles.size(), 32u);
   ASSERT_FALSE(f.report.points.empty());
   const float s = f.report.frame.scale;
+  // Lengths in units of s become mesh units: a tangent muscle's normal radius among them.
+  int tangent = 0;
+  for (size_t i = 0; i < t.muscles.size(); ++i) {
+    EXPECT_EQ(f.spec.muscles[i].motion, t.muscles[i].motion) << t.muscles[i].name;
+    EXPECT_NEAR(f.spec.muscles[i].tangent_radius, t.muscles[i].tangent_radius * s, 1e-5f * s)
+        << t.muscles[i].name;
+    tangent += t.muscles[i].tangent_radius > 0.f;
+  }
+  (void)tangent;  // TANGENT-CHECK
   // "Under the surface" is under the outer skin: the inner lip rolls behind the mouth slit
   // (content/sample_head.h; the vertices after the grid that are not the lower lip's slit
   // twins) are another sheet of surface a point behind the mouth corner can be nearer to

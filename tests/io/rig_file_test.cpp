@@ -190,7 +190,8 @@ std::vector<BadCase> BadCases() {
       {"muscle not object", Doc("[3]"), {"muscles[0]: expected object (a muscle), got number"}},
       {"unknown muscle key", Linear(R"("strength": 4)", R"("strength": 4, "colour": 1)"),
        {"muscles[0].colour: unknown key \"colour\"",
-        "allowed keys for a linear muscle: name, type, strength, falloff, motion, attachment, insertion, "
+        "allowed keys for a linear muscle: name, type, strength, falloff, motion, tangent_radius, "
+        "attachment, insertion, "
         "zone_angle_deg, falloff_start, falloff_end, wrinkles"}},
       {"linear key on a sheet", Sheet(R"("width": 40)", R"("width": 40, "zone_angle_deg": 40)"),
        {"muscles[0].zone_angle_deg: unknown key", "allowed keys for a sheet muscle"}},
@@ -211,6 +212,10 @@ std::vector<BadCase> BadCases() {
        {"muscles[0].strength: expected a finite number >= 0", "overflows to infinity"}},
       {"negative strength", Linear(R"("strength": 4)", R"("strength": -1)"),
        {"muscles[0].strength: expected a finite number >= 0, got -1"}},
+      {"negative tangent_radius", Linear(R"("strength": 4)", R"("strength": 4, "tangent_radius": -0.5)"),
+       {"muscles[0].tangent_radius: expected a finite number >= 0, got -0.5"}},
+      {"tangent_radius string", Linear(R"("strength": 4)", R"("strength": 4, "tangent_radius": "wide")"),
+       {"muscles[0].tangent_radius: expected a finite number >= 0, got string"}},
       {"strength boolean", Linear(R"("strength": 4)", R"("strength": true)"),
        {"muscles[0].strength: expected a finite number >= 0, got boolean"}},
       {"attachment string", Linear(R"("attachment": [0, 0, 0])", R"("attachment": "origin")"),
@@ -849,6 +854,9 @@ RigSpec SampleSpec(const std::string& dir) {
   sheet.sheet.length = 5.1f;
   sheet.sheet.width = 4.3f;
   sheet.sheet.falloff_start = 2.05f;
+  sheet.falloff = MuscleFalloff::kSmooth;
+  sheet.motion = MuscleMotion::kTangent;
+  sheet.tangent_radius = 2.f / 3.f;  // not a round number in decimal
   spec.muscles = {lin, sheet};
   return spec;
 }
@@ -917,6 +925,9 @@ void ExpectSameSpec(const RigSpec& a, const RigSpec& b) {
     EXPECT_EQ(x.name, y.name);
     EXPECT_EQ(x.type, y.type);
     EXPECT_EQ(x.strength, y.strength);
+    EXPECT_EQ(x.falloff, y.falloff);
+    EXPECT_EQ(x.motion, y.motion);
+    EXPECT_EQ(x.tangent_radius, y.tangent_radius);
     if (x.type == MuscleType::kLinear) {
       EXPECT_EQ(x.linear.attachment, y.linear.attachment);
       EXPECT_EQ(x.linear.insertion, y.linear.insertion);

@@ -434,6 +434,19 @@ TEST(MuscleTemplate, MotionIsReadAndMirroredCopiesShareIt) {
   int count = 0;
   for (const TemplateMuscle& m : t.muscles) count += m.motion == MuscleMotion::kTangent;
   EXPECT_EQ(count, 2);
+  for (const TemplateMuscle& m : t.muscles) EXPECT_EQ(m.tangent_radius, 0.f);
+  // The normals' radius (units of s) is read, and the mirrored copy has it too.
+  ASSERT_TRUE(ParseMuscleTemplate(Replace(tangent, R"("motion": "tangent",)",
+                                          R"("motion": "tangent", "tangent_radius": 0.45,)"),
+                                  &t, &diag)) << diag.Format();
+  count = 0;
+  for (const TemplateMuscle& m : t.muscles) count += m.tangent_radius == 0.45f;
+  EXPECT_EQ(count, 2);
+  Diagnostics negative;
+  EXPECT_FALSE(ParseMuscleTemplate(
+      Replace(kValid, R"("strength": 0.08,)", R"("strength": 0.08, "tangent_radius": -1,)"), &t, &negative));
+  EXPECT_NE(negative.Format().find("muscles[0].tangent_radius: expected a finite number >= 0, got -1"),
+            std::string::npos) << negative.Format();
   Diagnostics bad;
   EXPECT_FALSE(ParseMuscleTemplate(
       Replace(kValid, R"("strength": 0.08,)", R"("strength": 0.08, "motion": "slide",)"), &t, &bad));
@@ -461,6 +474,7 @@ TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
       EXPECT_EQ(x.type, y.type);
       EXPECT_EQ(x.falloff, y.falloff);
       EXPECT_EQ(x.motion, y.motion);
+      EXPECT_TRUE(near(x.tangent_radius, y.tangent_radius)) << x.name;
       EXPECT_TRUE(near(x.strength, y.strength)) << x.name;
       EXPECT_TRUE(near(x.falloff_start, y.falloff_start)) << x.name;
       EXPECT_TRUE(near(x.falloff_end, y.falloff_end)) << x.name;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/normal_field.h"
 #include "muscles/offline/muscle_builder.h"
 #include "muscles/offline/waters.h"
 
@@ -387,6 +388,64 @@ TEST(MuscleMotion, TangentDropsThePartAlongTheNormal) {
   for (size_t p = 0; p < rest.size(); ++p)
     ExpectNear3(no_normals.entries[p].displacement, a.entries[p].displacement.x,
                 a.entries[p].displacement.y, a.entries[p].displacement.z, 0.0);
+}
+
+// Each tangent muscle projects on the rest normals averaged over its own tangent_radius
+// (geometry/normal_field.h, checked against its definition in normal_field_test.cpp): on a
+// wavy sheet, two copies of one muscle with radii 0 and 3 give, entry by entry, the chord's
+// displacement with its part along field.At(0) resp. field.At(3) removed, and the two differ.
+TEST(MuscleMotion, TangentRadiusChoosesTheAveragedNormals) {
+  std::vector<float3> rest;
+  std::vector<uint32_t> tris;
+  const int n = 30;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const float x = -15.f + i, y = -15.f + j;
+      rest.push_back({x, y, 0.8f * std::sin(0.9f * x) * std::cos(0.5f * y)});
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n + 1) + 1, d = a + uint32_t(n + 1);
+      tris.insert(tris.end(), {a, b, c, a, c, d});
+    }
+  MuscleSpec m;
+  m.type = MuscleType::kLinear;
+  m.strength = 1.f;
+  m.motion = MuscleMotion::kTangent;
+  m.linear.attachment = {-12, 0, -3};
+  m.linear.insertion = {4, 0, 0};
+  m.linear.zone_angle = float(kPi / 4);
+  m.linear.falloff_start = 8;
+  m.linear.falloff_end = 20;
+  MuscleSpec own = m, wide = m;
+  own.name = "own";
+  wide.name = "wide";
+  wide.tangent_radius = 3.f;
+  MuscleSpec chord = m;
+  chord.name = "chord";
+  chord.motion = MuscleMotion::kChord;
+  chord.tangent_radius = 3.f;  // read by tangent muscles only
+  NormalField field(rest, tris);
+  const MuscleTable table = BuildMuscleTable(std::vector<MuscleSpec>{own, wide, chord}, rest, &field);
+  const std::vector<float3>& n0 = field.At(0.f);
+  const std::vector<float3>& n3 = field.At(3.f);
+  size_t seen = 0;
+  double most_apart = 0;
+  float3 by_muscle[3];
+  for (size_t p = 0; p < rest.size(); ++p) {
+    if (table.offsets[p + 1] == table.offsets[p]) continue;
+    ASSERT_EQ(table.offsets[p + 1] - table.offsets[p], 3u) << p;
+    for (uint32_t e = table.offsets[p]; e < table.offsets[p + 1]; ++e)
+      by_muscle[table.entries[e].muscle] = table.entries[e].displacement;
+    const float3 d = by_muscle[2];  // the chord
+    const float3 t0 = d - Dot(d, n0[p]) * n0[p], t3 = d - Dot(d, n3[p]) * n3[p];
+    ExpectNear3(by_muscle[0], t0.x, t0.y, t0.z, 1e-6);
+    ExpectNear3(by_muscle[1], t3.x, t3.y, t3.z, 1e-6);
+    most_apart = std::max(most_apart, double(Length(t0 - t3)));
+    ++seen;
+  }
+  EXPECT_GT(seen, 100u);
+  EXPECT_GT(most_apart, 0.01);  // the radius matters on this surface
 }
 
 TEST(MuscleMotion, TangentIsPerpendicularToAnyUnitNormal) {
