@@ -347,6 +347,7 @@ TEST(ViewerRigEdit, BadValuesAreRefusedNamingTheFieldAndChangeNothing) {
       {"muscle zygomatic falloff_end 20", "falloff_end: expected a number > falloff_start"},
       {"muscle zygomatic zone_angle 200", "zone_angle: expected an angle in (0, 180)"},
       {"muscle zygomatic length 3", "no parameter 'length' for a linear muscle"},
+      {"muscle zygomatic tangent_radius -2", "tangent_radius: expected a finite number >= 0, got -2"},
       {"muscle frontalis insertion 3 0 0 0", "insertion is a line: expected I X Y Z"},
       {"muscle nobody strength 1", "the rig has no muscle 'nobody'"},
       {"muscle zygomatic falloff gentle", "falloff: expected waters or smooth"},
@@ -414,6 +415,7 @@ TEST(ViewerRigEdit, ScriptLinesEditTheSpecAsWritten) {
   ASSERT_TRUE(Script(&s, R"(muscle frontalis insertion 1 25 0 11
 muscle zygomatic falloff smooth
 muscle zygomatic motion tangent
+muscle zygomatic tangent_radius 7.5
 muscle frontalis wrinkles on
 muscle frontalis wrinkles.h_c 4
 curve furrow profile yang_zhang
@@ -431,6 +433,7 @@ save-rig)",
   EXPECT_EQ(back.muscles[1].sheet.insertion[1].z, 11.f);
   EXPECT_EQ(back.muscles[0].falloff, MuscleFalloff::kSmooth);
   EXPECT_EQ(back.muscles[0].motion, MuscleMotion::kTangent);
+  EXPECT_EQ(back.muscles[0].tangent_radius, 7.5f);
   ASSERT_TRUE(back.muscle_wrinkles.size() > 1 && back.muscle_wrinkles[1].has_value());
   EXPECT_EQ(back.muscle_wrinkles[1]->h_c, 4.f);
   EXPECT_EQ(back.curve_wrinkles[0].spec.profile, CurveWrinkleProfile::kYangZhang);

@@ -158,6 +158,8 @@ void MuscleEditorPanel(App* app, float width, float height) {
   static const char* const kMotions[] = {"chord", "tangent"};
   MuscleChoice(app, muscle, "fall-off", "falloff", kFalloffs, 2, muscle.falloff == MuscleFalloff::kSmooth);
   MuscleChoice(app, muscle, "motion", "motion", kMotions, 2, muscle.motion == MuscleMotion::kTangent);
+  if (muscle.motion == MuscleMotion::kTangent)  // the ball its normals are averaged over
+    MuscleValue(app, m, "normal radius", "tangent_radius", muscle.tangent_radius, step, 0.f, size);
   if (linear) {
     MusclePoint(app, m, "attachment", "attachment", -1, muscle.linear.attachment, step);
     MusclePoint(app, m, "insertion", "insertion", -1, muscle.linear.insertion, step);

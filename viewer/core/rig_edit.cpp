@@ -230,6 +230,8 @@ CommandPtr MuscleValues(const RigSpec& spec, uint32_t m, const std::string& para
   bool ok = false;
   if (param == "strength") {
     ok = one(&muscle.strength, Range::kNonNegative);
+  } else if (param == "tangent_radius") {
+    ok = one(&muscle.tangent_radius, Range::kNonNegative);
   } else if (param == "attachment") {
     ok = linear ? point(&muscle.linear.attachment, true) : point(muscle.sheet.attachment, false);
   } else if (param == "insertion") {
@@ -280,7 +282,7 @@ CommandPtr MuscleValues(const RigSpec& spec, uint32_t m, const std::string& para
     }
   } else {
     *error = where + ": no parameter '" + param + "' for a " + (linear ? "linear" : "sheet") +
-             " muscle; expected strength, falloff, motion, attachment, insertion, " +
+             " muscle; expected strength, falloff, motion, tangent_radius, attachment, insertion, " +
              (linear ? "zone_angle, falloff_start, falloff_end"
                      : "length, width, falloff_start") +
              ", wrinkles or wrinkles.FIELD";
