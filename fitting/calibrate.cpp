@@ -27,6 +27,7 @@ namespace {
 struct Target {
   std::vector<double> t;  // 3 per vertex
   std::vector<double> w;  // 1 per vertex
+  std::vector<double> tn;  // t's component along the neutral's normal, 1 per vertex
   double twt = 0.0;
   Eigen::MatrixXd g;
   Eigen::VectorXd h;
@@ -334,6 +335,7 @@ class Calibrator {
         t.w[v] = len > options_.region_fraction * largest ? 1.0 : options_.outside_weight;
         t.twt += t.w[v] * len * len;
         const double tn = NormalPart(&t.t[3 * v], v);
+        t.tn.push_back(tn);
         t.tmt += t.w[v] * (len * len + options_.normal_weight * tn * tn);
       }
       targets_.push_back(std::move(t));
@@ -341,6 +343,7 @@ class Calibrator {
     tmpl_ = tmpl;
     const size_t m = tmpl_.muscles.size();
     columns_.assign(m, std::vector<double>(3 * n, 0.0));
+    normal_parts_.assign(m, std::vector<double>(options_.normal_weight > 0.f ? n : 0, 0.0));
     for (Target& t : targets_) {
       t.g = Eigen::MatrixXd::Zero(m, m), t.h = Eigen::VectorXd::Zero(m);
       if (options_.normal_weight > 0.f)
@@ -491,9 +494,20 @@ class Calibrator {
       Target& t = targets_[k];
       t.g = s[k].g, t.gm = s[k].gm, t.h = s[k].h, t.hm = s[k].hm;
     }
-    columns_[i] = cols[0];
+    SetColumn(i, cols[0]);
     const size_t c = CopyOf(tmpl_, i);
-    if (c != size_t(-1) && cols.size() > 1) columns_[c] = cols[1];
+    if (c != size_t(-1) && cols.size() > 1) SetColumn(c, cols[1]);
+  }
+
+  // columns_[k] = col, and its normal components (one per vertex) for the normal weight.
+  void SetColumn(size_t k, const std::vector<double>& col) {
+    columns_[k] = col;
+    if (options_.normal_weight > 0.f) {
+      const size_t n = head_.vertex_count();
+      std::vector<double>& np = normal_parts_[k];
+      np.resize(n);
+      for (size_t v = 0; v < n; ++v) np[v] = NormalPart(&col[3 * v], v);
+    }
   }
 
   // Replaces the columns of source muscle i (and its copy) and their rows of every G and h.
@@ -501,11 +515,12 @@ class Calibrator {
     std::vector<size_t> changed{i};
     const size_t c = CopyOf(tmpl_, i);
     if (c != size_t(-1)) changed.push_back(c);
-    for (size_t k = 0; k < changed.size() && k < cols.size(); ++k) columns_[changed[k]] = cols[k];
+    for (size_t k = 0; k < changed.size() && k < cols.size(); ++k) SetColumn(changed[k], cols[k]);
     const size_t n = head_.vertex_count(), m = columns_.size();
     for (Target& t : targets_) {
       for (size_t a : changed) {
         const std::vector<double>& ca = columns_[a];
+        const std::vector<double>& na = normal_parts_[a];
         for (size_t b = 0; b < m; ++b) {
           const std::vector<double>& cb = columns_[b];
           double sum = 0.0;
@@ -514,9 +529,9 @@ class Calibrator {
                              ca[3 * v + 2] * cb[3 * v + 2]);
           t.g(a, b) = t.g(b, a) = sum;
           if (t.gm.size() == 0) continue;
+          const std::vector<double>& nb = normal_parts_[b];
           double extra = 0.0;  // + k sum w (ca . n)(cb . n)
-          for (size_t v = 0; v < n; ++v)
-            if (t.w[v] != 0.0) extra += t.w[v] * NormalPart(&ca[3 * v], v) * NormalPart(&cb[3 * v], v);
+          for (size_t v = 0; v < n; ++v) extra += t.w[v] * na[v] * nb[v];
           t.gm(a, b) = t.gm(b, a) = sum + options_.normal_weight * extra;
         }
         double sum = 0.0;
@@ -526,8 +541,7 @@ class Calibrator {
         t.h(a) = sum;
         if (t.hm.size() == 0) continue;
         double extra = 0.0;
-        for (size_t v = 0; v < n; ++v)
-          extra += t.w[v] * NormalPart(&ca[3 * v], v) * NormalPart(&t.t[3 * v], v);
+        for (size_t v = 0; v < n; ++v) extra += t.w[v] * na[v] * t.tn[v];
         t.hm(a) = sum + options_.normal_weight * extra;
       }
     }
@@ -580,6 +594,7 @@ class Calibrator {
   std::vector<Target> targets_;
   MuscleTemplate tmpl_;
   std::vector<std::vector<double>> columns_;
+  std::vector<std::vector<double>> normal_parts_;  // NormalPart of each column, per vertex
 };
 
 std::vector<Param> ParamsFor(const MuscleTemplate& seed, size_t i, const CalibrationOptions& o) {
