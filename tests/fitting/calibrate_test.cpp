@@ -184,6 +184,42 @@ TEST(Calibrate, KeepsAMotionTheSeedNames) {
   EXPECT_LT(after[0], 0.05 * after[1]);
 }
 
+// A seed that names a muscle tangent gets its normal-averaging radius tuned (0 to 1 s in steps
+// of 0.1): shapes made by the cheek muscle sliding on normals averaged over 0.4 s pull a seed
+// that starts at 0.1 s (the same muscle otherwise) to the radius that made them.
+TEST(Calibrate, RecoversTheTangentRadiusThatMadeTheShapes) {
+  const std::string motion = R"("motion": "tangent", "tangent_radius": )";
+  const MuscleTemplate truth = CheekTemplate(motion + "0.4,");
+  const MuscleTemplate seed = CheekTemplate(motion + "0.1,");
+  ASSERT_FLOAT_EQ(truth.muscles[0].tangent_radius, 0.4f);
+  ASSERT_FLOAT_EQ(seed.muscles[0].tangent_radius, 0.1f);
+  const MeshData lift = Pose(truth, {0.8f, 0.f});
+  const MeshData both = Pose(truth, {0.5f, 0.6f});
+  const std::vector<CalibrationShape> shapes = {{"lift", &lift}, {"both", &both}};
+  CalibrationOptions options;
+  options.passes = 4;
+  options.normal_weight = 0.f;
+  std::vector<double> truth_scores, seed_scores;
+  Diagnostics diag;
+  ASSERT_TRUE(ScoreTemplate(truth, Head().mesh, HeadLandmarks(), shapes, options, &truth_scores, &diag))
+      << diag.Format();
+  ASSERT_TRUE(ScoreTemplate(seed, Head().mesh, HeadLandmarks(), shapes, options, &seed_scores, &diag))
+      << diag.Format();
+  for (double s : truth_scores) EXPECT_LT(s, 1e-6);  // the truth reproduces its own shapes
+  // The radius matters: the seed's shapes are measurably off.
+  EXPECT_GT(seed_scores[0], 1e-3);
+  MuscleTemplate out;
+  CalibrationReport report;
+  ASSERT_TRUE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), shapes, options, &out, &report, &diag))
+      << diag.Format();
+  std::printf("radius 0.1 -> %g, objective %.6f -> %.6f\n", out.muscles[0].tangent_radius,
+              report.objective_before, report.objective_after);
+  EXPECT_EQ(out.muscles[0].motion, MuscleMotion::kTangent);
+  EXPECT_NEAR(out.muscles[0].tangent_radius, 0.4f, 0.1f + 1e-6f);
+  EXPECT_EQ(out.muscles[1].tangent_radius, out.muscles[0].tangent_radius);  // the mirror follows
+  EXPECT_LT(report.objective_after, 0.1 * report.objective_before);
+}
+
 // The score with a normal weight k (docs/model.md §17): the solve is the plain weighted least
 // squares, the residual is measured with w (|r|^2 + k (r . n)^2). A shape made by the cheek
 // muscle at 0.8 plus a bump along the neutral's normals where the muscle does not reach: the
