@@ -123,6 +123,13 @@ write('landmarks_deep_nesting.json', '[' * 5000 + ']' * 5000)
 write('landmarks_not_json.json', '{"format": "mimetic-landmarks", "version": 1, "points": [[1, 2,')
 write('template_not_json.template.json', '{"format": "mimetic-template",')
 write('template_wrong_format.template.json', '{"format": "mimetic-rig", "version": 1}\n')
+# A template whose one sliding muscle (the default template's first) averages normals over a
+# negative radius.
+with open(os.path.join(root, 'assets', 'head', 'default.template.json')) as f:
+    muscle = json.load(f)['muscles'][0]
+muscle['tangent_radius'] = -0.5
+write('template_negative_tangent_radius.template.json', json.dumps(
+    {'format': 'mimetic-muscle-template', 'version': 1, 'muscles': [muscle]}, indent=1) + '\n')
 
 # Clips (through play, on the surface rig).
 def clipfile(name, channels, **top):
