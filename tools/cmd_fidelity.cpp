@@ -229,8 +229,8 @@ int CmdFidelity(const Args& args) {
     row.image = Relative(image_path, report_dir.empty() ? "." : report_dir);
     ++done;
     std::printf("  [%zu/%zu] %-18s ratio %s (muscles alone %s), cosine %s, magnitude %s  %.1f s\n",
-                done, claimed_count, shape->name, Fixed(row.on.ratio, 2).c_str(),
-                Fixed(row.off.ratio, 2).c_str(), Fixed(row.on.direction_cosine, 2).c_str(),
+                done, claimed_count, shape->name, Fixed(row.on.ratio, 3).c_str(),
+                Fixed(row.off.ratio, 3).c_str(), Fixed(row.on.direction_cosine, 2).c_str(),
                 Fixed(row.on.magnitude_ratio, 2).c_str(), row.solve_seconds);
     std::fflush(stdout);
     rows.push_back(std::move(row));
@@ -271,8 +271,8 @@ int CmdFidelity(const Args& args) {
     c.layers += r.on.ratio <= r.off.ratio + 1e-9;
     md += "| " + std::string(r.shape->name) + " | " + (r.shape->trained ? "train" : "held out") +
           " | " + Fixed(r.on.b_to_a.mean, 3) + " | " +
-          Fixed(r.on.b_to_neutral.mean, 3) + " | " + Fixed(r.on.ratio, 2) + " | " +
-          Fixed(r.off.ratio, 2) + " | " + Fixed(r.on.direction_cosine, 2) + " | " +
+          Fixed(r.on.b_to_neutral.mean, 3) + " | " + Fixed(r.on.ratio, 3) + " | " +
+          Fixed(r.off.ratio, 3) + " | " + Fixed(r.on.direction_cosine, 2) + " | " +
           Fixed(r.on.magnitude_ratio, 2) + " | " + r.top_muscles + " |\n";
   }
   const size_t met = sets[0].all + sets[1].all;

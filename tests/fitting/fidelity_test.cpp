@@ -15,9 +15,9 @@
 namespace mimetic {
 namespace {
 
-std::string Fixed2(double v) {
+std::string Fixed(double v, int digits) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
 }
 
@@ -56,10 +56,10 @@ TEST(FidelityTool, TheTableMatchesThePosedMeshItWrote) {
   const size_t at = md.find(row);
   ASSERT_NE(at, std::string::npos) << md;
   const std::string line = md.substr(at, md.find('\n', at) - at);
-  EXPECT_NE(line.find(" | " + Fixed2(r.ratio) + " | "), std::string::npos) << line << " vs " << r.ratio;
-  EXPECT_NE(line.find(" | " + Fixed2(r.direction_cosine) + " | "), std::string::npos)
+  EXPECT_NE(line.find(" | " + Fixed(r.ratio, 3) + " | "), std::string::npos) << line << " vs " << r.ratio;
+  EXPECT_NE(line.find(" | " + Fixed(r.direction_cosine, 2) + " | "), std::string::npos)
       << line << " vs " << r.direction_cosine;
-  EXPECT_NE(line.find(" | " + Fixed2(r.magnitude_ratio) + " | "), std::string::npos)
+  EXPECT_NE(line.find(" | " + Fixed(r.magnitude_ratio, 2) + " | "), std::string::npos)
       << line << " vs " << r.magnitude_ratio;
   EXPECT_NE(md.find("| jawOpen | the jaw, not a muscle"), std::string::npos) << md;
   EXPECT_TRUE(std::ifstream(dir + "/images/mouthSmile_L.png").good());
