@@ -70,7 +70,8 @@ float3 Rotate(float3 v, float3 a, float deg) {
 }
 
 // Brute-force distance from p to the mesh (second method, independent of SurfaceQuery).
-float BruteDistance(const MeshData& m, float3 p) {
+// Distance from p to the mesh, and (closest) the nearest surface point, by every triangle.
+float BruteDistance(const MeshData& m, float3 p, float3* closest = nullptr) {
   float best = 1e30f;
   for (size_t t = 0; t < m.triangle_count(); ++t) {
     const float3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
@@ -79,19 +80,24 @@ float BruteDistance(const MeshData& m, float3 p) {
     const float3 n = Cross(b - a, c - a);
     const float nn = Dot(n, n);
     float d = 1e30f;
+    float3 at{};
     if (nn > 0.f) {
       const float3 q = p - n * (Dot(p - a, n) / nn);
       const float u = Dot(Cross(b - q, c - q), n), v = Dot(Cross(c - q, a - q), n),
                   w = Dot(Cross(a - q, b - q), n);
-      if (u >= 0 && v >= 0 && w >= 0) d = Length(p - q);
+      if (u >= 0 && v >= 0 && w >= 0) d = Length(p - q), at = q;
     }
     auto seg = [&](float3 x, float3 y) {
       const float3 e = y - x;
       const float tt = std::clamp(Dot(p - x, e) / std::max(Dot(e, e), 1e-30f), 0.f, 1.f);
-      return Length(p - (x + e * tt));
+      const float3 q = x + e * tt;
+      if (Length(p - q) < d) d = Length(p - q), at = q;
     };
-    d = std::min({d, seg(a, b), seg(b, c), seg(c, a)});
-    best = std::min(best, d);
+    seg(a, b), seg(b, c), seg(c, a);
+    if (d < best) {
+      best = d;
+      if (closest) *closest = at;
+    }
   }
   return best;
 }
@@ -264,17 +270,39 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
     if (!roll) outer.indices.insert(outer.indices.end(), &Head().mesh.indices[t], &Head().mesh.indices[t] + 3);
   }
   ASSERT_LT(outer.indices.size(), Head().mesh.indices.size());
+  int across_groove = 0;
   for (const PlacedPoint& p : f.report.points) {
     // The platysma's attachment line lies below the jaw, where the sample head ends (no neck):
     // the fit takes the nearest surface point there (with a warning). Every other point is hit.
     if (p.muscle.rfind("platysma", 0) != 0 || p.role.rfind("attachment", 0) != 0) {
       EXPECT_TRUE(p.ray_hit) << p.muscle << " " << p.role;
     }
-    const float d = BruteDistance(outer, p.position);
+    float3 nearest{};
+    const float d = BruteDistance(outer, p.position, &nearest);
+    // Never deeper than asked: the skin the point was placed from is at depth * s.
+    EXPECT_LE(d, p.depth * 1.05f + 1e-3f * s) << p.muscle << " " << p.role;
+    // Where the skin curves toward the point within its depth (a groove: the mouth corner's),
+    // the nearest skin is not the point it was placed under (along the hit triangle's normal)
+    // and comes closer than the depth: the directions to the two differ (the calibrated
+    // risorius insertion: 19 degrees, 0.87 of its depth). Those must still lie at 0.8 of their
+    // depth or more, and be the exception.
+    const float turn = p.depth > 1e-3f * s
+                           ? Dot(NormalizeOr(p.position - nearest, {}), NormalizeOr(p.position - p.surface, {}))
+                           : 1.f;
+    if (turn < std::cos(10.f * 3.14159265f / 180.f)) {
+      ++across_groove;
+      std::printf("%s %s: nearest skin %.3f from the placing hit (%.0f degrees away), distance "
+                  "%.3f for depth %.3f\n",
+                  p.muscle.c_str(), p.role.c_str(), double(Length(nearest - p.surface)),
+                  std::acos(double(turn)) * 180.0 / 3.14159265358979, double(d), double(p.depth));
+      EXPECT_GE(d, 0.8f * p.depth) << p.muscle << " " << p.role;
+      continue;
+    }
     // Distance to the nearest surface point == depth * s within 5% (plus 0.1% of s for
     // points at depth ~0 and float rounding).
     EXPECT_NEAR(d, p.depth, 0.05f * p.depth + 1e-3f * s) << p.muscle << " " << p.role;
   }
+  EXPECT_LT(across_groove, int(f.report.points.size()) / 4) << "of " << f.report.points.size();
 }
 
 TEST(FitTemplate, InvariantUnderSimilarityTransforms) {
