@@ -48,7 +48,7 @@ const char* kCalibrateUsage =
     "                     `mimetic compare` reports sees that part, the plain residual\n"
     "                     weighs sliding and sinking alike (docs/model.md §17)\n"
     "Run from the repository root. A pass takes about a minute and a half on one core\n"
-    "(the default template is made with --passes 8: about 10 minutes).\n";
+    "(the default template is made with --passes 8: about 13 minutes).\n";
 
 int Fail(const Diagnostics& diag, const std::string& what) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
