@@ -18,6 +18,7 @@
 
 #include "content/sample_head.h"
 #include "core/file_util.h"
+#include "core/math.h"
 #include "fitting/anatomy.h"
 #include "fitting/fit.h"
 #include "fitting/landmarks.h"
@@ -69,8 +70,8 @@ float3 Rotate(float3 v, float3 a, float deg) {
   return v * c + Cross(a, v) * s + a * (Dot(a, v) * (1.f - c));
 }
 
-// Brute-force distance from p to the mesh (second method, independent of SurfaceQuery).
-// Distance from p to the mesh, and (closest) the nearest surface point, by every triangle.
+// Brute-force distance from p to the mesh and (closest) the nearest surface point, by every
+// triangle (second method, independent of SurfaceQuery).
 float BruteDistance(const MeshData& m, float3 p, float3* closest = nullptr) {
   float best = 1e30f;
   for (size_t t = 0; t < m.triangle_count(); ++t) {
@@ -91,7 +92,8 @@ float BruteDistance(const MeshData& m, float3 p, float3* closest = nullptr) {
       const float3 e = y - x;
       const float tt = std::clamp(Dot(p - x, e) / std::max(Dot(e, e), 1e-30f), 0.f, 1.f);
       const float3 q = x + e * tt;
-      if (Length(p - q) < d) d = Length(p - q), at = q;
+      const float dq = Length(p - q);
+      if (dq < d) d = dq, at = q;
     };
     seg(a, b), seg(b, c), seg(c, a);
     if (d < best) {
@@ -270,7 +272,7 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
     if (!roll) outer.indices.insert(outer.indices.end(), &Head().mesh.indices[t], &Head().mesh.indices[t] + 3);
   }
   ASSERT_LT(outer.indices.size(), Head().mesh.indices.size());
-  int across_groove = 0;
+  int turned = 0;
   for (const PlacedPoint& p : f.report.points) {
     // The platysma's attachment line lies below the jaw, where the sample head ends (no neck):
     // the fit takes the nearest surface point there (with a warning). Every other point is hit.
@@ -289,12 +291,12 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
     const float turn = p.depth > 1e-3f * s
                            ? Dot(NormalizeOr(p.position - nearest, {}), NormalizeOr(p.position - p.surface, {}))
                            : 1.f;
-    if (turn < std::cos(10.f * 3.14159265f / 180.f)) {
-      ++across_groove;
+    if (turn < std::cos(10.f * kPi / 180.f)) {
+      ++turned;
       std::printf("%s %s: nearest skin %.3f from the placing hit (%.0f degrees away), distance "
                   "%.3f for depth %.3f\n",
                   p.muscle.c_str(), p.role.c_str(), double(Length(nearest - p.surface)),
-                  std::acos(double(turn)) * 180.0 / 3.14159265358979, double(d), double(p.depth));
+                  double(std::acos(turn) * 180.f / kPi), double(d), double(p.depth));
       EXPECT_GE(d, 0.8f * p.depth) << p.muscle << " " << p.role;
       continue;
     }
@@ -302,7 +304,7 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
     // points at depth ~0 and float rounding).
     EXPECT_NEAR(d, p.depth, 0.05f * p.depth + 1e-3f * s) << p.muscle << " " << p.role;
   }
-  EXPECT_LT(across_groove, int(f.report.points.size()) / 4) << "of " << f.report.points.size();
+  EXPECT_LT(turned, int(f.report.points.size()) / 4) << "of " << f.report.points.size();
 }
 
 TEST(FitTemplate, InvariantUnderSimilarityTransforms) {
