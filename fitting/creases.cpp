@@ -1,11 +1,10 @@
-// fitting/creases.cpp: MeasureCreases.
+// fitting/creases.cpp: MeasureCreases and CreaseMeter.
 #include "fitting/creases.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "geometry/normals.h"
-#include "geometry/topology.h"
 
 namespace mimetic {
 namespace {
@@ -24,56 +23,71 @@ double Dihedral(const std::vector<float3>& p, const uint32_t* t0, const uint32_t
 
 }  // namespace
 
+CreaseMeter::CreaseMeter(span<const float3> rest, span<const uint32_t> triangles, int rings)
+    : rest_(rest.begin(), rest.end()),
+      tris_(triangles.begin(), triangles.begin() + std::ptrdiff_t(triangles.size() / 3 * 3)),
+      rings_(std::max(0, rings)) {
+  BuildEdgeTable(tris_, &edges_);
+  neighbours_ = BuildPointNeighbors(tris_, rest_.size());
+  rest_angle_.assign(edges_.edge_count(), 0.f);
+  for (size_t e = 0; e < edges_.edge_count(); ++e)
+    if (edges_.use_count(e) == 2)
+      rest_angle_[e] = float(Dihedral(rest_, &tris_[3 * (edges_.corners[edges_.start[e]] / 3)],
+                                      &tris_[3 * (edges_.corners[edges_.start[e] + 1] / 3)]));
+}
+
+double CreaseMeter::Measure(span<const float3> displacement, uint32_t* band_edges) const {
+  const size_t np = rest_.size();
+  std::vector<float3> posed = rest_;
+  std::vector<uint8_t> moved(np, 0), band(np, 0), grow;
+  for (size_t p = 0; p < np && p < displacement.size(); ++p) {
+    const float3 d = displacement[p];
+    if (d.x != 0.f || d.y != 0.f || d.z != 0.f) {
+      posed[p] += d;
+      moved[p] = 1;
+    }
+  }
+  // The boundary: moved points next to unmoved ones, and those unmoved neighbours.
+  for (size_t p = 0; p < np; ++p)
+    for (uint32_t k = neighbours_.offsets[p]; k < neighbours_.offsets[p + 1]; ++k)
+      if (moved[p] != moved[neighbours_.items[k]]) band[p] = 1;
+  for (int r = 0; r < rings_; ++r) {
+    grow = band;
+    for (size_t p = 0; p < np; ++p)
+      if (band[p])
+        for (uint32_t k = neighbours_.offsets[p]; k < neighbours_.offsets[p + 1]; ++k)
+          grow[neighbours_.items[k]] = 1;
+    band.swap(grow);
+  }
+  double worst = 0.0;
+  uint32_t counted = 0;
+  for (size_t e = 0; e < edges_.edge_count(); ++e) {
+    if (edges_.use_count(e) != 2) continue;
+    const uint32_t a = EdgeKeyLow(edges_.keys[e]), b = EdgeKeyHigh(edges_.keys[e]);
+    if (!band[a] || !band[b]) continue;
+    ++counted;
+    const double angle = Dihedral(posed, &tris_[3 * (edges_.corners[edges_.start[e]] / 3)],
+                                  &tris_[3 * (edges_.corners[edges_.start[e] + 1] / 3)]);
+    worst = std::max(worst, std::fabs(angle - double(rest_angle_[e])));
+  }
+  if (band_edges) *band_edges = counted;
+  return worst;
+}
+
 CreaseReport MeasureCreases(const Rig& rig, int rings) {
   CreaseReport out;
   const uint32_t np = rig.point_count(), nm = rig.muscle_count();
-  const std::vector<uint32_t>& tris = rig.triangles();
   out.muscle_degrees.assign(nm, 0.f);
   out.band_edges.assign(nm, 0);
-  EdgeTable edges;
-  BuildEdgeTable(tris, &edges);
-  const CsrTable neighbours = BuildPointNeighbors(tris, np);
-  std::vector<float> rest_angle(edges.edge_count(), 0.f);
-  for (size_t e = 0; e < edges.edge_count(); ++e)
-    if (edges.use_count(e) == 2)
-      rest_angle[e] = float(Dihedral(rig.rest_points(), &tris[3 * (edges.corners[edges.start[e]] / 3)],
-                                     &tris[3 * (edges.corners[edges.start[e] + 1] / 3)]));
+  const CreaseMeter meter(rig.rest_points(), rig.triangles(), rings);
   const MuscleTable& table = rig.muscles();
-  std::vector<float3> posed;
-  std::vector<uint8_t> moved(np), band(np), grow(np);
+  std::vector<float3> displacement(np);
   for (uint32_t m = 0; m < nm; ++m) {
-    posed = rig.rest_points();
-    std::fill(moved.begin(), moved.end(), 0);
+    std::fill(displacement.begin(), displacement.end(), float3{0.f, 0.f, 0.f});
     for (uint32_t p = 0; p < np && p + 1 < table.offsets.size(); ++p)
       for (uint32_t k = table.offsets[p]; k < table.offsets[p + 1]; ++k)
-        if (table.entries[k].muscle == m) {
-          posed[p] += table.entries[k].displacement;
-          moved[p] = 1;
-        }
-    // The boundary: moved points next to unmoved ones, and those unmoved neighbours.
-    std::fill(band.begin(), band.end(), 0);
-    for (uint32_t p = 0; p < np; ++p)
-      for (uint32_t k = neighbours.offsets[p]; k < neighbours.offsets[p + 1]; ++k)
-        if (moved[p] != moved[neighbours.items[k]]) band[p] = 1;
-    for (int r = 0; r < rings; ++r) {
-      grow = band;
-      for (uint32_t p = 0; p < np; ++p)
-        if (band[p])
-          for (uint32_t k = neighbours.offsets[p]; k < neighbours.offsets[p + 1]; ++k)
-            grow[neighbours.items[k]] = 1;
-      band.swap(grow);
-    }
-    double worst = 0.0;
-    for (size_t e = 0; e < edges.edge_count(); ++e) {
-      if (edges.use_count(e) != 2) continue;
-      const uint32_t a = EdgeKeyLow(edges.keys[e]), b = EdgeKeyHigh(edges.keys[e]);
-      if (!band[a] || !band[b]) continue;
-      ++out.band_edges[m];
-      const double angle = Dihedral(posed, &tris[3 * (edges.corners[edges.start[e]] / 3)],
-                                    &tris[3 * (edges.corners[edges.start[e] + 1] / 3)]);
-      worst = std::max(worst, std::fabs(angle - double(rest_angle[e])));
-    }
-    out.muscle_degrees[m] = float(worst);
+        if (table.entries[k].muscle == m) displacement[p] += table.entries[k].displacement;
+    out.muscle_degrees[m] = float(meter.Measure(displacement, &out.band_edges[m]));
     if (out.muscle_degrees[m] > out.max_degrees) {
       out.max_degrees = out.muscle_degrees[m];
       out.worst_muscle = m;

@@ -14,6 +14,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/math.h"
+#include "core/span.h"
+#include "geometry/topology.h"
 #include "rig/runtime/rig.h"
 
 namespace mimetic {
@@ -27,5 +30,23 @@ struct CreaseReport {
 
 // Measures every muscle of `rig`. `rings` >= 0 (2 is the documented default).
 CreaseReport MeasureCreases(const Rig& rig, int rings = 2);
+
+// The same measure for any displacement field on one mesh (the calibration's crease rule,
+// fitting/calibrate.h): built once per mesh, then one field at a time.
+class CreaseMeter {
+ public:
+  CreaseMeter(span<const float3> rest, span<const uint32_t> triangles, int rings = 2);
+  // The crease number of `moved` (one displacement per point; a point moves when its
+  // displacement is not exactly zero), degrees; *band_edges (optional) = edges measured.
+  double Measure(span<const float3> displacement, uint32_t* band_edges = nullptr) const;
+
+ private:
+  std::vector<float3> rest_;
+  std::vector<uint32_t> tris_;
+  int rings_;
+  EdgeTable edges_;
+  CsrTable neighbours_;
+  std::vector<float> rest_angle_;
+};
 
 }  // namespace mimetic

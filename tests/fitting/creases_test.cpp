@@ -3,6 +3,9 @@
 
 #include "content/procedural.h"
 #include "fitting/creases.h"
+
+#include <cmath>
+#include <vector>
 #include "rig/offline/rig_builder.h"
 
 namespace mimetic {
@@ -58,6 +61,29 @@ TEST(Creases, SmoothFalloffsFoldFarLessThanWaters) {
       << "waters " << waters.max_degrees << ", smooth " << smooth.max_degrees;
   // The band is the same zone boundary for both (the same points move).
   EXPECT_EQ(waters.band_edges[0], smooth.band_edges[0]);
+}
+
+// CreaseMeter on any field: a flat sheet whose half x > 0 is lifted into the ramp z = k x
+// folds along the line x = 0 (where the ramp leaves the unmoved half) by exactly atan(k); the
+// ramp's own edges and the flat half's stay at their rest angle (0), so that is the number.
+TEST(Creases, ARampLiftedFromAFlatSheetFoldsByItsSlope) {
+  const MeshData flat = MakeSurfaceMesh(41, 41, 100.f, 100.f, 0.f);  // x in steps of 2.5, x = 0 a column
+  const CreaseMeter meter(flat.positions, flat.indices);
+  for (const float k : {0.1f, 0.5f, 2.0f}) {
+    std::vector<float3> lift(flat.vertex_count(), float3{0.f, 0.f, 0.f});
+    size_t moved = 0;
+    for (size_t v = 0; v < lift.size(); ++v)
+      if (flat.positions[v].x > 1e-3f) lift[v].z = k * flat.positions[v].x, ++moved;
+    ASSERT_EQ(moved, 20u * 41u);
+    uint32_t band = 0;
+    const double degrees = meter.Measure(lift, &band);
+    EXPECT_NEAR(degrees, std::atan(double(k)) * 180.0 / 3.14159265358979323846, 1e-3) << "k " << k;
+    EXPECT_GT(band, 40u);  // at least the 40 edges along x = 0
+  }
+  // Nothing moves: no band, no crease.
+  uint32_t band = 1;
+  EXPECT_EQ(meter.Measure(std::vector<float3>(flat.vertex_count(), float3{0.f, 0.f, 0.f}), &band), 0.0);
+  EXPECT_EQ(band, 0u);
 }
 
 }  // namespace
