@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "fitting/anatomy.h"
 #include "fitting/box_least_squares.h"
 #include "fitting/compare.h"
+#include "fitting/creases.h"
 #include "fitting/fit.h"
 #include "geometry/normal_field.h"
 #include "geometry/normals.h"
@@ -130,8 +132,8 @@ TemplateMuscle MirrorOf(const TemplateMuscle& src, const std::string& name) {
 // triangle the right way up (docs/model.md §16): the training head and the options' others.
 class ConstraintHead {
  public:
-  ConstraintHead(const CalibrationHead& h, bool check_anatomy)
-      : head_(h), check_anatomy_(check_anatomy) {}
+  ConstraintHead(const CalibrationHead& h, bool check_anatomy, float crease_fraction)
+      : head_(h), check_anatomy_(check_anatomy), crease_fraction_(crease_fraction) {}
 
   bool Init(const MuscleTemplate& t, Diagnostics* diag) {
     const MeshData& mesh = *head_.mesh;
@@ -163,6 +165,7 @@ class ConstraintHead {
       const std::string why = Folds(t, i, nullptr);
       if (!why.empty()) return diag->Error(head_.name + ": " + t.muscles[i].name, why), false;
     }
+    if (crease_fraction_ > 0.f) InitCreases(t);
     return true;
   }
 
@@ -170,13 +173,19 @@ class ConstraintHead {
   std::string Check(const MuscleTemplate& t, size_t i, std::vector<std::vector<float>>* cols) const {
     std::string why = Fit(t, i, cols);
     if (why.empty()) why = Folds(t, i, cols);
+    if (why.empty()) why = Creases(t, i);
     return why.empty() ? "" : head_.name + ": " + why;
   }
 
   void Commit(const MuscleTemplate& t, size_t i, const std::vector<std::vector<float>>& cols) {
     const std::vector<size_t> changed = Changed(t, i);
     for (size_t k = 0; k < changed.size() && k < cols.size(); ++k) columns_[changed[k]] = cols[k];
+    if (meter_) MeasureCreasesOf(t, i, &own_, &waters_);
   }
+
+  // The largest crease number over the largest with Waters' fall-offs, now and at the start.
+  double crease_ratio() const { return Ratio(own_, waters_); }
+  double seed_crease_ratio() const { return seed_ratio_; }
 
  private:
   static std::vector<size_t> Changed(const MuscleTemplate& t, size_t i) {
@@ -185,7 +194,8 @@ class ConstraintHead {
     return c;
   }
 
-  std::string Fit(const MuscleTemplate& t, size_t i, std::vector<std::vector<float>>* cols) const {
+  std::string Fit(const MuscleTemplate& t, size_t i, std::vector<std::vector<float>>* cols,
+                  bool anatomy = true, std::vector<MuscleSpec>* specs = nullptr) const {
     MuscleTemplate one;
     for (size_t k : Changed(t, i)) one.muscles.push_back(t.muscles[k]);
     RigSpec spec;
@@ -194,11 +204,12 @@ class ConstraintHead {
     if (!FitTemplate(one, *head_.mesh, *head_.landmarks, "mm", &spec, &diag, &report))
       return "does not fit: " + diag.Format();
     const MeshData& mesh = *head_.mesh;
+    if (specs) *specs = spec.muscles;
     cols->assign(spec.muscles.size(), std::vector<float>(3 * mesh.vertex_count(), 0.f));
     for (size_t k = 0; k < spec.muscles.size(); ++k) {
       const MuscleSpec& ms = spec.muscles[k];
       const std::vector<float3>& normals = field_->At(ms.tangent_radius);
-      if (check_anatomy_) {
+      if (check_anatomy_ && anatomy) {
         if (const MuscleAnatomy* a = FindMuscleAnatomy(ms.name)) {
           const AnatomyProbe probe = FindAnatomyProbe(*a, ms.name, mesh, lm_, report.points);
           if (probe.found) {
@@ -214,6 +225,106 @@ class ConstraintHead {
                                            normals[v], ms.motion);
         col[3 * v] = d.x, col[3 * v + 1] = d.y, col[3 * v + 2] = d.z;
       }
+    }
+    return "";
+  }
+
+  // The crease rule (docs/model.md §2-3): each muscle's crease number alone at 1, with its
+  // own fall-off and with Waters' (the same muscle refitted with it); the rule is on the ratio
+  // of their largest values, the fidelity target's measure. A built rig measures its refined
+  // surface, where a smooth field bends by little per edge and a kink stays a kink; on the
+  // head's own triangles the two differ far less. So the rule measures on the head's triangles
+  // split once at their edges' midpoints (the midpoints' normals the mean of their ends').
+  void InitCreases(const MuscleTemplate& t) {
+    const MeshData& mesh = *head_.mesh;
+    const size_t n = mesh.vertex_count();
+    EdgeTable edges;
+    BuildEdgeTable(mesh.indices, &edges);
+    fine_points_ = mesh.positions;
+    mid_ends_.clear();
+    for (size_t e = 0; e < edges.edge_count(); ++e) {
+      const uint32_t a = EdgeKeyLow(edges.keys[e]), b = EdgeKeyHigh(edges.keys[e]);
+      mid_ends_.push_back({a, b});
+      fine_points_.push_back(0.5f * (mesh.positions[a] + mesh.positions[b]));
+    }
+    std::vector<uint32_t> fine_tris;
+    for (size_t tri = 0; 3 * tri + 2 < mesh.indices.size(); ++tri) {
+      const uint32_t* c = &mesh.indices[3 * tri];
+      uint32_t m[3];
+      bool ok = true;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t e = edges.tri_edge[3 * tri + size_t(k)];
+        ok &= e != EdgeTable::kNoEdge;
+        m[k] = ok ? uint32_t(n + e) : 0;  // the midpoint of corner k's edge (k to k+1)
+      }
+      if (!ok) continue;
+      const uint32_t split[12] = {c[0], m[0], m[2], m[0], c[1], m[1], m[2], m[1], c[2], m[0], m[1], m[2]};
+      fine_tris.insert(fine_tris.end(), split, split + 12);
+    }
+    meter_ = std::make_unique<CreaseMeter>(span<const float3>(fine_points_),
+                                           span<const uint32_t>(fine_tris));
+    own_.assign(t.muscles.size(), 0.0);
+    waters_.assign(t.muscles.size(), 0.0);
+    for (size_t i = 0; i < t.muscles.size(); ++i)
+      if (!t.muscles[i].mirrored_copy) MeasureCreasesOf(t, i, &own_, &waters_);
+    seed_ratio_ = crease_ratio();
+  }
+
+  // The crease numbers of source muscle i of `t` (and its copy), with their own fall-offs and
+  // with Waters', into (*own)[k] and (*waters)[k].
+  void MeasureCreasesOf(const MuscleTemplate& t, size_t i, std::vector<double>* own,
+                        std::vector<double>* waters) const {
+    MuscleTemplate w = t;
+    for (TemplateMuscle& m : w.muscles) m.falloff = MuscleFalloff::kWaters;
+    const std::vector<size_t> changed = Changed(t, i);
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<std::vector<float>> cols;
+      std::vector<MuscleSpec> specs;
+      if (!Fit(pass ? w : t, i, &cols, false, &specs).empty()) continue;  // t fitted already
+      for (size_t k = 0; k < changed.size() && k < specs.size(); ++k)
+        (pass ? *waters : *own)[changed[k]] = Crease(specs[k]);
+    }
+  }
+
+  double Crease(const MuscleSpec& ms) const {
+    const std::vector<float3>& normals = field_->At(ms.tangent_radius);
+    const size_t n = normals.size();
+    std::vector<float3> d(fine_points_.size());
+    for (size_t v = 0; v < d.size(); ++v) {
+      const float3 normal =
+          v < n ? normals[v]
+                : NormalizeOr(normals[mid_ends_[v - n][0]] + normals[mid_ends_[v - n][1]], normals[mid_ends_[v - n][0]]);
+      d[v] = ApplyMuscleMotion(MuscleDisplacement(ms, fine_points_[v], ms.strength), normal, ms.motion);
+    }
+    return meter_->Measure(d);
+  }
+
+  static double Ratio(const std::vector<double>& own, const std::vector<double>& waters) {
+    const double w = waters.empty() ? 0.0 : *std::max_element(waters.begin(), waters.end());
+    const double o = own.empty() ? 0.0 : *std::max_element(own.begin(), own.end());
+    return w > 0.0 ? o / w : 0.0;
+  }
+
+  // After the change, the muscles' largest crease number over their largest with Waters'
+  // fall-offs may reach `crease_fraction`, or, where it is above that now, not grow.
+  // The rule per muscle: the cap is `crease_fraction` of the largest crease number with
+  // Waters' fall-offs over all muscles; after the change no muscle may be newly above the cap,
+  // and none above it may crease more than before (the seed's muscles above it can only come
+  // down). Within the cap for every muscle is the fidelity target itself.
+  std::string Creases(const MuscleTemplate& t, size_t i) const {
+    if (!meter_) return "";
+    std::vector<double> own = own_, waters = waters_;
+    MeasureCreasesOf(t, i, &own, &waters);
+    const double cap_before = crease_fraction_ * *std::max_element(waters_.begin(), waters_.end());
+    const double cap = crease_fraction_ * *std::max_element(waters.begin(), waters.end());
+    for (size_t j = 0; j < own.size(); ++j) {
+      if (own[j] <= cap + 1e-9) continue;
+      if (own_[j] > cap_before && own[j] <= own_[j] + 1e-9) continue;
+      char buf[256];
+      std::snprintf(buf, sizeof buf, " creases the skin by %.2f degrees at 1, above %.2f (%.3f of "
+                    "the largest with Waters' fall-offs) and above its %.2f before the change "
+                    "(docs/model.md §2-3)", own[j], cap, double(crease_fraction_), own_[j]);
+      return t.muscles[j].name + buf;
     }
     return "";
   }
@@ -292,6 +403,13 @@ class ConstraintHead {
 
   CalibrationHead head_;
   bool check_anatomy_;
+  float crease_fraction_;
+  std::unique_ptr<CreaseMeter> meter_;  // on fine_points_; null without the crease rule
+  std::vector<float3> fine_points_;     // the head's points, then its edges' midpoints
+  std::vector<std::array<uint32_t, 2>> mid_ends_;  // each midpoint's two ends
+  // Each muscle's crease number now (degrees), with its own fall-off and with Waters'.
+  std::vector<double> own_, waters_;
+  double seed_ratio_ = 0.0;
   // The rest normals each tangent muscle projects on (shared by copies of this head).
   std::shared_ptr<NormalField> field_;
   std::vector<float3> lm_, tri_normals_;
@@ -356,8 +474,10 @@ class Calibrator {
       if (!Columns(i, tmpl_, &cols, &why, diag)) return false;
       Store(i, cols);
     }
-    heads_.emplace_back(CalibrationHead{"the training head", &head_, &landmarks_}, false);
-    for (const CalibrationHead& h : options_.check_heads) heads_.emplace_back(h, h.anatomy);
+    heads_.emplace_back(CalibrationHead{"the training head", &head_, &landmarks_}, false,
+                        options_.crease_fraction);
+    for (const CalibrationHead& h : options_.check_heads)
+      heads_.emplace_back(h, h.anatomy, options_.crease_fraction);
     for (ConstraintHead& h : heads_)
       if (!h.Init(tmpl_, diag)) return false;
     return true;
@@ -420,6 +540,13 @@ class Calibrator {
   }
 
   const MuscleTemplate& current() const { return tmpl_; }
+  // Per head: the crease ratio of the seed and of the current template (empty without the rule).
+  void CreaseRatios(std::vector<double>* seed, std::vector<double>* now) const {
+    seed->clear(), now->clear();
+    if (options_.crease_fraction <= 0.f) return;
+    for (const ConstraintHead& h : heads_)
+      seed->push_back(h.seed_crease_ratio()), now->push_back(h.crease_ratio());
+  }
 
  private:
   // Index of the mirrored copy of source muscle i, or npos.
@@ -678,11 +805,28 @@ bool CalibrateTemplate(const MuscleTemplate& seed, const MeshData& head,
   Calibrator c(head, landmarks, options);
   if (!c.Init(seed, shapes, diag)) return false;
   rep.objective_before = c.Objective(&rep.score_before);
+  std::vector<double> unused;
+  c.CreaseRatios(&rep.crease_ratio_before, &unused);
+  char line[512];
+  auto head_name = [&](size_t h) {
+    return h ? options.check_heads[h - 1].name : std::string("the training head");
+  };
+  if (options.progress && !rep.crease_ratio_before.empty()) {
+    std::string ratios;
+    for (size_t h = 0; h < rep.crease_ratio_before.size(); ++h) {
+      std::snprintf(line, sizeof line, "%s%.3f on %s", h ? ", " : "", rep.crease_ratio_before[h],
+                    head_name(h).c_str());
+      ratios += line;
+    }
+    std::snprintf(line, sizeof line, "crease rule: each muscle at most %.3f of the largest "
+                  "crease number with Waters' fall-offs, or, above it, not growing; the seed's "
+                  "largest over Waters' largest: ", double(options.crease_fraction));
+    options.progress(line + ratios);
+  }
   double best = rep.objective_before;
   std::vector<Param> params;
   for (size_t i : sources)
     for (const Param& p : ParamsFor(seed, i, options)) params.push_back(p);
-  char line[512];
   for (int pass = 0; pass < options.passes; ++pass) {
     int accepted = 0;
     for (Param& p : params) {
@@ -730,6 +874,7 @@ bool CalibrateTemplate(const MuscleTemplate& seed, const MeshData& head,
     if (accepted == 0) break;
   }
   rep.objective_after = c.Objective(&rep.score_after);
+  c.CreaseRatios(&unused, &rep.crease_ratio_after);
   // A wrinkle region starts at lambda_w R from the attachment (docs/model.md §6; R = Rf or Ls):
   // keep that distance as the seed has it (the frontalis regions line up across the forehead),
   // whatever R the search chose. The wrinkles do not enter the muscles-alone score.

@@ -20,7 +20,8 @@
 // stay within `max_insertion_depth` of it, and a change is refused when the muscle no longer
 // moves its probe point the way fitting/anatomy.h says, or when some combination of the
 // muscles of a region (fitting/anatomy.h) at 0 or 1, or every muscle at 1, turns a triangle
-// over (docs/model.md §16), on the training head and on every head of `check_heads`.
+// over (docs/model.md §16), on the training head and on every head of `check_heads`, or when
+// the muscles would fold the skin along their zones' edges more than `crease_fraction` allows.
 #pragma once
 
 #include <functional>
@@ -59,6 +60,13 @@ struct CalibrationOptions {
   float offset_reach = 0.2f;      // units of s, around the seed's offsets
   float min_attachment_depth = 0.03f;  // units of s
   float max_insertion_depth = 0.04f;   // units of s
+  // The crease rule (docs/model.md §2-3): on every head, each muscle alone at 1 (its own
+  // fall-off) may crease the skin up to this fraction of the largest crease number the muscles
+  // make there with Waters' fall-offs (fitting/creases.h; measured on the head's triangles
+  // split once at their midpoints); a change may not push a muscle over that cap, nor make
+  // one that is over it (from the seed) crease more. A third is the fidelity target for the
+  // smooth fall-offs; 0 (the default) turns the rule off (docs/calibration.md: what it cost).
+  float crease_fraction = 0.f;
   bool calibrate_motion = true;   // also try each muscle's other motion (chord / tangent)
   std::vector<std::string> muscles;  // source muscle names to change; empty = every muscle
   // Heads besides the training head on which every change must keep the anatomy and the
@@ -72,6 +80,10 @@ struct CalibrationReport {
   std::vector<double> score_before, score_after;  // per shape
   double objective_before = 0.0, objective_after = 0.0;
   int evaluations = 0, accepted = 0, refused_anatomy = 0;
+  // Per head (the training head, then check_heads): the largest crease number of the muscles
+  // over their largest with Waters' fall-offs (docs/model.md §2-3), of the seed and of the
+  // result; empty without the crease rule.
+  std::vector<double> crease_ratio_before, crease_ratio_after;
 };
 
 // Shape scores of `tmpl` on `head` (no change): what CalibrateTemplate minimises, for reports.

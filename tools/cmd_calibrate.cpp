@@ -22,7 +22,7 @@ namespace {
 const char* kCalibrateUsage =
     "usage: mimetic calibrate --out FILE [--seed FILE] [--data DIR] [--landmarks FILE]\n"
     "                         [--train A,B,...] [--muscles A,B,...] [--passes N]\n"
-    "                         [--normal-weight K]\n\n"
+    "                         [--normal-weight K] [--crease-fraction F]\n\n"
     "Calibrates a muscle template on real expression shapes: fits the seed template (default\n"
     "assets/calibration/seed.template.json) to ICT-FaceKit's neutral head (DIR/ict-facekit/\n"
     "ict_skin_neutral.obj, DIR default ../shared/data; landmarks default\n"
@@ -35,7 +35,8 @@ const char* kCalibrateUsage =
     "skin, and a change that makes a muscle pull against its anatomy is refused\n"
     "(fitting/anatomy.h), and so is one that turns a triangle over (docs/model.md §16); both\n"
     "are checked on the ICT head and MakeHuman (DIR/makehuman), the fold-over rule on the\n"
-    "sample head too. Writes the\n"
+    "sample head too, and with --crease-fraction one after which a muscle folds the skin\n"
+    "along its zone's edges more than that allows, on all three heads. Writes the\n"
     "calibrated template to --out (atomically).\n\n"
     "options:\n"
     "  --train A,B,...    training shapes (default: the brow raise, browDown_L and the _L mouth\n"
@@ -47,6 +48,11 @@ const char* kCalibrateUsage =
     "                     1 + K times (default 1; 0..100): the surface distance that\n"
     "                     `mimetic compare` reports sees that part, the plain residual\n"
     "                     weighs sliding and sinking alike (docs/model.md §17)\n"
+    "  --crease-fraction F  on each head, each muscle's crease number (`mimetic creases`:\n"
+    "                     alone at 1, its own fall-off) may reach F times the largest the\n"
+    "                     muscles make with Waters' fall-offs; one above that in the seed may\n"
+    "                     not grow (default 0 = off; 0.333 is the fidelity target; 0..1; a run\n"
+    "                     with the rule takes two to three times as long; docs/model.md §17)\n"
     "Run from the repository root. A pass takes about a minute and a half on one core\n"
     "(the default template is made with --passes 8: about 13 minutes).\n";
 
@@ -69,7 +75,8 @@ std::vector<std::string> SplitList(const std::string& s) {
 
 int CmdCalibrate(const Args& args) {
   const ParsedArgs parsed = ParseArgs(
-      args, {"out", "seed", "data", "landmarks", "train", "muscles", "passes", "normal-weight"}, {});
+      args, {"out", "seed", "data", "landmarks", "train", "muscles", "passes", "normal-weight",
+             "crease-fraction"}, {});
   if (parsed.help) return std::fputs(kCalibrateUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("calibrate", parsed.error, kCalibrateUsage);
   if (!parsed.positional.empty())
@@ -96,6 +103,14 @@ int CmdCalibrate(const Args& args) {
                                          "': expected a number in [0, 100]",
                         kCalibrateUsage);
     options.normal_weight = float(v);
+  }
+  if (parsed.Has("crease-fraction")) {
+    double v = 0;
+    if (!ParseNumber(parsed.Get("crease-fraction"), 0, 1, &v))
+      return UsageError("calibrate", "--crease-fraction '" + parsed.Get("crease-fraction") +
+                                         "': expected a number in [0, 1]",
+                        kCalibrateUsage);
+    options.crease_fraction = float(v);
   }
   if (parsed.Has("muscles")) options.muscles = SplitList(parsed.Get("muscles"));
   std::vector<const IctShape*> train;
@@ -180,13 +195,17 @@ int CmdCalibrate(const Args& args) {
     std::printf("%-20s %8.4f %8.4f\n", report.shapes[i].c_str(), report.score_before[i],
                 report.score_after[i]);
   std::printf("%-20s %8.4f %8.4f\n", "mean", report.objective_before, report.objective_after);
+  for (size_t h = 0; h < report.crease_ratio_before.size(); ++h)
+    std::printf("crease ratio on %s: %.3f -> %.3f\n",
+                h ? options.check_heads[h - 1].name.c_str() : "the training head",
+                report.crease_ratio_before[h], report.crease_ratio_after[h]);
   calibrated.description = seed.description;
   local.Clear();
   if (!SaveMuscleTemplate(out_path, calibrated, &local)) {
     diag.Append(local, out_path);
     return Fail(diag, "cannot write the calibrated template");
   }
-  std::printf("wrote %s: %d changes in %d evaluations (%d refused: anatomy or fold-over), %.0f s\n",
+  std::printf("wrote %s: %d changes in %d evaluations (%d refused: anatomy, fold-over or crease), %.0f s\n",
               out_path.c_str(), report.accepted, report.evaluations, report.refused_anatomy,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;

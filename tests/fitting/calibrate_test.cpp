@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "content/sample_head.h"
 #include "fitting/anatomy.h"
 #include "fitting/calibrate.h"
+#include "fitting/creases.h"
 #include "fitting/fit.h"
 #include "geometry/normals.h"
 #include "io/template_file.h"
@@ -162,6 +164,7 @@ TEST(Calibrate, KeepsAMotionTheSeedNames) {
   CalibrationOptions options;
   options.passes = 1;
   options.normal_weight = 0.f;  // the plain score (the normal weight has its own test below)
+  options.crease_fraction = 0.f;  // the crease rule has its own test below
   double after[2] = {0.0, 0.0};  // objective after the run: [unnamed seed, named]
   for (const bool named : {false, true}) {
     const MuscleTemplate seed = CheekTemplate(named ? R"("motion": "chord",)" : "");
@@ -199,6 +202,7 @@ TEST(Calibrate, RecoversTheTangentRadiusThatMadeTheShapes) {
   CalibrationOptions options;
   options.passes = 4;
   options.normal_weight = 0.f;
+  options.crease_fraction = 0.f;  // the crease rule has its own test below
   std::vector<double> truth_scores, seed_scores;
   Diagnostics diag;
   ASSERT_TRUE(ScoreTemplate(truth, Head().mesh, HeadLandmarks(), shapes, options, &truth_scores, &diag))
@@ -283,6 +287,106 @@ TEST(Calibrate, NormalWeightCountsTheResidualAlongTheNormal) {
     std::printf("k = %g: score %.6f, by hand %.6f\n", ks[i], scores[0], expected[i]);
     EXPECT_NEAR(scores[0], expected[i], 1e-4 * expected[i]) << "k = " << ks[i];
   }
+}
+
+// The crease rule (CalibrationOptions::crease_fraction, docs/model.md §2-3): each muscle's
+// crease number may reach the fraction of the largest with Waters' fall-offs, or, where the
+// seed's is above that, may not grow. Shapes made by the cheek muscle at three times the
+// seed's strength: free, the search triples the muscle's crease number; with the rule at 0.2,
+// under the seed's ratio (its crease number over its own with Waters'), the result creases no
+// more than the seed; at 1, where every muscle is within the cap, the rule changes nothing.
+// Measured here the other way, on rigs built from the templates (MeasureCreases) on the head
+// split as the rule splits it (each triangle into four at its edges' midpoints, which lie on
+// the triangles, so the fit places the muscles as on the head itself); the rig welds seams
+// the rule's split keeps apart, hence a tolerance of 15% between the two measures.
+MeshData SplitAtMidpoints(const MeshData& m) {
+  MeshData out;
+  out.positions = m.positions;
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+  auto at = [&](uint32_t a, uint32_t b) {
+    const auto key = std::minmax(a, b);
+    auto [it, fresh] = mid.try_emplace({key.first, key.second}, uint32_t(out.positions.size()));
+    if (fresh) out.positions.push_back(0.5f * (m.positions[a] + m.positions[b]));
+    return it->second;
+  };
+  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+    const uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
+    const uint32_t ab = at(a, b), bc = at(b, c), ca = at(c, a);
+    for (uint32_t v : {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca}) out.indices.push_back(v);
+  }
+  return out;
+}
+
+struct RigCrease {
+  double own = 0.0, waters = 0.0;
+  double ratio() const { return own / waters; }
+};
+RigCrease MeasureRig(const MuscleTemplate& t) {
+  static const MeshData split = SplitAtMidpoints(Head().mesh);
+  double max[2];
+  for (int i = 0; i < 2; ++i) {
+    MuscleTemplate u = t;
+    if (i) for (TemplateMuscle& m : u.muscles) m.falloff = MuscleFalloff::kWaters;
+    RigSpec spec;
+    Diagnostics diag;
+    EXPECT_TRUE(FitTemplate(u, split, HeadLandmarks(), "mm", &spec, &diag)) << diag.Format();
+    spec.refinement.enabled = false;
+    Rig rig;
+    EXPECT_TRUE(BuildRig(spec, split, {}, &rig, &diag)) << diag.Format();
+    max[i] = MeasureCreases(rig).max_degrees;
+  }
+  return {max[0], max[1]};
+}
+
+TEST(Calibrate, TheCreaseRuleHoldsEachMuscleUnderItsCap) {
+  const MuscleTemplate seed = CheekTemplate("");
+  MuscleTemplate truth = seed;
+  truth.muscles[0].strength = truth.muscles[1].strength = 3.f * seed.muscles[0].strength;
+  const MeshData lift = Pose(truth, {0.8f, 0.f});
+  const MeshData both = Pose(truth, {0.5f, 0.6f});
+  const std::vector<CalibrationShape> shapes = {{"lift", &lift}, {"both", &both}};
+  const RigCrease s = MeasureRig(seed);
+  std::printf("seed: %.3f of %.3f degrees, ratio %.4f\n", s.own, s.waters, s.ratio());
+  ASSERT_GT(s.ratio(), 0.25);  // the seed is above 0.2
+  const float fractions[3] = {0.f, 0.2f, 1.f};
+  RigCrease out[3];
+  MuscleTemplate result[3];
+  int refused[3];
+  for (int run = 0; run < 3; ++run) {
+    CalibrationOptions options;
+    options.passes = 4;
+    options.normal_weight = 0.f;
+    options.calibrate_motion = false;
+    options.crease_fraction = fractions[run];
+    CalibrationReport report;
+    Diagnostics diag;
+    ASSERT_TRUE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), shapes, options,
+                                  &result[run], &report, &diag))
+        << diag.Format();
+    out[run] = MeasureRig(result[run]);
+    refused[run] = report.refused_anatomy;
+    std::printf("fraction %.3f: strength %.4f -> %.4f, crease %.3f of %.3f (ratio %.4f), "
+                "objective %.5f -> %.5f, %d refused\n", double(fractions[run]),
+                double(seed.muscles[0].strength), double(result[run].muscles[0].strength),
+                out[run].own, out[run].waters, out[run].ratio(), report.objective_before,
+                report.objective_after, report.refused_anatomy);
+    if (run == 0) {
+      EXPECT_TRUE(report.crease_ratio_before.empty());
+      continue;
+    }
+    // The rule's own ratios against the built rigs'.
+    ASSERT_EQ(report.crease_ratio_before.size(), 1u);  // the training head only
+    ASSERT_EQ(report.crease_ratio_after.size(), 1u);
+    EXPECT_NEAR(report.crease_ratio_before[0], s.ratio(), 0.15 * s.ratio());
+    EXPECT_NEAR(report.crease_ratio_after[0], out[run].ratio(), 0.15 * out[run].ratio());
+  }
+  EXPECT_GT(out[0].own, 2.0 * s.own);  // free, the muscle creases more than twice the seed;
+  EXPECT_GT(refused[1], refused[0]);   // at 0.2 the rule refuses changes
+  EXPECT_LE(out[1].own, 1.05 * s.own);  // and the result creases no more than the seed.
+  // At 1 nothing is over the cap: the same search as without the rule.
+  EXPECT_EQ(refused[2], refused[0]);
+  EXPECT_EQ(result[2].muscles[0].strength, result[0].muscles[0].strength);
+  EXPECT_EQ(result[2].muscles[0].falloff_end, result[0].muscles[0].falloff_end);
 }
 
 TEST(Calibrate, RefusesASeedWhoseMusclePullsAgainstItsAnatomy) {

@@ -21,6 +21,7 @@ TEST(CalibrateCli, UsageAndBadNumbers) {
   const test::ToolResult help = test::RunTool({"calibrate", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("--normal-weight K"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("--crease-fraction F"), std::string::npos) << help.output;
   ExpectUsage({"calibrate"}, "--out FILE is required");
   ExpectUsage({"calibrate", "--out", "t.json", "extra"}, "takes no positional arguments");
   ExpectUsage({"calibrate", "--out", "t.json", "--passes", "0"},
@@ -28,6 +29,9 @@ TEST(CalibrateCli, UsageAndBadNumbers) {
   for (const char* bad : {"x", "-1", "101", "nan", "inf", ""})
     ExpectUsage({"calibrate", "--out", "t.json", "--normal-weight", bad},
                 std::string("--normal-weight '") + bad + "': expected a number in [0, 100]");
+  for (const char* bad : {"x", "-0.1", "1.5", "nan", "inf", ""})
+    ExpectUsage({"calibrate", "--out", "t.json", "--crease-fraction", bad},
+                std::string("--crease-fraction '") + bad + "': expected a number in [0, 1]");
 }
 
 }  // namespace
