@@ -88,30 +88,26 @@ int CmdCalibrate(const Args& args) {
   const std::string landmarks_path =
       parsed.Get("landmarks", "tests/data/landmarks/ict_facekit.landmarks.json");
   CalibrationOptions options;
-  if (parsed.Has("passes")) {
-    double v = 0;
-    if (!ParseNumber(parsed.Get("passes"), 1, 20, &v) || v != std::floor(v))
-      return UsageError("calibrate", "--passes '" + parsed.Get("passes") +
-                                         "': expected a whole number in [1, 20]",
-                        kCalibrateUsage);
-    options.passes = int(v);
-  }
-  if (parsed.Has("normal-weight")) {
-    double v = 0;
-    if (!ParseNumber(parsed.Get("normal-weight"), 0, 100, &v))
-      return UsageError("calibrate", "--normal-weight '" + parsed.Get("normal-weight") +
-                                         "': expected a number in [0, 100]",
-                        kCalibrateUsage);
-    options.normal_weight = float(v);
-  }
-  if (parsed.Has("crease-fraction")) {
-    double v = 0;
-    if (!ParseNumber(parsed.Get("crease-fraction"), 0, 1, &v))
-      return UsageError("calibrate", "--crease-fraction '" + parsed.Get("crease-fraction") +
-                                         "': expected a number in [0, 1]",
-                        kCalibrateUsage);
-    options.crease_fraction = float(v);
-  }
+  // A numeric option in [lo, hi] (whole: a whole number), into *out when given; "" or the
+  // usage error's message.
+  auto number = [&](const char* name, double lo, double hi, bool whole, double* out) {
+    if (!parsed.Has(name)) return std::string();
+    const std::string text = parsed.Get(name);
+    if (ParseNumber(text, lo, hi, out) && (!whole || *out == std::floor(*out))) return std::string();
+    char range[64];
+    std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+    return "--" + std::string(name) + " '" + text + "': expected a " +
+           (whole ? "whole number" : "number") + " in " + range;
+  };
+  double passes = options.passes, normal_weight = options.normal_weight,
+         crease_fraction = options.crease_fraction;
+  for (const std::string& why : {number("passes", 1, 20, true, &passes),
+                                 number("normal-weight", 0, 100, false, &normal_weight),
+                                 number("crease-fraction", 0, 1, false, &crease_fraction)})
+    if (!why.empty()) return UsageError("calibrate", why, kCalibrateUsage);
+  options.passes = int(passes);
+  options.normal_weight = float(normal_weight);
+  options.crease_fraction = float(crease_fraction);
   if (parsed.Has("muscles")) options.muscles = SplitList(parsed.Get("muscles"));
   std::vector<const IctShape*> train;
   if (parsed.Has("train")) {
