@@ -52,7 +52,7 @@ const char* kCalibrateUsage =
     "                     alone at 1, its own fall-off) may reach F times the largest the\n"
     "                     muscles make with Waters' fall-offs; one above that in the seed may\n"
     "                     not grow (default 0 = off; 0.333 is the fidelity target; 0..1; a run\n"
-    "                     with the rule takes two to three times as long; docs/model.md §17)\n"
+    "                     with the rule takes about twice as long; docs/model.md §17)\n"
     "Run from the repository root. A pass takes about a minute and a half on one core\n"
     "(the default template is made with --passes 8: about 13 minutes).\n";
 
