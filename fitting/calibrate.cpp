@@ -171,9 +171,10 @@ class ConstraintHead {
 
   // Fits source muscle i of `t` (and its copy) here; "" and their columns, or why not.
   std::string Check(const MuscleTemplate& t, size_t i, std::vector<std::vector<float>>* cols) const {
-    std::string why = Fit(t, i, cols);
+    std::vector<MuscleSpec> specs;
+    std::string why = Fit(t, i, cols, true, &specs);
     if (why.empty()) why = Folds(t, i, cols);
-    if (why.empty()) why = Creases(t, i);
+    if (why.empty()) why = Creases(t, i, specs);
     return why.empty() ? "" : head_.name + ": " + why;
   }
 
@@ -271,16 +272,19 @@ class ConstraintHead {
   }
 
   // The crease numbers of source muscle i of `t` (and its copy), with their own fall-offs and
-  // with Waters', into (*own)[k] and (*waters)[k].
+  // with Waters', into (*own)[k] and (*waters)[k]; `fitted`, when given, holds those muscles
+  // as already fitted here with their own fall-offs (Check's fit, not repeated).
   void MeasureCreasesOf(const MuscleTemplate& t, size_t i, std::vector<double>* own,
-                        std::vector<double>* waters) const {
+                        std::vector<double>* waters,
+                        const std::vector<MuscleSpec>* fitted = nullptr) const {
     MuscleTemplate w = t;
     for (TemplateMuscle& m : w.muscles) m.falloff = MuscleFalloff::kWaters;
     const std::vector<size_t> changed = Changed(t, i);
     for (int pass = 0; pass < 2; ++pass) {
       std::vector<std::vector<float>> cols;
       std::vector<MuscleSpec> specs;
-      if (!Fit(pass ? w : t, i, &cols, false, &specs).empty()) continue;  // t fitted already
+      if (pass == 0 && fitted) specs = *fitted;
+      else if (!Fit(pass ? w : t, i, &cols, false, &specs).empty()) continue;  // t fitted already
       for (size_t k = 0; k < changed.size() && k < specs.size(); ++k)
         (pass ? *waters : *own)[changed[k]] = Crease(specs[k]);
     }
@@ -305,16 +309,14 @@ class ConstraintHead {
     return w > 0.0 ? o / w : 0.0;
   }
 
-  // After the change, the muscles' largest crease number over their largest with Waters'
-  // fall-offs may reach `crease_fraction`, or, where it is above that now, not grow.
   // The rule per muscle: the cap is `crease_fraction` of the largest crease number with
   // Waters' fall-offs over all muscles; after the change no muscle may be newly above the cap,
   // and none above it may crease more than before (the seed's muscles above it can only come
   // down). Within the cap for every muscle is the fidelity target itself.
-  std::string Creases(const MuscleTemplate& t, size_t i) const {
+  std::string Creases(const MuscleTemplate& t, size_t i, const std::vector<MuscleSpec>& fitted) const {
     if (!meter_) return "";
     std::vector<double> own = own_, waters = waters_;
-    MeasureCreasesOf(t, i, &own, &waters);
+    MeasureCreasesOf(t, i, &own, &waters, &fitted);
     const double cap_before = crease_fraction_ * *std::max_element(waters_.begin(), waters_.end());
     const double cap = crease_fraction_ * *std::max_element(waters.begin(), waters.end());
     for (size_t j = 0; j < own.size(); ++j) {
