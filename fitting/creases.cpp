@@ -23,20 +23,34 @@ double Dihedral(const std::vector<float3>& p, const uint32_t* t0, const uint32_t
 
 }  // namespace
 
-CreaseMeter::CreaseMeter(span<const float3> rest, span<const uint32_t> triangles, int rings)
+CreaseMeter::CreaseMeter(span<const float3> rest, span<const uint32_t> triangles, int rings,
+                         double min_shape)
     : rest_(rest.begin(), rest.end()),
       tris_(triangles.begin(), triangles.begin() + std::ptrdiff_t(triangles.size() / 3 * 3)),
       rings_(std::max(0, rings)) {
   BuildEdgeTable(tris_, &edges_);
   neighbours_ = BuildPointNeighbors(tris_, rest_.size());
   rest_angle_.assign(edges_.edge_count(), 0.f);
+  auto shape = [&](const uint32_t* t) {
+    const float3 a = rest_[t[0]], b = rest_[t[1]], c = rest_[t[2]];
+    double n[3];
+    TriangleCross(a, b, c, n);
+    const double area2 = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double l = std::max({Length(b - a), Length(c - b), Length(a - c)});
+    return l > 0.0 ? area2 / (l * l) : 0.0;
+  };
   for (size_t e = 0; e < edges_.edge_count(); ++e)
-    if (edges_.use_count(e) == 2)
-      rest_angle_[e] = float(Dihedral(rest_, &tris_[3 * (edges_.corners[edges_.start[e]] / 3)],
-                                      &tris_[3 * (edges_.corners[edges_.start[e] + 1] / 3)]));
+    if (edges_.use_count(e) == 2) {
+      const uint32_t* t0 = &tris_[3 * (edges_.corners[edges_.start[e]] / 3)];
+      const uint32_t* t1 = &tris_[3 * (edges_.corners[edges_.start[e] + 1] / 3)];
+      const bool sliver = shape(t0) < min_shape || shape(t1) < min_shape;
+      rest_angle_[e] = sliver ? std::nanf("") : float(Dihedral(rest_, t0, t1));
+      sliver_edges_ += sliver ? 1u : 0u;
+    }
 }
 
-double CreaseMeter::Measure(span<const float3> displacement, uint32_t* band_edges) const {
+double CreaseMeter::Measure(span<const float3> displacement, uint32_t* band_edges,
+                            float3* worst_at) const {
   const size_t np = rest_.size();
   std::vector<float3> posed = rest_;
   std::vector<uint8_t> moved(np, 0), band(np, 0), grow;
@@ -61,25 +75,33 @@ double CreaseMeter::Measure(span<const float3> displacement, uint32_t* band_edge
   }
   double worst = 0.0;
   uint32_t counted = 0;
+  float3 at = np ? rest_[0] : float3{0.f, 0.f, 0.f};
   for (size_t e = 0; e < edges_.edge_count(); ++e) {
-    if (edges_.use_count(e) != 2) continue;
+    if (edges_.use_count(e) != 2 || std::isnan(rest_angle_[e])) continue;
     const uint32_t a = EdgeKeyLow(edges_.keys[e]), b = EdgeKeyHigh(edges_.keys[e]);
     if (!band[a] || !band[b]) continue;
     ++counted;
     const double angle = Dihedral(posed, &tris_[3 * (edges_.corners[edges_.start[e]] / 3)],
                                   &tris_[3 * (edges_.corners[edges_.start[e] + 1] / 3)]);
-    worst = std::max(worst, std::fabs(angle - double(rest_angle_[e])));
+    const double change = std::fabs(angle - double(rest_angle_[e]));
+    if (change > worst) {
+      worst = change;
+      at = (rest_[a] + rest_[b]) * 0.5f;
+    }
   }
   if (band_edges) *band_edges = counted;
+  if (worst_at) *worst_at = at;
   return worst;
 }
 
-CreaseReport MeasureCreases(const Rig& rig, int rings) {
+CreaseReport MeasureCreases(const Rig& rig, int rings, double min_shape) {
   CreaseReport out;
   const uint32_t np = rig.point_count(), nm = rig.muscle_count();
   out.muscle_degrees.assign(nm, 0.f);
   out.band_edges.assign(nm, 0);
-  const CreaseMeter meter(rig.rest_points(), rig.triangles(), rings);
+  out.worst_at.assign(nm, float3{0.f, 0.f, 0.f});
+  const CreaseMeter meter(rig.rest_points(), rig.triangles(), rings, min_shape);
+  out.sliver_edges = meter.sliver_edges();
   const MuscleTable& table = rig.muscles();
   std::vector<float3> displacement(np);
   for (uint32_t m = 0; m < nm; ++m) {
@@ -87,7 +109,7 @@ CreaseReport MeasureCreases(const Rig& rig, int rings) {
     for (uint32_t p = 0; p < np && p + 1 < table.offsets.size(); ++p)
       for (uint32_t k = table.offsets[p]; k < table.offsets[p + 1]; ++k)
         if (table.entries[k].muscle == m) displacement[p] += table.entries[k].displacement;
-    out.muscle_degrees[m] = float(meter.Measure(displacement, &out.band_edges[m]));
+    out.muscle_degrees[m] = float(meter.Measure(displacement, &out.band_edges[m], &out.worst_at[m]));
     if (out.muscle_degrees[m] > out.max_degrees) {
       out.max_degrees = out.muscle_degrees[m];
       out.worst_muscle = m;

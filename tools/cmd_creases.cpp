@@ -20,13 +20,17 @@
 namespace mimetic::tools {
 
 static const char* kCreasesUsage =
-    "usage: mimetic creases RIG [--falloff waters|smooth] [--rings N]\n"
+    "usage: mimetic creases RIG [--falloff waters|smooth] [--rings N] [--min-shape S]\n"
     "                       [--image FILE.png [--muscle NAME] [--size N] [--zoom Z]]\n\n"
     "How sharply each muscle of RIG, alone at activation 1, folds the skin along the edges of\n"
     "its zone: the largest change of dihedral angle from rest (degrees) over the edges in a\n"
     "band around the zone's boundary, the boundary ring grown by N rings (--rings, default 2;\n"
     "docs/model.md §2-3). --falloff rebuilds the rig with every muscle's fall-off set to one\n"
     "kind, to compare Waters' cosines with the smooth (squared) ones on the same rig.\n"
+    "Slivers are left out: an edge counts when both of its triangles are at least S times\n"
+    "as high as their longest edge (--min-shape, default 0.05; 0 counts every edge), since a\n"
+    "sliver's normal swings by its apex's motion over its height whatever the fall-off.\n"
+    "Each line names where the muscle's worst edge lies (its midpoint at rest).\n"
     "--image writes a picture: rest | Waters' fall-offs | smooth fall-offs, one muscle at\n"
     "activation 1 (--muscle, default the one with the largest crease number under Waters'),\n"
     "every skin layer the rig has, N pixels a panel (--size, default 320), Z times the fitted\n"
@@ -63,7 +67,7 @@ MeshData PoseOne(const Rig& rig, const MeshData& mesh, int m) {
 
 int CmdCreases(const Args& args) {
   const ParsedArgs parsed =
-      ParseArgs(args, {"falloff", "rings", "image", "muscle", "size", "zoom"}, {});
+      ParseArgs(args, {"falloff", "rings", "min-shape", "image", "muscle", "size", "zoom"}, {});
   if (parsed.help) return std::fputs(kCreasesUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("creases", parsed.error, kCreasesUsage);
   if (parsed.positional.size() != 1)
@@ -74,6 +78,11 @@ int CmdCreases(const Args& args) {
                               rings != double(int(rings))))
     return UsageError("creases", "--rings '" + parsed.Get("rings") +
                                      "': expected a whole number in [0, 16]",
+                      kCreasesUsage);
+  double min_shape = kCreaseMinShape;
+  if (parsed.Has("min-shape") && !ParseNumber(parsed.Get("min-shape"), 0, 0.5, &min_shape))
+    return UsageError("creases", "--min-shape '" + parsed.Get("min-shape") +
+                                     "': expected a number in [0, 0.5]",
                       kCreasesUsage);
   const std::string falloff = parsed.Get("falloff");
   if (parsed.Has("falloff") && falloff != "waters" && falloff != "smooth")
@@ -112,14 +121,17 @@ int CmdCreases(const Args& args) {
     loaded.rig = std::move(rebuilt);
   }
   const Rig& rig = loaded.rig;
-  const CreaseReport report = MeasureCreases(rig, int(rings));
-  std::printf("creases of %s (%s fall-offs, band of %d rings), degrees:\n",
+  const CreaseReport report = MeasureCreases(rig, int(rings), min_shape);
+  std::printf("creases of %s (%s fall-offs, band of %d rings, %u sliver edges under %g left "
+              "out), degrees:\n",
               parsed.positional[0].c_str(),
-              parsed.Has("falloff") ? falloff.c_str() : "the rig's own", int(rings));
+              parsed.Has("falloff") ? falloff.c_str() : "the rig's own", int(rings),
+              report.sliver_edges, min_shape);
   for (uint32_t m = 0; m < rig.muscle_count(); ++m)
-    std::printf("  %-28s %-6s %7.3f  (%u edges)\n", rig.muscle_names()[m].c_str(),
-                MuscleFalloffName(loaded.spec.muscles[m].falloff), report.muscle_degrees[m],
-                report.band_edges[m]);
+    std::printf("  %-28s %-6s %7.3f  (%u edges; worst at %.4g %.4g %.4g)\n",
+                rig.muscle_names()[m].c_str(), MuscleFalloffName(loaded.spec.muscles[m].falloff),
+                report.muscle_degrees[m], report.band_edges[m], report.worst_at[m].x,
+                report.worst_at[m].y, report.worst_at[m].z);
   std::printf("crease number: %.3f degrees (%s)\n", report.max_degrees,
               rig.muscle_count() ? rig.muscle_names()[report.worst_muscle].c_str() : "no muscles");
   if (!parsed.Has("image")) return 0;
@@ -140,7 +152,7 @@ int CmdCreases(const Args& args) {
       return 1;
     }
   } else if (rig.muscle_count() > 0) {
-    muscle = int(MeasureCreases(waters, int(rings)).worst_muscle);
+    muscle = int(MeasureCreases(waters, int(rings), min_shape).worst_muscle);
   }
   // Centre the view on the muscle's moving skin: the mean of the points it moves, projected
   // as RenderMesh's front camera does (tools/render/render.cpp: the bounding sphere fitted

@@ -86,5 +86,35 @@ TEST(Creases, ARampLiftedFromAFlatSheetFoldsByItsSlope) {
   EXPECT_EQ(band, 0u);
 }
 
+// Slivers are left out (kCreaseMinShape): a sliver ABC, 0.02 high over its 1-long edge AB,
+// beside two well-shaped triangles ADB and BDE. Lifting C by 0.02 turns the sliver by
+// atan(0.02 / 0.02) = 45 degrees about AB: measured with every edge (min_shape 0), not by the
+// default meter, which measures only DB there (unmoved: 0). Lifting E by 1/sqrt(2), its
+// distance from the line DB, folds BDE about DB by atan(1) = 45 degrees: a well-shaped
+// triangle's fold is measured either way.
+TEST(Creases, ASliverIsLeftOutAndAFoldBesideItIsNot) {
+  const std::vector<float3> rest = {{0.f, 0.f, 0.f},    {1.f, 0.f, 0.f},  {0.5f, 0.02f, 0.f},
+                                    {0.5f, -0.5f, 0.f}, {1.5f, -0.5f, 0.f}};
+  const std::vector<uint32_t> tris = {0, 1, 2, 0, 3, 1, 1, 3, 4};
+  const CreaseMeter every(rest, tris, 2, 0.0), meter(rest, tris);
+  EXPECT_EQ(every.sliver_edges(), 0u);
+  EXPECT_EQ(meter.sliver_edges(), 1u);
+  std::vector<float3> lift_c(rest.size(), float3{0.f, 0.f, 0.f});
+  lift_c[2].z = 0.02f;
+  uint32_t band = 0;
+  EXPECT_NEAR(every.Measure(lift_c, &band), 45.0, 1e-3);
+  EXPECT_EQ(band, 2u);
+  float3 at{};
+  EXPECT_EQ(meter.Measure(lift_c, &band, &at), 0.0);
+  EXPECT_EQ(band, 1u);
+  std::vector<float3> lift_e(rest.size(), float3{0.f, 0.f, 0.f});
+  lift_e[4].z = float(1.0 / std::sqrt(2.0));
+  EXPECT_NEAR(meter.Measure(lift_e, &band, &at), 45.0, 1e-3);
+  EXPECT_NEAR(every.Measure(lift_e), 45.0, 1e-3);
+  // The worst edge is DB: its rest midpoint.
+  EXPECT_FLOAT_EQ(at.x, 0.75f);
+  EXPECT_FLOAT_EQ(at.y, -0.25f);
+}
+
 }  // namespace
 }  // namespace mimetic

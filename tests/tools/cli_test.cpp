@@ -287,6 +287,18 @@ TEST(Cli, CreasesComparesTheFalloffsOnOneRig) {
       << smooth.output;
   EXPECT_EQ(test::RunTool({"creases", SurfaceRig(), "--falloff", "cubic"}).exit_code, 2);
   EXPECT_EQ(test::RunTool({"creases", SurfaceRig(), "--rings", "1.5"}).exit_code, 2);
+  const auto shape = test::RunTool({"creases", SurfaceRig(), "--min-shape", "0.9"});
+  EXPECT_EQ(shape.exit_code, 2);
+  EXPECT_NE(shape.output.find("--min-shape '0.9': expected a number in [0, 0.5]"),
+            std::string::npos)
+      << shape.output;
+  // The surface's triangles are half squares (altitude / longest edge 0.5): none is a sliver,
+  // so leaving slivers out or not gives the same number.
+  const auto all = test::RunTool({"creases", SurfaceRig(), "--falloff", "waters", "--min-shape", "0"});
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  EXPECT_EQ(CreaseNumber(all.output), CreaseNumber(waters.output));
+  EXPECT_NE(waters.output.find(" 0 sliver edges under 0.05 left out"), std::string::npos)
+      << waters.output;
 }
 
 }  // namespace
