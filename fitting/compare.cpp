@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "geometry/normals.h"
 #include "geometry/surface_query.h"
 
 namespace mimetic {
@@ -158,6 +159,51 @@ bool CompareMeshes(const MeshData& a, const MeshData& b, const CompareOptions& o
       if (out->in_region[v]) moved_b += Length64(b.positions[v] - n->positions[v]);
     out->mean_b_displacement = moved_b / out->region_count;
   }
+  return true;
+}
+
+bool SplitResidual(const MeshData& a, const MeshData& b, const MeshData& neutral,
+                   const std::vector<uint8_t>& in_region, const std::vector<float>& distance,
+                   const std::vector<uint8_t>& parts, uint32_t part_count, ResidualSplit* out,
+                   Diagnostics* diag) {
+  const size_t nv = b.vertex_count();
+  if (a.vertex_count() != nv || neutral.vertex_count() != nv) {
+    diag->Error("residual", "A, B and the neutral have " + std::to_string(a.vertex_count()) +
+                                ", " + std::to_string(nv) + " and " +
+                                std::to_string(neutral.vertex_count()) +
+                                " vertices; the split needs one topology");
+    return false;
+  }
+  if (in_region.size() != nv || distance.size() != nv || parts.size() != nv) {
+    diag->Error("residual", "the region has " + std::to_string(in_region.size()) +
+                                " entries, the distances " + std::to_string(distance.size()) +
+                                " and the parts " + std::to_string(parts.size()) + ", for " +
+                                std::to_string(nv) + " vertices");
+    return false;
+  }
+  for (size_t v = 0; v < nv; ++v)
+    if (parts[v] >= part_count) {
+      diag->Error("residual", "vertex " + std::to_string(v) + " has part " +
+                                  std::to_string(parts[v]) + ", of " +
+                                  std::to_string(part_count));
+      return false;
+    }
+  const std::vector<float3> normals = ComputeVertexNormals(neutral);
+  std::vector<double> by_part(part_count, 0.0);
+  double total = 0.0, along = 0.0, far = 0.0;
+  for (size_t v = 0; v < nv; ++v) {
+    if (!in_region[v]) continue;
+    const float3 r = a.positions[v] - b.positions[v];
+    const double rn = Dot64(r, normals[v]);
+    total += Dot64(r, r);
+    along += rn * rn;
+    far += double(distance[v]);
+    by_part[parts[v]] += double(distance[v]);
+  }
+  out->normal_share = total > 0.0 ? along / total : 0.0;
+  out->part_share.assign(part_count, 0.0);
+  for (uint32_t k = 0; k < part_count; ++k)
+    out->part_share[k] = far > 0.0 ? by_part[k] / far : 0.0;
   return true;
 }
 

@@ -76,4 +76,26 @@ bool SameTopology(const MeshData& a, const MeshData& b);
 bool CompareMeshes(const MeshData& a, const MeshData& b, const CompareOptions& options,
                    CompareResult* out, Diagnostics* diag);
 
+// Where the remaining error of A against B lies, with A, B and the neutral N of one topology,
+// over the region's vertices:
+//   normal_share   = sum (r_v . n_v)^2 / sum |r_v|^2, r_v = A_v - B_v, n_v N's vertex normal
+//                    (ComputeVertexNormals): the share of the per-vertex error that is height
+//                    (1: the rig's surface is only too high or too deep; 0: it slides to the
+//                    wrong place within the skin, which a surface distance does not see);
+//   part_share[k]  = sum over the region's vertices labelled k of distance[v], over the sum
+//                    over the region: where the surface distance (B -> A, the ratio's
+//                    numerator; CompareResult::b_distance) lies, by part of the face (labels
+//                    from the caller, < part_count).
+// A share is 0 when what it divides is 0.
+struct ResidualSplit {
+  double normal_share = 0.0;
+  std::vector<double> part_share;  // part_count entries
+};
+// False, with a message, for meshes of different vertex counts, `in_region`, `distance` or
+// `parts` of another length, a label >= part_count. Deterministic (serial sums in double).
+bool SplitResidual(const MeshData& a, const MeshData& b, const MeshData& neutral,
+                   const std::vector<uint8_t>& in_region, const std::vector<float>& distance,
+                   const std::vector<uint8_t>& parts, uint32_t part_count, ResidualSplit* out,
+                   Diagnostics* diag);
+
 }  // namespace mimetic

@@ -14,6 +14,7 @@
 
 #include "core/file_util.h"
 #include "fitting/compare.h"
+#include "fitting/creases.h"
 #include "fitting/fit.h"
 #include "fitting/solve.h"
 #include "geometry/mesh.h"
@@ -41,7 +42,9 @@ const char* kFidelityUsage =
     "for every real expression shape the rig claims it can make solves the activations\n"
     "(`mimetic solve`, every skin layer on, and again with the muscles alone) and measures the\n"
     "result (`mimetic compare`, over the vertices the real shape moves more than 2% of its\n"
-    "largest motion). Writes the table to --report (default docs/fidelity.md) and one picture\n"
+    "largest motion). Writes the table, where each shape's residual lies (along the skin's\n"
+    "normal, by part of the face) and the rig's crease numbers with Waters' and with smooth\n"
+    "fall-offs to --report (default docs/fidelity.md) and one picture\n"
     "per shape, real | rig | distance (blue 0, red = half the shape's largest motion), to\n"
     "--images (default docs/images/fidelity), N pixels a panel (--size, default 240).\n"
     "--only solves just the named shapes (the report then lists only them); --meshes writes\n"
@@ -50,6 +53,7 @@ const char* kFidelityUsage =
 struct Row {
   const IctShape* shape = nullptr;
   CompareResult on, off;     // every skin layer / muscles alone
+  ResidualSplit split;       // where the residual lies, every skin layer
   std::string top_muscles;   // the largest activations, layers on
   double solve_seconds = 0;
   std::string image;         // relative to the report
@@ -66,6 +70,27 @@ std::string Fixed(double v, int digits) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
+}
+
+// Parts of the face for the residual's split: each vertex takes the part of its nearest iBUG
+// landmark.
+constexpr const char* kParts[] = {"jaw line and cheeks", "brows and forehead", "nose", "eyes",
+                                  "mouth"};
+constexpr uint32_t kPartCount = 5;
+uint8_t PartOfLandmark(size_t i) {
+  return i < 17 ? 0 : i < 27 ? 1 : i < 36 ? 2 : i < 48 ? 3 : 4;
+}
+std::vector<uint8_t> FaceParts(const MeshData& mesh, const std::vector<float3>& landmarks) {
+  std::vector<uint8_t> parts(mesh.vertex_count(), 0);
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+    float best = -1.f;
+    for (size_t i = 0; i < landmarks.size(); ++i) {
+      const float3 d = mesh.positions[v] - landmarks[i];
+      const float dd = Dot(d, d);
+      if (best < 0.f || dd < best) best = dd, parts[v] = PartOfLandmark(i);
+    }
+  }
+  return parts;
 }
 
 // Relative path from directory `from` to `to` (both as given, made absolute).
@@ -134,6 +159,8 @@ int CmdFidelity(const Args& args) {
               template_path.c_str(), neutral_path.c_str(), rig.muscle_count(), rig.vertex_count(),
               ict.seconds);
 
+  const std::vector<uint8_t> parts = FaceParts(neutral, ict.landmarks);
+
   std::error_code ec;
   std::filesystem::create_directories(images_dir, ec);
   if (!meshes_dir.empty()) std::filesystem::create_directories(meshes_dir, ec);
@@ -179,6 +206,12 @@ int CmdFidelity(const Args& args) {
         return Fail(diag, std::string("cannot measure ") + shape->name);
       }
       if (layers) {
+        local.Clear();
+        if (!SplitResidual(posed[1], target, neutral, row.on.in_region, row.on.b_distance,
+                           parts, kPartCount, &row.split, &local)) {
+          diag.Append(local, path);
+          return Fail(diag, std::string("cannot split the residual of ") + shape->name);
+        }
         std::vector<uint32_t> order(rig.muscle_count());
         for (uint32_t m = 0; m < rig.muscle_count(); ++m) order[m] = m;
         std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
@@ -234,6 +267,67 @@ int CmdFidelity(const Args& args) {
                 Fixed(row.on.magnitude_ratio, 2).c_str(), row.solve_seconds);
     std::fflush(stdout);
     rows.push_back(std::move(row));
+  }
+
+  // Where the residual is (every layer): along the normal, and by part of the face.
+  std::string where =
+      "## Where the residual is\n\n"
+      "Over the measured region, every layer on (`fitting/compare.h` `SplitResidual`): "
+      "**largest parts**, the share of the ratio's numerator (the real shape's distance to the "
+      "rig's surface) that each part of the face holds, a vertex taking the part of its nearest "
+      "landmark (iBUG 68: jaw line and cheeks 0-16, brows and forehead 17-26, nose 27-35, eyes "
+      "36-47, mouth 48-67); **height share**, of the per-vertex error r = rig - real, the share "
+      "of the sum of |r|^2 along the neutral's normals (1: the skin is only too high or too "
+      "deep; near 0: it mostly slides to the wrong place within the surface, which the ratio "
+      "does not see).\n\n| shape | ratio | largest parts | height share |\n|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    std::vector<uint32_t> order(kPartCount);
+    for (uint32_t k = 0; k < kPartCount; ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      return r.split.part_share[a] > r.split.part_share[b];
+    });
+    std::string largest;
+    for (size_t i = 0; i < 2 && r.split.part_share[order[i]] >= 0.05; ++i)
+      largest += (i ? ", " : "") + std::string(kParts[order[i]]) + " " +
+                 Fixed(r.split.part_share[order[i]], 2);
+    where += "| " + std::string(r.shape->name) + " | " + Fixed(r.on.ratio, 3) + " | " + largest +
+             " | " + Fixed(r.split.normal_share, 2) + " |\n";
+  }
+  where += "\n";
+
+  // Creases of the fall-offs on this rig (docs/model.md §2-3): every muscle Waters', then smooth.
+  std::string creases;
+  {
+    CreaseReport report[2];
+    for (int k = 0; k < 2; ++k) {
+      RigSpec spec = ict.spec;
+      for (MuscleSpec& m : spec.muscles)
+        m.falloff = k == 0 ? MuscleFalloff::kWaters : MuscleFalloff::kSmooth;
+      Rig built;
+      local.Clear();
+      if (!BuildRig(spec, neutral, {}, &built, &local)) {
+        diag.Append(local, template_path);
+        return Fail(diag, "cannot build the rig for the crease numbers");
+      }
+      report[k] = MeasureCreases(built);
+    }
+    auto name = [&](const CreaseReport& c) {
+      return rig.muscle_count() ? rig.muscle_names()[c.worst_muscle] : std::string("none");
+    };
+    const double ratio = report[0].max_degrees > 0.f
+                             ? double(report[1].max_degrees) / double(report[0].max_degrees)
+                             : 0.0;
+    creases = "## Creases of the fall-offs\n\nThe crease number (docs/model.md §2-3, "
+              "`mimetic creases`; each muscle alone at 1, slivers left out) of this rig with "
+              "every muscle on Waters' fall-offs: " + Fixed(report[0].max_degrees, 1) +
+              " degrees (" + name(report[0]) + "); on the smooth ones: " +
+              Fixed(report[1].max_degrees, 1) + " degrees (" + name(report[1]) +
+              "); smooth / Waters' = **" + Fixed(ratio, 2) + "** (target: at most 1/3; " +
+              (ratio <= 1.0 / 3.0 ? "met" : "not met") +
+              "). Why, and the sample head's numbers: docs/calibration.md.\n\n";
+    std::printf("creases: Waters %.1f (%s), smooth %.1f (%s), ratio %.2f\n",
+                report[0].max_degrees, name(report[0]).c_str(), report[1].max_degrees,
+                name(report[1]).c_str(), ratio);
   }
 
   // The report.
@@ -301,6 +395,8 @@ int CmdFidelity(const Args& args) {
     for (size_t i = 0; i < missing.size(); ++i) md += (i ? ", " : "") + std::string(missing[i]->name);
     md += ".\n\n";
   }
+  md += where;
+  md += creases;
   md += "## Pictures: real | rig (every layer) | distance of the real shape to the rig\n\n"
         "Distance from blue (0) to red (half the shape's largest motion); grey outside the measured "
         "region.\n\n";

@@ -120,6 +120,7 @@ bool FitIctRig(const std::string& data, const std::string& template_path,
     return false;
   }
   out->units = GuessUnits(frame.scale);
+  out->landmarks = points;
   local.Clear();
   if (!FitTemplate(tmpl, out->neutral, landmarks, out->units, &out->spec, &local)) {
     diag->Append(local, template_path);

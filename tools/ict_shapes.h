@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/span.h"
 #include "geometry/mesh.h"
@@ -28,6 +29,7 @@ struct IctRig {
   std::string neutral_path;  // data + /ict-facekit/ict_skin_neutral.obj
   MeshData neutral;
   std::string units;         // the fitted rig's units (GuessUnits of the landmark frame)
+  std::vector<float3> landmarks;  // the 68 iBUG landmarks on the neutral
   RigSpec spec;
   Rig rig;
   double seconds = 0;        // reading, fitting and building

@@ -93,6 +93,48 @@ TEST(Compare, PlanesMovedByKnownAmounts) {
   EXPECT_NEAR(r.b_to_a.mean, 0.4, 1e-6);
 }
 
+// The residual's split: on the flat neutral (normal +z) B stays at rest; A is off by
+// (0.3, 0, 0.4) on the columns x < 5 (part 0, 55 vertices) and by (0, 0, 0.1) on the rest
+// (part 1); the last vertex is left out of the region. By hand: |r|^2 = 0.25 and 0.01,
+// (r . n)^2 = 0.16 and 0.01, so over 55 + 65 vertices the error is 13.75 + 0.65 = 14.40,
+// of which 8.8 + 0.65 = 9.45 along the normal. Distances (given): 0.4 in part 0, 0.1 in
+// part 1 and 7 on the left-out vertex, so part 0 holds 22 of 22 + 6.5.
+TEST(Compare, TheResidualSplitsAlongTheNormalAndByPart) {
+  const MeshData n = Plane(11, 10.f, 0.f), b = n;
+  MeshData a = n;
+  std::vector<uint8_t> parts(n.vertex_count()), region(n.vertex_count(), 1);
+  std::vector<float> distance(n.vertex_count());
+  for (size_t v = 0; v < a.vertex_count(); ++v) {
+    parts[v] = a.positions[v].x < 4.5f ? 0 : 1;
+    a.positions[v] += parts[v] == 0 ? float3{0.3f, 0.f, 0.4f} : float3{0.f, 0.f, 0.1f};
+    distance[v] = parts[v] == 0 ? 0.4f : 0.1f;
+  }
+  region.back() = 0;
+  distance.back() = 7.f;
+  ResidualSplit split;
+  Diagnostics diag;
+  ASSERT_TRUE(SplitResidual(a, b, n, region, distance, parts, 2, &split, &diag)) << diag.Format();
+  EXPECT_NEAR(split.normal_share, 9.45 / 14.40, 1e-6);
+  ASSERT_EQ(split.part_share.size(), 2u);
+  EXPECT_NEAR(split.part_share[0], 22.0 / 28.5, 1e-6);
+  EXPECT_NEAR(split.part_share[1], 6.5 / 28.5, 1e-6);
+  // No residual: every share 0.
+  ASSERT_TRUE(SplitResidual(b, b, n, region, std::vector<float>(n.vertex_count(), 0.f), parts, 2,
+                            &split, &diag));
+  EXPECT_EQ(split.normal_share, 0.0);
+  EXPECT_EQ(split.part_share[0], 0.0);
+  // Bad inputs say what is wrong.
+  const MeshData small = Plane(5, 10.f, 0.f);
+  EXPECT_FALSE(SplitResidual(small, b, n, region, distance, parts, 2, &split, &diag));
+  EXPECT_NE(diag.Format().find("25, 121 and 121 vertices"), std::string::npos) << diag.Format();
+  diag.Clear();
+  EXPECT_FALSE(SplitResidual(a, b, n, region, std::vector<float>(3), parts, 2, &split, &diag));
+  EXPECT_NE(diag.Format().find("the distances 3"), std::string::npos) << diag.Format();
+  diag.Clear();
+  EXPECT_FALSE(SplitResidual(a, b, n, region, distance, parts, 1, &split, &diag));
+  EXPECT_NE(diag.Format().find("has part 1, of 1"), std::string::npos) << diag.Format();
+}
+
 TEST(Compare, SlidingWithinThePlaneIsNoSurfaceDistanceButAVertexError) {
   // A slides 0.25 along x inside its own plane: B's interior vertices still lie on A's
   // surface (distance 0), but each vertex is 0.25 from where B has it.

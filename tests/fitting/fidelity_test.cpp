@@ -7,8 +7,10 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "fitting/compare.h"
+#include "geometry/normals.h"
 #include "io/mesh_io.h"
 #include "test_support.h"
 
@@ -61,6 +63,37 @@ TEST(FidelityTool, TheTableMatchesThePosedMeshItWrote) {
       << line << " vs " << r.direction_cosine;
   EXPECT_NE(line.find(" | " + Fixed(r.magnitude_ratio, 2) + " | "), std::string::npos)
       << line << " vs " << r.magnitude_ratio;
+  // Where the residual is: the row's height share recomputed here from the posed mesh (the
+  // per-vertex error's squares along the neutral's vertex normals over all of them).
+  const std::vector<float3> normals = ComputeVertexNormals(neutral);
+  double all = 0.0, along = 0.0;
+  for (size_t v = 0; v < target.vertex_count(); ++v) {
+    if (!r.in_region[v]) continue;
+    const float3 e = posed.positions[v] - target.positions[v];
+    all += double(Dot(e, e));
+    along += double(Dot(e, normals[v])) * double(Dot(e, normals[v]));
+  }
+  const size_t where = md.find("## Where the residual is");
+  ASSERT_NE(where, std::string::npos) << md;
+  const size_t wrow = md.find("| mouthSmile_L | " + Fixed(r.ratio, 3) + " | ", where);
+  ASSERT_NE(wrow, std::string::npos) << md.substr(where);
+  const std::string wline = md.substr(wrow, md.find('\n', wrow) - wrow);
+  EXPECT_NE(wline.find(" | " + Fixed(along / all, 2) + " |"), std::string::npos)
+      << wline << " vs " << along / all;
+  EXPECT_NE(wline.find("mouth "), std::string::npos) << wline;  // a smile's error is at the mouth
+  // The creases: the stated ratio is the quotient of the two stated numbers, and the verdict
+  // follows it.
+  const size_t creases = md.find("## Creases of the fall-offs");
+  ASSERT_NE(creases, std::string::npos) << md;
+  const size_t w_at = md.find("Waters' fall-offs: ", creases), s_at = md.find("smooth ones: ", creases),
+               q_at = md.find("smooth / Waters' = **", creases);
+  ASSERT_TRUE(w_at != std::string::npos && s_at != std::string::npos && q_at != std::string::npos)
+      << md.substr(creases);
+  const double w = std::atof(md.c_str() + w_at + 19), s = std::atof(md.c_str() + s_at + 13),
+               q = std::atof(md.c_str() + q_at + 21);
+  EXPECT_GT(w, 0.0);
+  EXPECT_NEAR(q, s / w, 0.006) << md.substr(creases, 400);
+  EXPECT_NE(md.find(q <= 1.0 / 3.0 ? "; met)" : "; not met)", creases), std::string::npos);
   EXPECT_NE(md.find("| jawOpen | the jaw, not a muscle"), std::string::npos) << md;
   EXPECT_TRUE(std::ifstream(dir + "/images/mouthSmile_L.png").good());
   // Bad usage: an unknown shape names the known ones.
