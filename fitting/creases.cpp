@@ -94,6 +94,12 @@ double CreaseMeter::Measure(span<const float3> displacement, uint32_t* band_edge
   return worst;
 }
 
+bool BuildRigWithFalloff(RigSpec spec, const MeshData& mesh, MuscleFalloff falloff, Rig* out,
+                         Diagnostics* diag) {
+  for (MuscleSpec& m : spec.muscles) m.falloff = falloff;
+  return BuildRig(spec, mesh, {}, out, diag);
+}
+
 CreaseReport MeasureCreases(const Rig& rig, int rings, double min_shape) {
   CreaseReport out;
   const uint32_t np = rig.point_count(), nm = rig.muscle_count();

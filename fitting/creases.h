@@ -23,6 +23,7 @@
 #include "core/math.h"
 #include "core/span.h"
 #include "geometry/topology.h"
+#include "rig/offline/rig_builder.h"
 #include "rig/runtime/rig.h"
 
 namespace mimetic {
@@ -42,6 +43,11 @@ struct CreaseReport {
 // Measures every muscle of `rig`. `rings` >= 0 (2 is the documented default); `min_shape` 0
 // measures every edge.
 CreaseReport MeasureCreases(const Rig& rig, int rings = 2, double min_shape = kCreaseMinShape);
+
+// `spec` built on `mesh` with every muscle's fall-off set to `falloff`: the two rigs a crease
+// comparison measures (Waters' against smooth on the same placement). BuildRig's result.
+bool BuildRigWithFalloff(RigSpec spec, const MeshData& mesh, MuscleFalloff falloff, Rig* out,
+                         Diagnostics* diag);
 
 // The same measure for any displacement field on one mesh (the calibration's crease rule,
 // fitting/calibrate.h): built once per mesh, then one field at a time.

@@ -38,13 +38,6 @@ static const char* kCreasesUsage =
 
 namespace {
 
-// The rig rebuilt with every muscle's fall-off set to `falloff`.
-bool WithFalloff(const LoadedRig& loaded, MuscleFalloff falloff, Rig* out, Diagnostics* diag) {
-  RigSpec spec = loaded.spec;
-  for (MuscleSpec& m : spec.muscles) m.falloff = falloff;
-  return BuildRig(spec, loaded.mesh, {}, out, diag);
-}
-
 // `mesh` posed by `rig` with muscle m at 1 (the input's vertices; refinement's are dropped).
 MeshData PoseOne(const Rig& rig, const MeshData& mesh, int m) {
   std::vector<float> act(rig.muscle_count(), 0.f);
@@ -109,11 +102,11 @@ int CmdCreases(const Args& args) {
     return 1;
   }
   if (parsed.Has("falloff")) {
-    for (MuscleSpec& m : loaded.spec.muscles)
-      m.falloff = falloff == "smooth" ? MuscleFalloff::kSmooth : MuscleFalloff::kWaters;
+    const MuscleFalloff kind = falloff == "smooth" ? MuscleFalloff::kSmooth : MuscleFalloff::kWaters;
+    for (MuscleSpec& m : loaded.spec.muscles) m.falloff = kind;  // as the lines below print it
     Diagnostics build;
     Rig rebuilt;
-    if (!BuildRig(loaded.spec, loaded.mesh, {}, &rebuilt, &build)) {
+    if (!BuildRigWithFalloff(loaded.spec, loaded.mesh, kind, &rebuilt, &build)) {
       diag.Append(build, parsed.positional[0]);
       std::fputs(diag.Format().c_str(), stderr);
       return 1;
@@ -137,8 +130,8 @@ int CmdCreases(const Args& args) {
   if (!parsed.Has("image")) return 0;
   Rig waters, smooth;
   Diagnostics build;
-  if (!WithFalloff(loaded, MuscleFalloff::kWaters, &waters, &build) ||
-      !WithFalloff(loaded, MuscleFalloff::kSmooth, &smooth, &build)) {
+  if (!BuildRigWithFalloff(loaded.spec, loaded.mesh, MuscleFalloff::kWaters, &waters, &build) ||
+      !BuildRigWithFalloff(loaded.spec, loaded.mesh, MuscleFalloff::kSmooth, &smooth, &build)) {
     diag.Append(build, parsed.positional[0]);
     std::fputs(diag.Format().c_str(), stderr);
     return 1;

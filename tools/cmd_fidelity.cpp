@@ -300,16 +300,18 @@ int CmdFidelity(const Args& args) {
   {
     CreaseReport report[2];
     for (int k = 0; k < 2; ++k) {
-      RigSpec spec = ict.spec;
-      for (MuscleSpec& m : spec.muscles)
-        m.falloff = k == 0 ? MuscleFalloff::kWaters : MuscleFalloff::kSmooth;
+      const MuscleFalloff kind = k == 0 ? MuscleFalloff::kWaters : MuscleFalloff::kSmooth;
+      // The fitted rig itself when every muscle already has that fall-off (the default
+      // template's are all smooth): no second build.
+      const bool as_fitted = std::all_of(ict.spec.muscles.begin(), ict.spec.muscles.end(),
+                                         [&](const MuscleSpec& m) { return m.falloff == kind; });
       Rig built;
       local.Clear();
-      if (!BuildRig(spec, neutral, {}, &built, &local)) {
+      if (!as_fitted && !BuildRigWithFalloff(ict.spec, neutral, kind, &built, &local)) {
         diag.Append(local, template_path);
         return Fail(diag, "cannot build the rig for the crease numbers");
       }
-      report[k] = MeasureCreases(built);
+      report[k] = MeasureCreases(as_fitted ? rig : built);
     }
     auto name = [&](const CreaseReport& c) {
       return rig.muscle_count() ? rig.muscle_names()[c.worst_muscle] : std::string("none");
