@@ -385,6 +385,7 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
 
   RigSpec spec;
   spec.units = units;
+  spec.refinement.falloff_error = tmpl.falloff_error;  // docs/model.md §11
   // What ties the per-vertex thickness and the curves' texture coordinates to this mesh.
   spec.mesh_fingerprint = ComputeMeshFingerprint(head);
   const float s = frame.scale;

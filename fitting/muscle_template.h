@@ -152,6 +152,9 @@ struct MuscleTemplate {
   std::optional<TemplateJaw> jaw;  // absent = the fitted rig has no jaw
   std::vector<TemplateTensionRegion> tension_regions;  // `mirror` expanded, file order
   std::optional<TemplateFineScale> fine_scale;  // absent = the fitted rig has none
+  // The fitted rig's refinement.falloff_error (docs/model.md §11): refinement where each
+  // muscle's fall-off bends; a fraction of a muscle's peak, so it has no units. 0 (absent) = off.
+  float falloff_error = 0.f;
 };
 
 // The weight of tension region `r` at face-frame position `p` (units of s), in [0, 1]; `front`

@@ -176,7 +176,10 @@ const Object kLayers = {"layers", {
 // docs/model.md §11.
 const Object kRefinement = {"refinement", {
     Bool("enabled"),
-    Number("edge_fraction", "a number in (0, 1] (fraction of the wrinkle width)").Above(0).Max(1)}};
+    Number("edge_fraction", "a number in (0, 1] (fraction of the wrinkle width)").Above(0).Max(1),
+    Number("falloff_error", "a number in [0, 1) (0 = off)").Min(0).Below(1)
+        .About("largest error of a muscle's fall-off interpolated over one edge, as a fraction "
+               "of its peak; 0 = off")}};
 
 // docs/model.md §18: the jaw's hinge, range and weights.
 const Object kJaw = {
@@ -406,6 +409,7 @@ void RigRules::Root(const View& top, RigSpec* spec) {
   const View refinement = top.Member("refinement");
   refinement.Read("enabled", &spec->refinement.enabled);
   refinement.Read("edge_fraction", &spec->refinement.edge_fraction);
+  refinement.Read("falloff_error", &spec->refinement.falloff_error);
   if (top.Has("jaw")) Jaw(top.Member("jaw"), spec);
   std::map<std::string, size_t> region_names;
   for (size_t i = 0; i < top.Size("tension_regions"); ++i) {
@@ -964,10 +968,13 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
   const RefinementSpec& r = spec.refinement;
   // `!(a == b)` so that a NaN edge fraction is written (and then refused by the check).
   if (r.enabled != default_refinement.enabled ||
-      !(r.edge_fraction == default_refinement.edge_fraction)) {
+      !(r.edge_fraction == default_refinement.edge_fraction) ||
+      !(r.falloff_error == default_refinement.falloff_error)) {
     ordered_json j;
     j["enabled"] = r.enabled;
     j["edge_fraction"] = ShortestDecimal(r.edge_fraction);
+    if (!(r.falloff_error == default_refinement.falloff_error))
+      j["falloff_error"] = ShortestDecimal(r.falloff_error);
     root["refinement"] = std::move(j);
   }
   return root;

@@ -89,6 +89,9 @@ const Object kFineScale = {"fine_scale", {
           "an array of 2 fields").Count(2).Required(),
     Number("rest_amplitude", "a number in [0, 1]").Min(0).Max(1)
         .About("r of M(s) (docs/model.md §23); default 0.5")}};
+const Object kTemplateRefinement = {"refinement", {
+    Number("falloff_error", "a number in [0, 1) (0 = off)").Min(0).Below(1)
+        .About("the fitted rig's refinement.falloff_error (docs/model.md §11); default 0 = off")}};
 const Object kThickness = {"thickness", {
     Number("base").Min(0).Required().About("units of s"),
     Numbers("front", 2, "[z0, z1], two numbers with z0 < z1 (units of s)"),
@@ -185,7 +188,9 @@ const Object kTemplate = {"a muscle template", {
                                                           "\"center\", \"radius\", ...}"),
           "an array of tension regions"),
     ObjectOf("fine_scale", kFineScale, "a fine_scale object {\"fields\": [...]}")
-        .About("default fine-scale direction fields (docs/model.md §20)")}};
+        .About("default fine-scale direction fields (docs/model.md §20)"),
+    ObjectOf("refinement", kTemplateRefinement, "a refinement object {\"falloff_error\": ...}")
+        .About("refinement the fitted rig asks for beyond its wrinkles'")}};
 
 const Format kTemplateFormat = {
     .name = kFormatName,
@@ -257,6 +262,7 @@ void TemplateRules::Root(const View& top, MuscleTemplate* out) {
   }
   for (const TemplateTensionRegion& g : out->tension_regions) names.push_back(g.name);
   UniqueNames(names, origins, "tension region");
+  top.Member("refinement").Read("falloff_error", &out->falloff_error);
   if (top.Has("fine_scale")) {
     const View f = top.Member("fine_scale");
     if (!f.ok()) return;
@@ -765,6 +771,11 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     fs["fields"] = fields;
     if (!(t.fine_scale->rest_amplitude == 0.5f)) fs["rest_amplitude"] = Short(t.fine_scale->rest_amplitude);
     j["fine_scale"] = fs;
+  }
+  if (!(t.falloff_error == 0.f)) {
+    ordered_json r;
+    r["falloff_error"] = Short(t.falloff_error);
+    j["refinement"] = r;
   }
   std::string out;
   Pretty(j, 0, &out);

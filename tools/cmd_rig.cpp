@@ -114,7 +114,10 @@ int CmdInfo(const Args& args) {
   std::printf("vertices:   %u (%u surface points after welding seams)", rig.vertex_count(),
               rig.point_count());
   if (file_vertices != 0 && rig.vertex_count() != file_vertices)
-    std::printf("; the file has %u, refined where wrinkles act", file_vertices);
+    std::printf("; the file has %u, refined where wrinkles act%s", file_vertices,
+                !loaded.compiled && loaded.spec.refinement.falloff_error > 0.f
+                    ? " and muscles' fall-offs bend"
+                    : "");
   std::printf("\n");
   std::printf("triangles:  %u\n", rig.triangle_count());
   std::printf("bounds:     [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] (size %.4g x %.4g x %.4g %s)\n",

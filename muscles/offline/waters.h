@@ -39,4 +39,21 @@ float3 SheetMuscleDisplacement(const SheetMuscleSpec& m, float3 p, float k,
 // The muscle's own type and fall-off.
 float3 MuscleDisplacement(const MuscleSpec& m, float3 p, float k);
 
+// docs/model.md §11 (choice): how sharply the muscle's fall-off profile (its displacement
+// magnitude over its strength, 1 at the peak) bends near `p`, in 1 / mesh units^2: the larger of
+// its second derivatives along the two directions the fall-off varies in (linear: radially and
+// around the axis, arc length D mu; sheet: along the fibre and across it), each factor's own
+// bounded by the smooth fall-off's largest, |(cos^2(x pi/2))''| <= pi^2/2 per fall-off width
+// squared, times the other factor's value:
+//   linear: pi^2/2 * max(A^2 / W_r^2, R^2 / (Omega D)^2),  W_r = Rs or Rf - Rs;
+//   sheet:  pi^2/2 * max(Fw^2 / W_l^2, Fl^2 / (Ws/2)^2),  W_l = Rs or Ls - Rs.
+// Beyond the zone by up to half a fall-off width (radius, length, width; the angle by half of
+// Omega) it is the nearest edge's, so triangles across the edge are refined too; 0 farther out
+// and for degenerate geometry. Independent of the strength (so tuning a strength never changes
+// the refined mesh) and of the fall-off kind (Waters' own bends half as much in the zone but
+// kinks at its edges whatever the sampling), so the two kinds compare on the same mesh. Linear
+// interpolation over an edge of length h errs by at most h^2 c / 8 of the peak: refinement keeps
+// that under refinement.falloff_error.
+double MuscleFalloffCurvature(const MuscleSpec& m, float3 p);
+
 }  // namespace mimetic

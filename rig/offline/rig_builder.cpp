@@ -4,9 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <string>
+#include <unordered_map>
 
 #include "muscles/offline/muscle_builder.h"
+#include "muscles/offline/waters.h"
 #include "geometry/normals.h"
 #include "geometry/bounds.h"
 #include "geometry/orientation.h"
@@ -295,6 +298,62 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
   return ok;
 }
 
+// docs/model.md §11: the input's slivers (a triangle whose height over its longest edge L is
+// under kSliverShape, as the crease meter's kCreaseMinShape), each as a ball of radius L about
+// its centroid, which holds its edges' midpoints and its neighbours'. Fall-off refinement stays
+// out of them: splitting a sliver keeps its height while its new points move with the muscle
+// field instead of along its edge, so a sliver 0.07 mm high and 17 mm long (the sample head's
+// submental pinch) turns over under motions that leave it whole alone.
+constexpr double kSliverShape = 0.05;
+class SliverBalls {
+ public:
+  explicit SliverBalls(const MeshData& mesh) {
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      const float3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]],
+                   c = mesh.positions[mesh.indices[3 * t + 2]];
+      const double l = std::max({double(Length(b - a)), double(Length(c - b)), double(Length(a - c))});
+      const double twice_area = Length(Cross(b - a, c - a));
+      if (!(l > 0.0) || twice_area / (l * l) >= kSliverShape) continue;
+      balls_.push_back({(a + b + c) * (1.f / 3.f), l});
+      cell_ = std::max(cell_, l);
+    }
+    for (uint32_t i = 0; i < balls_.size(); ++i) grid_[Key(balls_[i].center, 0, 0, 0)].push_back(i);
+  }
+  bool Holds(float3 p) const {
+    if (balls_.empty()) return false;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid_.find(Key(p, dx, dy, dz));
+          if (it == grid_.end()) continue;
+          for (uint32_t i : it->second) {
+            const float3 d = p - balls_[i].center;
+            if (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= balls_[i].r * balls_[i].r)
+              return true;
+          }
+        }
+    return false;
+  }
+
+ private:
+  struct Ball {
+    float3 center;
+    double r;
+  };
+  uint64_t Key(float3 p, int dx, int dy, int dz) const {
+    // Clamped, so that a tiny sliver's cell cannot overflow (far cells then share keys: more
+    // balls to test, never a wrong answer).
+    auto c = [&](float v, int d) {
+      const double q = std::clamp(std::floor(double(v) / cell_), -1e6, 1e6);
+      return uint64_t(int64_t(q) + d) & 0x1FFFFF;
+    };
+    return c(p.x, dx) << 42 | c(p.y, dy) << 21 | c(p.z, dz);
+  }
+  std::vector<Ball> balls_;
+  double cell_ = 0.0;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> grid_;
+};
+
 // docs/model.md §11: the target edge length at a surface place, the smallest over the wrinkles
 // whose support holds it (fraction x width: u for a muscle wrinkle, whose furrows are u wide,
 // w or a0 for a curve wrinkle), +infinity elsewhere. A curve's support is measured in texture
@@ -385,8 +444,19 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
                         fraction * c.spec.width});
     }
   }
-  return [regions, curves](float3 position, float2 uv) {
+  // Fall-offs (docs/model.md §11): every muscle, when asked for; h = sqrt(8 E / c) keeps the
+  // linear interpolation of its profile within E of its peak. Not near the input's slivers.
+  std::vector<MuscleSpec> falloffs;
+  const double error = spec.refinement.falloff_error;
+  if (error > 0.0) falloffs = spec.muscles;
+  std::shared_ptr<const SliverBalls> slivers;
+  if (!falloffs.empty()) slivers = std::make_shared<const SliverBalls>(mesh);
+  return [regions, curves, falloffs, error, slivers](float3 position, float2 uv) {
     float target = std::numeric_limits<float>::infinity();
+    double largest = 0.0;
+    for (const MuscleSpec& m : falloffs) largest = std::max(largest, MuscleFalloffCurvature(m, position));
+    if (largest > 0.0 && !slivers->Holds(position))
+      target = float(std::sqrt(8.0 * error / largest));
     for (const MuscleRegion& r : regions) {
       if (!(r.target > 0.f) || r.target >= target) continue;
       const float3 v = position - r.center;
@@ -546,6 +616,16 @@ bool CheckRefinementGrowth(const RigSpec& spec, const MeshData& mesh,
   RigSpec alone = spec;
   alone.curve_wrinkles.clear();
   alone.muscle_wrinkles.assign(spec.muscle_wrinkles.size(), std::nullopt);
+  alone.refinement.falloff_error = 0.f;
+  if (spec.refinement.falloff_error > 0.f) {
+    alone.refinement.falloff_error = spec.refinement.falloff_error;
+    worst = EstimateRefinedTriangles(mesh, MakeRefinementField(alone, mesh), options);
+    alone.refinement.falloff_error = 0.f;
+    where = "refinement.falloff_error";
+    detail = "refinement.falloff_error " + Short(spec.refinement.falloff_error) +
+             " (where the muscles' fall-offs bend) alone would give about " + Short(worst) +
+             " triangles";
+  }
   if (spec.layers.muscle_wrinkles)
     for (size_t m = 0; m < spec.muscles.size() && m < spec.muscle_wrinkles.size(); ++m) {
       if (!spec.muscle_wrinkles[m]) continue;
@@ -586,14 +666,18 @@ bool CheckRefinementGrowth(const RigSpec& spec, const MeshData& mesh,
                " would stay within the limit";
     }
   }
-  diag->Error(where, "refinement where wrinkles act would grow the mesh from " +
+  diag->Error(where, std::string(spec.refinement.falloff_error > 0.f
+                                     ? "refinement where wrinkles act and fall-offs bend"
+                                     : "refinement where wrinkles act") +
+                         " would grow the mesh from " +
                          std::to_string(mesh.triangle_count()) + " to about " + Short(estimate) +
                          " triangles, more than the limit of " + Short(limit) + " (" +
                          Short(kMaxRefinementGrowth) + "x the mesh's triangles, at least " +
                          Short(kMinRefinementLimit) + ", at most " +
                          Short(double(options.max_triangles)) + "; docs/model.md §11)" +
                          (detail.empty() ? "" : ": " + detail) +
-                         "; use fewer or wider wrinkles, a larger refinement.edge_fraction, or "
+                         "; use fewer or wider wrinkles, a larger refinement.edge_fraction or "
+                         "refinement.falloff_error, or "
                          "\"refinement\": {\"enabled\": false}");
   return false;
 }
@@ -601,6 +685,7 @@ bool CheckRefinementGrowth(const RigSpec& spec, const MeshData& mesh,
 bool NeedsRefinement(const RigSpec& spec) {
   if (!spec.refinement.enabled) return false;
   bool any = spec.layers.curve_wrinkles && !spec.curve_wrinkles.empty();
+  any |= spec.refinement.falloff_error > 0.f && !spec.muscles.empty();
   if (spec.layers.muscle_wrinkles)
     for (const auto& w : spec.muscle_wrinkles) any |= w.has_value();
   return any;

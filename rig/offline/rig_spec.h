@@ -33,6 +33,11 @@ struct ThicknessSpec {
 struct RefinementSpec {
   bool enabled = true;
   float edge_fraction = 0.25f;  // (0, 1]
+  // Where a muscle's fall-off bends (docs/model.md §11): edges shorter than
+  // sqrt(8 falloff_error / MuscleFalloffCurvature), so that interpolating each muscle's profile
+  // linearly over an edge errs by at most falloff_error of its peak; not near the input's
+  // slivers. 0 (the default for files that do not say) = off.
+  float falloff_error = 0.f;  // 0 (off) or in (0, 1)
 };
 
 // A tension region (docs/tension.md): a named mask over the mesh, one weight in [0, 1] per file

@@ -62,6 +62,7 @@ std::vector<Region> Regions() {
 struct Worst {
   double dot = 1;
   uint32_t triangle = 0;
+  float3 at{};  // the triangle's rest centroid
   std::string pose;
   size_t flips = 0;  // (pose, triangle) pairs with dot <= 0
   size_t poses = 0;
@@ -72,6 +73,7 @@ class FoldOverChecker {
   explicit FoldOverChecker(const Rig& rig)
       : rig_(rig), context_(rig), positions_(size_t(rig.vertex_count()) * 3) {
     const MeshData rest = RestMesh(rig);
+    rest_positions_ = rest.positions;
     indices_ = rest.indices;
     rest_normals_.resize(indices_.size() / 3);
     for (size_t t = 0; t < rest_normals_.size(); ++t) {
@@ -104,6 +106,8 @@ class FoldOverChecker {
       if (dot < worst->dot) {
         worst->dot = dot;
         worst->triangle = uint32_t(t);
+        worst->at = (rest_positions_[indices_[3 * t]] + rest_positions_[indices_[3 * t + 1]] +
+                     rest_positions_[indices_[3 * t + 2]]) * (1.f / 3.f);
         worst->pose = pose;
       }
     }
@@ -123,6 +127,7 @@ class FoldOverChecker {
   const Rig& rig_;
   EvaluateContext context_;
   std::vector<float> positions_;
+  std::vector<float3> rest_positions_;
   std::vector<uint32_t> indices_;
   std::vector<std::array<double, 3>> rest_normals_;
 };
@@ -174,9 +179,9 @@ Worst Sample(const Rig& rig, const SkinLayers& layers, const char* label, const 
   Worst worst;
   for (const auto& [pose, a] : Poses(rig)) checker.Check(a, layers, pose, &worst);
   std::printf("%s, %s: %zu poses, %u triangles; worst dot(n_posed, n_rest) %.4f (%s, output "
-              "triangle %u); %zu flipped (pose, triangle) pairs\n",
+              "triangle %u at %.4g %.4g %.4g); %zu flipped (pose, triangle) pairs\n",
               label, what, worst.poses, uint32_t(rig.vertex_indices().size() / 3), worst.dot,
-              worst.pose.c_str(), worst.triangle, worst.flips);
+              worst.pose.c_str(), worst.triangle, worst.at.x, worst.at.y, worst.at.z, worst.flips);
   return worst;
 }
 

@@ -379,7 +379,13 @@ std::vector<BadCase> BadCases() {
        {"refinement.enabled: expected boolean (true or false), got 1"}},
       {"unknown key in refinement", Extra(R"("refinement": {"levels": 2})"),
        {"refinement.levels: unknown key \"levels\"; allowed keys for refinement: enabled, "
-        "edge_fraction"}},
+        "edge_fraction, falloff_error"}},
+      {"refinement.falloff_error -1", Extra(R"("refinement": {"falloff_error": -1})"),
+       {"refinement.falloff_error: expected a number in [0, 1) (0 = off), got -1"}},
+      {"refinement.falloff_error 1", Extra(R"("refinement": {"falloff_error": 1})"),
+       {"refinement.falloff_error: expected a number in [0, 1) (0 = off), got 1"}},
+      {"refinement.falloff_error text", Extra(R"("refinement": {"falloff_error": "fine"})"),
+       {"refinement.falloff_error: expected a number in [0, 1) (0 = off), got string"}},
       // The jaw (docs/model.md §18).
       {"jaw not an object", Extra(R"("jaw": 3)"), {"jaw: expected object {\"condyles\""}},
       {"jaw without condyles", Extra(R"("jaw": {"range_deg": 20, "mouth": [0, 0, 10], "mouth_width": 40})"),
@@ -1186,6 +1192,16 @@ TEST(RigJsonTest, SavedWrinkleTextHasTheDocumentedLayout) {
   EXPECT_NE(ReadText(path).find("\"edge_fraction\": 0.5"), std::string::npos);
   EXPECT_NE(ReadText(path).find("\"enabled\": true"), std::string::npos);
   EXPECT_EQ(ReadText(path).find("layers"), std::string::npos);
+  EXPECT_EQ(ReadText(path).find("falloff_error"), std::string::npos);  // 0: not written
+  // A fall-off slope alone writes the block, and reads back.
+  plain.refinement = RefinementSpec();
+  plain.refinement.falloff_error = 0.005f;
+  ASSERT_TRUE(SaveRigSpec(path, plain, &diag)) << diag.Format();
+  EXPECT_NE(ReadText(path).find("\"falloff_error\": 0.005"), std::string::npos);
+  RigSpec back;
+  ASSERT_TRUE(ParseRigSpec(ReadText(path), "", &back, &diag)) << diag.Format();
+  EXPECT_EQ(back.refinement.falloff_error, 0.005f);
+  EXPECT_EQ(back.refinement.edge_fraction, 0.25f);
 }
 
 TEST(RigJsonTest, SaveRefusesBadWrinkles) {

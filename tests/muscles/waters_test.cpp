@@ -575,5 +575,107 @@ TEST(MuscleTable, FiveThousandTinyMusclesEachMoveTheirFourCorners) {
     }
 }
 
+// docs/model.md §11: MuscleFalloffCurvature, by hand (per unit strength: pi^2/2 times the terms).
+MuscleSpec LinearOf(float strength) {
+  MuscleSpec m;
+  m.type = MuscleType::kLinear;
+  m.linear = Linear();
+  m.strength = strength;
+  return m;
+}
+
+TEST(FalloffCurvature, LinearByHand) {
+  const MuscleSpec m = LinearOf(2.f);
+  const double bend = kPi * kPi / 2;  // pi^2 / 2
+  auto at = [&](double d, double mu) {
+    return MuscleFalloffCurvature(m, {float(d * std::cos(mu)), float(d * std::sin(mu)), 0.f});
+  };
+  // On the axis (A = 1) in the outer fall-off, W = Rf - Rs = 5: pi^2/2 / 25, which beats the
+  // angular term R^2 / (Omega D)^2 <= 1 / (pi/3 * 7.5)^2 = 0.0162.
+  EXPECT_NEAR(at(7.5, 0), bend / 25, 1e-6);
+  EXPECT_NEAR(at(10, 0), bend / 25, 1e-6);
+  // Beyond Rf by less than half the fall-off width (2.5): the edge's value; beyond it, 0.
+  EXPECT_NEAR(at(12, 0), bend / 25, 1e-6);
+  EXPECT_EQ(at(13, 0), 0.0);
+  // On the angular edge at D = Rs (R = 1, A = 0): pi^2/2 / (Omega Rs)^2 = pi^2/2 / (5 pi / 3)^2
+  // = 4.5 / 25; past it up to 1.5 Omega the same, farther 0.
+  EXPECT_NEAR(at(5, kPi / 3), 4.5 / 25, 1e-5);
+  EXPECT_NEAR(at(5, 1.4 * kPi / 3), 4.5 / 25, 1e-5);
+  EXPECT_EQ(at(5, 1.6 * kPi / 3), 0.0);
+  // At the attachment R^2 / D^2 tends to (pi / (2 Rs))^2, so the angular term is
+  // (pi/10)^2 / (pi/3)^2 = 0.09 > 1 / Rs^2 = 0.04: pi^2/2 * 0.09.
+  EXPECT_NEAR(at(0, 0), bend * 0.09, 1e-5);
+  EXPECT_NEAR(at(1e-3, 0), bend * 0.09, 1e-4);
+  // The strength does not enter (tuning it never changes the refined mesh); Rf <= Rs bends nothing.
+  EXPECT_EQ(MuscleFalloffCurvature(LinearOf(0.f), {7.5f, 0, 0}), at(7.5, 0));
+  EXPECT_EQ(MuscleFalloffCurvature(LinearOf(40.f), {7.5f, 0, 0}), at(7.5, 0));
+  MuscleSpec flat = LinearOf(2.f);
+  flat.linear.falloff_end = flat.linear.falloff_start;
+  EXPECT_EQ(MuscleFalloffCurvature(flat, {5, 0, 0}), 0.0);
+}
+
+TEST(FalloffCurvature, SheetByHand) {
+  MuscleSpec m;
+  m.type = MuscleType::kSheet;
+  m.sheet = Sheet();  // Ls = 20, Ws = 20, Rs = 5
+  m.strength = 2.f;
+  const double bend = kPi * kPi / 2;  // pi^2 / 2
+  // On the central fibre at l = Rs (Fl = Fw = 1): max(1 / Rs^2, 1 / (Ws/2)^2) = 1 / 25.
+  EXPECT_NEAR(MuscleFalloffCurvature(m, {5, 0, 0}), bend / 25, 1e-6);
+  // At the width edge h = 10 (Fw = 0), l = Rs: 1 / 10^2; past it up to 0.75 Ws = 15 the same.
+  EXPECT_NEAR(MuscleFalloffCurvature(m, {5, 10, 0}), bend / 100, 1e-6);
+  EXPECT_NEAR(MuscleFalloffCurvature(m, {5, 14, 0}), bend / 100, 1e-6);
+  EXPECT_EQ(MuscleFalloffCurvature(m, {5, 16, 0}), 0.0);
+  // At the far end l = Ls (Fl = 0), h = 0: Fw^2 / (Ls - Rs)^2 = 1 / 225; beyond it by up to
+  // half of Ls - Rs (7.5) the same.
+  EXPECT_NEAR(MuscleFalloffCurvature(m, {20, 0, 0}), bend / 225, 1e-6);
+  EXPECT_NEAR(MuscleFalloffCurvature(m, {27, 0, 0}), bend / 225, 1e-6);
+  EXPECT_EQ(MuscleFalloffCurvature(m, {28, 0, 0}), 0.0);
+  // Behind the attachment line by up to Rs / 2 = 2.5: the line's value (Fl = 0,
+  // Fw^2 / Rs^2 = 1 / 25); farther, 0.
+  EXPECT_NEAR(MuscleFalloffCurvature(m, {-2, 0, 0}), bend / 25, 1e-6);
+  EXPECT_EQ(MuscleFalloffCurvature(m, {-3, 0, 0}), 0.0);
+}
+
+// A second method: where the bound is reached (at a fall-off's edge, where cos^2's second
+// derivative is pi^2/2 per width squared), it equals the smooth displacement magnitude's second
+// difference along that direction, over the strength.
+TEST(FalloffCurvature, IsTheSmoothProfilesSecondDerivativeAtAnEdge) {
+  const MuscleSpec lin = LinearOf(2.f);
+  const double h = 2e-3;
+  auto second = [&](auto f, double x) { return (f(x + h) - 2 * f(x) + f(x - h)) / (h * h); };
+  auto radial = [&](double d) {
+    return double(Length(LinearMuscleDisplacement(lin.linear, {float(d), 0, 0}, lin.strength,
+                                                   MuscleFalloff::kSmooth)));
+  };
+  const double d = 10 - 0.01;  // just inside Rf
+  EXPECT_NEAR(second(radial, d) / 2, MuscleFalloffCurvature(lin, {float(d), 0, 0}), 2e-3);
+  // Around the axis at D = Rs, arc length s = Rs mu, just inside Omega.
+  auto around = [&](double s) {
+    const double mu = s / 5.0;
+    return double(Length(LinearMuscleDisplacement(
+        lin.linear, {float(5 * std::cos(mu)), float(5 * std::sin(mu)), 0}, lin.strength,
+        MuscleFalloff::kSmooth)));
+  };
+  const double s = 5 * (kPi / 3 - 0.002);
+  const float3 ps{float(5 * std::cos(s / 5)), float(5 * std::sin(s / 5)), 0};
+  EXPECT_NEAR(second(around, s) / 2, MuscleFalloffCurvature(lin, ps), 5e-3);
+  // Sheet: across the fibre just inside Ws / 2 at l = Rs, and along it just inside Ls.
+  MuscleSpec sh;
+  sh.type = MuscleType::kSheet;
+  sh.sheet = Sheet();
+  sh.strength = 2.f;
+  auto across = [&](double y) {
+    return double(Length(SheetMuscleDisplacement(sh.sheet, {5, float(y), 0}, sh.strength,
+                                                 MuscleFalloff::kSmooth)));
+  };
+  EXPECT_NEAR(second(across, 9.99) / 2, MuscleFalloffCurvature(sh, {5, 9.99f, 0}), 2e-3);
+  auto along = [&](double x) {
+    return double(Length(SheetMuscleDisplacement(sh.sheet, {float(x), 0, 0}, sh.strength,
+                                                 MuscleFalloff::kSmooth)));
+  };
+  EXPECT_NEAR(second(along, 19.99) / 2, MuscleFalloffCurvature(sh, {19.99f, 0, 0}), 2e-3);
+}
+
 }  // namespace
 }  // namespace mimetic

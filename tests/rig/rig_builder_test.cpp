@@ -13,6 +13,7 @@
 
 #include "content/procedural.h"
 #include "geometry/fingerprint.h"
+#include "muscles/offline/waters.h"
 #include "rig/offline/rig_builder.h"
 
 namespace mimetic {
@@ -228,6 +229,94 @@ TEST(BuildRigRefinement, TinyValuesAreRefusedBeforeRefiningNamingTheKey) {
     Diagnostics off;
     EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &off)) << off.Format();
   }
+}
+
+// docs/model.md §11: refinement.falloff_error refines where the muscles' fall-offs bend, so that
+// every edge of the built rig is at most sqrt(8 E / MuscleFalloffCurvature) long at its
+// midpoint (the largest curvature over the muscles); 0 leaves the mesh as it is; the input's
+// slivers are left whole.
+TEST(BuildRigRefinement, FalloffErrorBoundsEveryEdgeByTheCurvature) {
+  const MeshData mesh = Surface();  // 5 mm grid, no wrinkles in Spec()
+  RigSpec spec = Spec();
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  EXPECT_EQ(rig.triangle_count(), 800u);
+  constexpr double kError = 0.002;
+  spec.refinement.falloff_error = float(kError);
+  Diagnostics refined;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &refined)) << refined.Format();
+  EXPECT_TRUE(refined.items().empty()) << refined.Format();  // every edge met its target
+  ASSERT_GT(rig.triangle_count(), 800u);
+  auto bend_at = [&](float3 p) {
+    double bend = 0;
+    for (const MuscleSpec& m : spec.muscles) bend = std::max(bend, MuscleFalloffCurvature(m, p));
+    return bend;
+  };
+  const MeshData rest = RestMesh(rig);
+  size_t constrained = 0;
+  for (size_t t = 0; t < rest.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const float3 a = rest.positions[rest.indices[3 * t + k]];
+      const float3 b = rest.positions[rest.indices[3 * t + (k + 1) % 3]];
+      const double bend = bend_at(0.5f * (a + b));
+      if (!(bend > 0)) continue;
+      ++constrained;
+      EXPECT_LE(Length(b - a), std::sqrt(8 * kError / bend) * (1 + 1e-5))
+          << "triangle " << t << " edge " << k;
+    }
+  EXPECT_GT(constrained, 1000u);
+
+  // A row of slivers (row 10 moved to 0.02 mm from row 11: triangles 5 mm long, 0.02 high)
+  // where the curvature asks for edges shorter than 5 mm: the mesh around them is refined, the
+  // slivers are not (no new point on one: within 0.05 mm, in sum of distances, of the segment
+  // of its longest edge, which holds the whole sliver).
+  MeshData pinched = mesh;
+  for (uint32_t i = 0; i < kSide; ++i)
+    pinched.positions[10 * kSide + i].y = pinched.positions[11 * kSide + i].y - 0.02f;
+  struct Sliver {
+    float3 a, b;  // its longest edge
+  };
+  std::vector<Sliver> slivers;
+  size_t asked = 0;
+  for (size_t t = 0; t < pinched.triangle_count(); ++t) {
+    float3 q[3];
+    for (int k = 0; k < 3; ++k) q[k] = pinched.positions[pinched.indices[3 * t + k]];
+    int longest = 0;
+    for (int k = 1; k < 3; ++k)
+      if (Length(q[(k + 1) % 3] - q[k]) > Length(q[(longest + 1) % 3] - q[longest])) longest = k;
+    const float3 a = q[longest], b = q[(longest + 1) % 3];
+    const float l = Length(b - a);
+    if (!(Length(Cross(q[1] - q[0], q[2] - q[0])) / (l * l) < 0.05f)) continue;
+    slivers.push_back({a, b});
+    asked += std::sqrt(8 * kError / bend_at((q[0] + q[1] + q[2]) * (1.f / 3))) < l;
+  }
+  ASSERT_EQ(slivers.size(), 2u * (kSide - 1));
+  EXPECT_GT(asked, 0u);
+  Rig pinched_rig;
+  Diagnostics pd;
+  ASSERT_TRUE(BuildRig(spec, pinched, {}, &pinched_rig, &pd)) << pd.Format();
+  const MeshData pinched_rest = RestMesh(pinched_rig);
+  EXPECT_GT(pinched_rest.positions.size(), pinched.positions.size());
+  size_t on_sliver = 0;
+  for (size_t v = pinched.positions.size(); v < pinched_rest.positions.size(); ++v)
+    for (const Sliver& q : slivers)
+      on_sliver += Length(pinched_rest.positions[v] - q.a) + Length(pinched_rest.positions[v] - q.b) <=
+                   Length(q.b - q.a) + 0.05f;
+  EXPECT_EQ(on_sliver, 0u);
+
+  // Refinement by the fall-offs alone that would pass the growth limit names the key.
+  spec.refinement.falloff_error = 1e-12f;
+  Diagnostics tiny;
+  EXPECT_FALSE(BuildRig(spec, mesh, {}, &rig, &tiny));
+  ASSERT_EQ(tiny.ErrorCount(), 1u) << tiny.Format();
+  EXPECT_EQ(tiny.items()[0].where, "refinement.falloff_error");
+  EXPECT_EQ(tiny.items()[0].what.rfind("refinement where wrinkles act and fall-offs bend would "
+                                       "grow the mesh from 800 to about ", 0), 0u)
+      << tiny.Format();
+  EXPECT_TRUE(tiny.Contains("refinement.falloff_error 1e-12 (where the muscles' fall-offs bend) "
+                            "alone would give about "))
+      << tiny.Format();
 }
 
 // Finite but absurd values are errors naming the key, against the mesh's size (the surface is
