@@ -548,6 +548,9 @@ TEST(FitTemplate, WrinklesAreScaledAndCurvesGetTheUvsOfTheirSurfacePoints) {
   ASSERT_TRUE(f.ok) << f.diag.Format();
   const MuscleTemplate t = LoadDefaultTemplate();
   const float s = f.report.frame.scale;
+  // The template's fall-off refinement is a slope (no units): carried as it is.
+  EXPECT_EQ(f.spec.refinement.falloff_error, t.falloff_error);
+  EXPECT_GT(t.falloff_error, 0.f);
   ASSERT_EQ(f.spec.muscle_wrinkles.size(), t.muscles.size());
   size_t wrinkled = 0;
   for (size_t m = 0; m < t.muscles.size(); ++m) {

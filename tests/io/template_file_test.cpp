@@ -191,6 +191,12 @@ TEST(MuscleTemplate, BadInputTable) {
        {"unsupported version 2"}},
       {"unknown top key", Replace(kValid, "\"version\": 1,", "\"version\": 1, \"colour\": 3,"),
        {"colour", "unknown key"}},
+      {"negative falloff slope",
+       Replace(kValid, "\"version\": 1,", "\"version\": 1, \"refinement\": {\"falloff_error\": -0.3},"),
+       {"refinement.falloff_error", "a number in [0, 1) (0 = off)", "-0.3"}},
+      {"unknown refinement key",
+       Replace(kValid, "\"version\": 1,", "\"version\": 1, \"refinement\": {\"edge_fraction\": 0.3},"),
+       {"refinement.edge_fraction", "unknown key"}},
       {"no muscles", Replace(kValid, "\"muscles\": [", "\"muscles\": [], \"x\": ["),
        {"muscles", "non-empty array"}},
       {"bad type", Replace(kValid, "\"type\": \"linear\"", "\"type\": \"ring\""),
@@ -488,6 +494,9 @@ TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
       EXPECT_EQ(x.wrinkles.has_value(), y.wrinkles.has_value()) << x.name;
     }
     EXPECT_EQ(copies, a.muscles.size() / 2);
+    // Both ask the fitted rig to refine where the fall-offs bend (docs/model.md §11).
+    EXPECT_EQ(a.falloff_error, 0.005f) << file;
+    EXPECT_EQ(b.falloff_error, a.falloff_error) << file;
     EXPECT_EQ(b.curve_wrinkles.size(), a.curve_wrinkles.size());
     EXPECT_EQ(b.thickness.regions.size(), a.thickness.regions.size());
     ASSERT_EQ(b.jaw.has_value(), a.jaw.has_value());

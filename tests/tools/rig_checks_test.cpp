@@ -93,8 +93,9 @@ TEST(RigChecksCli, TinyWrinkleValuesAreRefusedBeforeRefining) {
   ASSERT_TRUE(ImportMesh(test::SourceDir() + "/assets/head/sample_head.glb", "", &head, &diag))
       << diag.Format();
   ExpectRefused({"validate", narrow},
-                narrow + ": curve_wrinkles[0].width: refinement where wrinkles act would grow "
-                         "the mesh from " + std::to_string(head.triangle_count()) + " to about ");
+                narrow + ": curve_wrinkles[0].width: refinement where wrinkles act and fall-offs "
+                         "bend would grow the mesh from " + std::to_string(head.triangle_count()) +
+                         " to about ");
   const std::string many = SampleRig("many", [](json& j) {
     j["muscles"][0]["wrinkles"]["count"] = 2147483647;
   });
