@@ -106,6 +106,11 @@ rigfile('rig_truncated_png.json', lambda r: r.__setitem__(
 rigfile('rig_not_a_png.json', lambda r: r.__setitem__(
     'thickness', {'type': 'image', 'path': 'not_a_png.png', 'min': 0, 'max': 5}))
 rigfile('rig_mesh_truncated_glb.json', lambda r: r['mesh'].__setitem__('path', 'truncated.glb'))
+# A small rig (one muscle) asking for fall-off refinement of a whole peak (docs/model.md §11).
+write('rig_falloff_error_one.json', json.dumps(
+    {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
+     'muscles': [rig['muscles'][0]], 'refinement': {'enabled': True, 'falloff_error': 1}},
+    indent=1) + '\n')
 def bad_field_and_missing_mesh(r):
     r['units'] = 'furlong'
     r['mesh']['path'] = 'no_such_mesh.glb'
@@ -127,6 +132,10 @@ write('template_wrong_format.template.json', '{"format": "mimetic-rig", "version
 # negative radius.
 with open(os.path.join(root, 'assets', 'head', 'default.template.json')) as f:
     muscle = json.load(f)['muscles'][0]
+# ... and one that asks for fall-off refinement below zero (docs/model.md §11).
+write('template_negative_falloff_error.template.json', json.dumps(
+    {'format': 'mimetic-muscle-template', 'version': 1, 'muscles': [muscle],
+     'refinement': {'falloff_error': -0.1}}, indent=1) + '\n')
 muscle['tangent_radius'] = -0.5
 write('template_negative_tangent_radius.template.json', json.dumps(
     {'format': 'mimetic-muscle-template', 'version': 1, 'muscles': [muscle]}, indent=1) + '\n')
