@@ -31,14 +31,7 @@ CreaseMeter::CreaseMeter(span<const float3> rest, span<const uint32_t> triangles
   BuildEdgeTable(tris_, &edges_);
   neighbours_ = BuildPointNeighbors(tris_, rest_.size());
   rest_angle_.assign(edges_.edge_count(), 0.f);
-  auto shape = [&](const uint32_t* t) {
-    const float3 a = rest_[t[0]], b = rest_[t[1]], c = rest_[t[2]];
-    double n[3];
-    TriangleCross(a, b, c, n);
-    const double area2 = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const double l = std::max({Length(b - a), Length(c - b), Length(a - c)});
-    return l > 0.0 ? area2 / (l * l) : 0.0;
-  };
+  auto shape = [&](const uint32_t* t) { return TriangleShape(rest_[t[0]], rest_[t[1]], rest_[t[2]]); };
   for (size_t e = 0; e < edges_.edge_count(); ++e)
     if (edges_.use_count(e) == 2) {
       const uint32_t* t0 = &tris_[3 * (edges_.corners[edges_.start[e]] / 3)];

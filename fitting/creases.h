@@ -17,6 +17,8 @@
 // not about a fold of the skin (docs/model.md §2-3).
 #pragma once
 
+#include "geometry/normals.h"
+
 #include <cstdint>
 #include <vector>
 
@@ -29,7 +31,7 @@
 namespace mimetic {
 
 // The smallest altitude / longest edge of a triangle whose edges the crease number measures.
-inline constexpr double kCreaseMinShape = 0.05;
+inline constexpr double kCreaseMinShape = kSliverShape;  // geometry/normals.h
 
 struct CreaseReport {
   std::vector<float> muscle_degrees;   // per muscle, rig order (0 for a muscle that moves nothing)

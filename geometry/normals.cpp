@@ -14,6 +14,14 @@ void TriangleCross(float3 a, float3 b, float3 c, double out[3]) {
   out[2] = u[0] * w[1] - u[1] * w[0];
 }
 
+double TriangleShape(float3 a, float3 b, float3 c) {
+  double n[3];
+  TriangleCross(a, b, c, n);
+  const double area2 = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const double l = std::max({Length(b - a), Length(c - b), Length(a - c)});
+  return l > 0.0 ? area2 / (l * l) : 0.0;
+}
+
 double TriangleArea(float3 a, float3 b, float3 c) {
   double n[3];
   TriangleCross(a, b, c, n);

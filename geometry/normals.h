@@ -23,6 +23,12 @@ void TriangleCross(float3 a, float3 b, float3 c, double out[3]);
 // The triangle's area, mesh units^2 (0 for a degenerate triangle): |TriangleCross| / 2.
 double TriangleArea(float3 a, float3 b, float3 c);
 
+// How far the triangle is from a sliver: its height over its longest edge L, divided by L
+// (|TriangleCross| / L^2; sqrt(3)/2 for an equilateral triangle, 0 for a degenerate one or
+// L = 0). Below kSliverShape a triangle counts as a sliver (docs/model.md §2-3, §11).
+double TriangleShape(float3 a, float3 b, float3 c);
+inline constexpr double kSliverShape = 0.05;
+
 // The triangle's unit normal (counter-clockwise), or `fallback` when its area is 0 or not a
 // finite number.
 float3 TriangleNormal(float3 a, float3 b, float3 c, float3 fallback);

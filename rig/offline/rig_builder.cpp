@@ -298,22 +298,21 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
   return ok;
 }
 
-// docs/model.md §11: the input's slivers (a triangle whose height over its longest edge L is
-// under kSliverShape, as the crease meter's kCreaseMinShape), each as a ball of radius L about
-// its centroid, which holds its edges' midpoints and its neighbours'. Fall-off refinement stays
-// out of them: splitting a sliver keeps its height while its new points move with the muscle
-// field instead of along its edge, so a sliver 0.07 mm high and 17 mm long (the sample head's
-// submental pinch) turns over under motions that leave it whole alone.
-constexpr double kSliverShape = 0.05;
+// docs/model.md §11: the input's slivers (TriangleShape under kSliverShape, as the crease meter
+// leaves out), each as a ball of radius L (its longest edge) about its centroid, which holds its
+// edges' midpoints and its neighbours'. Fall-off refinement stays out of them: splitting a sliver
+// keeps its height while its new points move with the muscle field instead of along its edge,
+// so a sliver 0.07 mm high and 17 mm long (the sample head's submental pinch) turns over under
+// motions that leave it whole alone.
 class SliverBalls {
  public:
   explicit SliverBalls(const MeshData& mesh) {
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
       const float3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]],
                    c = mesh.positions[mesh.indices[3 * t + 2]];
+      if (!(TriangleShape(a, b, c) < kSliverShape)) continue;
       const double l = std::max({double(Length(b - a)), double(Length(c - b)), double(Length(a - c))});
-      const double twice_area = Length(Cross(b - a, c - a));
-      if (!(l > 0.0) || twice_area / (l * l) >= kSliverShape) continue;
+      if (!(l > 0.0)) continue;
       balls_.push_back({(a + b + c) * (1.f / 3.f), l});
       cell_ = std::max(cell_, l);
     }
