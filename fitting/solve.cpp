@@ -8,6 +8,7 @@
 #include "core/strings.h"
 #include "fitting/box_least_squares.h"
 #include "fitting/compare.h"
+#include "geometry/normals.h"
 #include "rig/runtime/evaluate_job.h"
 
 namespace mimetic {
@@ -211,6 +212,67 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
                       "non-finite values)");
     return false;
   }
+  // The same linear problem without bounds (SolveOptions::reach): what any activations of
+  // these muscles could make. Its residual, and the bounded one, are taken on the basis.
+  auto basis_residual = [&](const std::vector<double>& a, std::vector<float3>* made) {
+    double sum = 0.0;
+    if (made) made->assign(rest.begin(), rest.end());
+    for (uint32_t v : rows) {
+      double m[3] = {rest[v].x, rest[v].y, rest[v].z};
+      for (size_t k = 0; k < nu; ++k) {
+        m[0] += a[k] * columns[k][v].x;
+        m[1] += a[k] * columns[k][v].y;
+        m[2] += a[k] * columns[k][v].z;
+      }
+      if (made) (*made)[v] = {float(m[0]), float(m[1]), float(m[2])};
+      const double dx = m[0] - target.positions[v].x, dy = m[1] - target.positions[v].y,
+                   dz = m[2] - target.positions[v].z;
+      sum += double(weight[v]) * (dx * dx + dy * dy + dz * dz);
+    }
+    return sum;
+  };
+  if (options.reach) {
+    // Bounds far outside any activation a rig would use stand for none (the solver wants
+    // finite ones; the ridge keeps dependent muscles determined).
+    std::vector<double> free_lo(nu, -1e6), free_hi(nu, 1e6), free_x;
+    if (!bounded_step(columns, residual, free_lo, free_hi, &free_x)) {
+      d->Error("solve", "the unbounded least-squares problem is not finite");
+      return false;
+    }
+    out->has_reach = true;
+    SolveReach& reach = out->reach;
+    reach.activations.assign(nm, 0.f);
+    for (size_t k = 0; k < nu; ++k)
+      for (uint32_t m : unknowns[k]) reach.activations[m] = float(free_x[k]);
+    reach.motion = basis_residual(std::vector<double>(nu, 0.0), nullptr);
+    reach.residual = basis_residual(free_x, &reach.posed);
+    reach.bounded_residual = basis_residual(x, nullptr);
+    // The height alone: columns and motion projected on the neutral's normals, n (n . u).
+    const std::vector<float3> normals = ComputeVertexNormals(neutral);
+    auto along = [&](uint32_t v, float3 u) { return normals[v] * Dot(normals[v], u); };
+    std::vector<std::vector<float3>> height_columns(nu, std::vector<float3>(nv));
+    std::vector<float3> height_target(nv);
+    for (uint32_t v : rows) {
+      for (size_t k = 0; k < nu; ++k) height_columns[k][v] = along(v, columns[k][v]);
+      height_target[v] = along(v, residual[v]);
+    }
+    std::vector<double> height_x;
+    if (!bounded_step(height_columns, height_target, free_lo, free_hi, &height_x)) {
+      d->Error("solve", "the unbounded least-squares problem of the height is not finite");
+      return false;
+    }
+    reach.height_activations.assign(nm, 0.f);
+    for (size_t k = 0; k < nu; ++k)
+      for (uint32_t m : unknowns[k]) reach.height_activations[m] = float(height_x[k]);
+    basis_residual(height_x, &reach.height_posed);
+    for (uint32_t v : rows) {
+      const double t = Dot(normals[v], target.positions[v] - rest[v]);
+      const double e = Dot(normals[v], reach.height_posed[v] - target.positions[v]);
+      reach.height_motion += double(weight[v]) * t * t;
+      reach.height_residual += double(weight[v]) * e * e;
+    }
+  }
+
   const bool layers = options.skin_layers;
   std::fill(activations.begin(), activations.end(), 0.f);
   eval.Run(activations, layers, &layered);

@@ -35,6 +35,27 @@ struct SolveOptions {
   // linear solve is then exact and no refinement step runs).
   bool skin_layers = true;
   double ridge = 1e-9;           // Tikhonov weight, relative to the largest basis column norm^2
+  // Also solve the linear problem on the muscle basis with no bounds (SolveResult::reach):
+  // what these muscles could make with any activations, negative or above 1 included. It
+  // tells a target's motion that no activation of the rig's muscles makes (the residual left
+  // at the unbounded optimum) from what the bounds [0, 1] cost (docs/model.md §13).
+  bool reach = false;
+};
+
+// The unbounded linear solve (SolveOptions::reach), muscles alone, over the same weights.
+struct SolveReach {
+  std::vector<float> activations;  // one per muscle, rig order, unclamped (0 if not solved)
+  double motion = 0.0;             // weighted sum of |target - rest|^2: the real motion
+  double residual = 0.0;           // weighted sum of squares left at the unbounded optimum
+  double bounded_residual = 0.0;   // the same for the bounded linear solve (muscles alone)
+  std::vector<float3> posed;       // rest + sum_m a_m U_m, the target's vertices
+  // The unbounded optimum of the height alone: the same problem on the components along the
+  // neutral's vertex normals (ComputeVertexNormals), the error a surface distance sees; the
+  // activations, the weighted sums of squared heights of the motion and of what is left, and
+  // rest + sum_m a_m U_m at those activations (its full motion, not only the height).
+  std::vector<float> height_activations;
+  double height_motion = 0.0, height_residual = 0.0;
+  std::vector<float3> height_posed;
 };
 
 struct SolveResult {
@@ -47,6 +68,8 @@ struct SolveResult {
   double residual = 0.0;           // final (layers as `skin_layers`)
   int refine_steps_taken = 0;      // steps that lowered the residual
   std::vector<float3> posed;       // the rig's output at `activations`, the target's vertices
+  bool has_reach = false;          // SolveOptions::reach was set
+  SolveReach reach;
 };
 
 // `neutral` is the rig's input mesh (LoadedRig::mesh); `target` must share its topology (the

@@ -42,19 +42,29 @@ const char* kFidelityUsage =
     "for every real expression shape the rig claims it can make solves the activations\n"
     "(`mimetic solve`, every skin layer on, and again with the muscles alone) and measures the\n"
     "result (`mimetic compare`, over the vertices the real shape moves more than 2% of its\n"
-    "largest motion). Writes the table, where each shape's residual lies (along the skin's\n"
-    "normal, by part of the face) and the rig's crease numbers with Waters' and with smooth\n"
-    "fall-offs to --report (default docs/fidelity.md) and one picture\n"
-    "per shape, real | rig | distance (blue 0, red = half the shape's largest motion), to\n"
-    "--images (default docs/images/fidelity), N pixels a panel (--size, default 240).\n"
+    "largest motion), and solves once more with the muscles alone and no bounds on the\n"
+    "activations (what any activations of these muscles could make). Writes the table, where\n"
+    "each shape's residual lies (along the skin's normal, by part of the face), why each\n"
+    "missed target is missed (the muscles' reach, the bounds [0, 1] or the skin layers) and\n"
+    "what would make it, and the rig's crease numbers with Waters' and with smooth fall-offs\n"
+    "to --report (default docs/fidelity.md) and one picture per shape, real | rig | distance\n"
+    "(blue 0, red = half the shape's largest motion), to --images (default\n"
+    "docs/images/fidelity), N pixels a panel (--size, default 240).\n"
     "--only solves just the named shapes (the report then lists only them); --meshes writes\n"
-    "each posed rig (the input mesh's vertices) as DIR/SHAPE.obj. Run from the repository root.\n";
+    "each posed rig (the input mesh's vertices) as DIR/SHAPE.obj, the muscles alone as\n"
+    "DIR/SHAPE.muscles.obj and their unbounded optima as DIR/SHAPE.reach.obj (the whole\n"
+    "motion) and DIR/SHAPE.height.obj (its height). Run from the repository root.\n";
 
 struct Row {
   const IctShape* shape = nullptr;
   CompareResult on, off;     // every skin layer / muscles alone
   ResidualSplit split;       // where the residual lies, every skin layer
   std::string top_muscles;   // the largest activations, layers on
+  // The muscles alone with any activations (SolveOptions::reach): the measures, where what is
+  // left lies, and the unbounded activations.
+  CompareResult reach, height;  // the unbounded optimum of the whole motion / of its height
+  ResidualSplit reach_split, height_split;
+  SolveReach reach_solve;
   double solve_seconds = 0;
   std::string image;         // relative to the report
 };
@@ -91,6 +101,40 @@ std::vector<uint8_t> FaceParts(const MeshData& mesh, const std::vector<float3>& 
     }
   }
   return parts;
+}
+
+// The targets (docs/fidelity.md's legend) and, for one missed, what misses it first: the
+// skin layers when the muscles alone (bounded) meet it, the bounds [0, 1] when the muscles
+// with any activations meet it, else the muscles' reach (no activation makes it).
+bool RatioMet(const CompareResult& c) { return c.ratio <= 0.5; }
+bool CosineMet(const CompareResult& c) { return c.direction_cosine >= 0.8; }
+bool MagnitudeMet(const CompareResult& c) { return std::fabs(c.magnitude_ratio - 1.0) <= 0.25; }
+enum class Cause { kMet, kLayers, kBounds, kReach };
+Cause CauseOf(bool (*met)(const CompareResult&), const CompareResult& on, const CompareResult& off,
+              const CompareResult& reach, const CompareResult& height) {
+  return met(on) ? Cause::kMet : met(off) ? Cause::kLayers
+                             : met(reach) || met(height) ? Cause::kBounds : Cause::kReach;
+}
+
+// The muscles whose unbounded activation lies beyond [0, 1] by more than 0.05, the farthest
+// first (at most three): "name value, ...".
+std::string BeyondBounds(const Rig& rig, const std::vector<float>& a, bool above) {
+  std::vector<uint32_t> order;
+  for (uint32_t m = 0; m < a.size(); ++m)
+    if (above ? a[m] > 1.05f : a[m] < -0.05f) order.push_back(m);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t x, uint32_t y) { return above ? a[x] > a[y] : a[x] < a[y]; });
+  std::string out;
+  for (size_t i = 0; i < order.size() && i < 3; ++i)
+    out += (i ? ", " : "") + rig.muscle_names()[order[i]] + " " + Fixed(a[order[i]], 2);
+  return out.empty() ? "-" : out;
+}
+
+uint32_t LargestPart(const ResidualSplit& split) {
+  uint32_t best = 0;
+  for (uint32_t k = 1; k < split.part_share.size(); ++k)
+    if (split.part_share[k] > split.part_share[best]) best = k;
+  return best;
 }
 
 // Relative path from directory `from` to `to` (both as given, made absolute).
@@ -185,10 +229,11 @@ int CmdFidelity(const Args& args) {
     Row row;
     row.shape = shape;
     const auto t0 = std::chrono::steady_clock::now();
-    MeshData posed[2] = {neutral, neutral};
+    MeshData posed[2] = {neutral, neutral}, reach_mesh = neutral, height_mesh = neutral;
     for (int layers = 1; layers >= 0; --layers) {
       SolveOptions options;
       options.skin_layers = layers == 1;
+      options.reach = layers == 0;
       SolveResult result;
       local.Clear();
       if (!SolveActivations(rig, neutral, target, options, &result, &local)) {
@@ -204,6 +249,22 @@ int CmdFidelity(const Args& args) {
       if (!CompareMeshes(posed[layers], target, co, layers ? &row.on : &row.off, &local)) {
         diag.Append(local, path);
         return Fail(diag, std::string("cannot measure ") + shape->name);
+      }
+      if (!layers) {
+        // What any activations of these muscles could make (no bounds, muscles alone).
+        row.reach_solve = std::move(result.reach);
+        reach_mesh.positions = row.reach_solve.posed;
+        height_mesh.positions = row.reach_solve.height_posed;
+        local.Clear();
+        if (!CompareMeshes(reach_mesh, target, co, &row.reach, &local) ||
+            !CompareMeshes(height_mesh, target, co, &row.height, &local) ||
+            !SplitResidual(height_mesh, target, neutral, row.height.in_region,
+                           row.height.b_distance, parts, kPartCount, &row.height_split, &local) ||
+            !SplitResidual(reach_mesh, target, neutral, row.reach.in_region, row.reach.b_distance,
+                           parts, kPartCount, &row.reach_split, &local)) {
+          diag.Append(local, path);
+          return Fail(diag, std::string("cannot measure the muscles' reach for ") + shape->name);
+        }
       }
       if (layers) {
         local.Clear();
@@ -227,7 +288,14 @@ int CmdFidelity(const Args& args) {
       MeshData out = posed[1];
       out.normals.clear();
       local.Clear();
-      if (!ExportMesh(meshes_dir + "/" + shape->name + ".obj", out, &local)) {
+      MeshData reach_out = reach_mesh, muscles_out = posed[0], height_out = height_mesh;
+      reach_out.normals.clear();
+      muscles_out.normals.clear();
+      height_out.normals.clear();
+      if (!ExportMesh(meshes_dir + "/" + shape->name + ".obj", out, &local) ||
+          !ExportMesh(meshes_dir + "/" + shape->name + ".muscles.obj", muscles_out, &local) ||
+          !ExportMesh(meshes_dir + "/" + shape->name + ".reach.obj", reach_out, &local) ||
+          !ExportMesh(meshes_dir + "/" + shape->name + ".height.obj", height_out, &local)) {
         diag.Append(local);
         return Fail(diag, "cannot write the posed mesh");
       }
@@ -261,10 +329,12 @@ int CmdFidelity(const Args& args) {
     }
     row.image = Relative(image_path, report_dir.empty() ? "." : report_dir);
     ++done;
-    std::printf("  [%zu/%zu] %-18s ratio %s (muscles alone %s), cosine %s, magnitude %s  %.1f s\n",
+    std::printf("  [%zu/%zu] %-18s ratio %s (muscles alone %s, any activations %s), cosine %s, "
+                "magnitude %s  %.1f s\n",
                 done, claimed_count, shape->name, Fixed(row.on.ratio, 3).c_str(),
-                Fixed(row.off.ratio, 3).c_str(), Fixed(row.on.direction_cosine, 2).c_str(),
-                Fixed(row.on.magnitude_ratio, 2).c_str(), row.solve_seconds);
+                Fixed(row.off.ratio, 3).c_str(), Fixed(row.reach.ratio, 3).c_str(),
+                Fixed(row.on.direction_cosine, 2).c_str(), Fixed(row.on.magnitude_ratio, 2).c_str(),
+                row.solve_seconds);
     std::fflush(stdout);
     rows.push_back(std::move(row));
   }
@@ -294,6 +364,94 @@ int CmdFidelity(const Args& args) {
              " | " + Fixed(r.split.normal_share, 2) + " |\n";
   }
   where += "\n";
+
+  // Why each missed target is missed (the muscles' reach, the bounds, the skin layers) and
+  // what would make it.
+  std::string why =
+      "## Why a target is missed, and what would make it\n\n"
+      "Each missed target is put down to the first of three things that misses it, from three "
+      "solves of the same shape: **the skin layers** when the muscles alone (activations in "
+      "[0, 1], the **off** column) meet it; **the bounds** when the muscles alone with any "
+      "activations, negative and above 1 included, meet it (either of two linear least-squares "
+      "optima on the muscle basis without bounds, `SolveOptions::reach`, docs/model.md §13: of "
+      "the whole per-vertex motion, and of its height alone, the part along the skin's normal "
+      "that the ratio's surface distance sees); else **out of reach**: no activation of these "
+      "muscles makes that motion, and only a muscle that moves the skin there (or a new "
+      "placement) would. Columns: **any activations** / **height first**, ratio / cosine / "
+      "magnitude of the two unbounded optima; **out of reach**, the share of the real motion (its weighted sum of squares over the solve's weights) that the unbounded "
+      "optimum leaves; **bounds' cost**, the share the bounds [0, 1] add to it; **wants above "
+      "1** / **below 0**, the unbounded activations outside [0, 1] (of the height-first optimum "
+      "when only it meets a target; above 1: a stronger muscle; "
+      "below 0: a push against that muscle's pull, which a muscle cannot make); **where**, the "
+      "largest part of the face in the unbounded optimum's surface distance and the height "
+      "share of its per-vertex error (as in the previous section; low: the missing motion "
+      "slides along the skin).\n\n"
+      "| shape | missed: by | any activations | height first | out of reach | bounds' cost | "
+      "wants above 1 | wants below 0 | where | what would make it |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
+  size_t causes[4] = {0, 0, 0, 0};  // by Cause
+  for (const Row& r : rows) {
+    struct Target { const char* name; bool (*met)(const CompareResult&); };
+    const Target targets[] = {{"ratio", RatioMet}, {"cosine", CosineMet}, {"magnitude", MagnitudeMet}};
+    std::string missed, make;
+    bool ratio_reach = false, motion_reach = false, needs_bounds = false, by_height = false;
+    for (const Target& t : targets) {
+      const Cause c = CauseOf(t.met, r.on, r.off, r.reach, r.height);
+      ++causes[int(c)];
+      if (c == Cause::kMet) continue;
+      by_height |= c == Cause::kBounds && !t.met(r.reach);
+      missed += std::string(missed.empty() ? "" : "; ") + t.name + ": " +
+                (c == Cause::kLayers ? "the skin layers" : c == Cause::kBounds ? "the bounds"
+                                                                                : "out of reach");
+      (t.met == RatioMet ? ratio_reach : motion_reach) |= c == Cause::kReach;
+      needs_bounds |= c == Cause::kBounds;
+    }
+    const bool layers_worse = r.on.ratio > r.off.ratio + 1e-9;
+    if (layers_worse) {
+      missed += std::string(missed.empty() ? "" : "; ") + "layers: the skin layers";
+      ++causes[int(Cause::kLayers)];
+    }
+    if (missed.empty()) continue;
+    // The activations beyond [0, 1] of the optimum that meets a target the bounds miss (the
+    // height-first one when only it does).
+    const std::vector<float>& wants =
+        by_height ? r.reach_solve.height_activations : r.reach_solve.activations;
+    const std::string above = BeyondBounds(rig, wants, true), below = BeyondBounds(rig, wants, false);
+    const uint32_t part = LargestPart(r.reach_split);
+    // The ratio sees height: where the height-first optimum's surface distance lies; the
+    // cosine and magnitude see the whole motion: where the other optimum's error lies.
+    const uint32_t height_part = LargestPart(r.height_split);
+    if (ratio_reach && motion_reach && height_part == part)
+      make += std::string("a muscle (or placement) that moves the ") + kParts[part] +
+              ", in height and along the skin, as the real shape does";
+    else if (ratio_reach)
+      make += std::string("a muscle (or placement) that lifts or sinks the ") +
+              kParts[height_part] + " as the real shape does";
+    if (motion_reach && !(ratio_reach && height_part == part))
+      make += std::string(make.empty() ? "" : "; ") + "a muscle (or placement) that moves the " +
+              kParts[part] + (r.reach_split.normal_share < 0.5 ? " along the skin" : " in height") +
+              " as the real shape does";
+    if (needs_bounds) {
+      if (above != "-") make += std::string(make.empty() ? "" : "; ") + "stronger muscles (" + above + ")";
+      if (below != "-") make += std::string(make.empty() ? "" : "; ") + "an antagonist of " + below;
+    }
+    if (layers_worse)
+      make += std::string(make.empty() ? "" : "; ") + "skin layers that do not add " +
+              Fixed(r.on.ratio - r.off.ratio, 3) + " to the ratio";
+    const double motion = r.reach_solve.motion > 0 ? r.reach_solve.motion : 1.0;
+    why += "| " + std::string(r.shape->name) + " | " + missed + " | " + Fixed(r.reach.ratio, 3) +
+           " / " + Fixed(r.reach.direction_cosine, 2) + " / " + Fixed(r.reach.magnitude_ratio, 2) +
+           " | " + Fixed(r.height.ratio, 3) + " / " + Fixed(r.height.direction_cosine, 2) + " / " +
+           Fixed(r.height.magnitude_ratio, 2) +
+           " | " + Fixed(r.reach_solve.residual / motion, 2) + " | " +
+           Fixed((r.reach_solve.bounded_residual - r.reach_solve.residual) / motion, 2) + " | " +
+           above + " | " + below + " | " + kParts[part] + ", height " +
+           Fixed(r.reach_split.normal_share, 2) + " | " + make + " |\n";
+  }
+  why += "\nMissed targets by what misses them first (ratio, cosine and magnitude of every shape, "
+         "and the layers' target): out of reach " + std::to_string(causes[int(Cause::kReach)]) +
+         ", the bounds " + std::to_string(causes[int(Cause::kBounds)]) + ", the skin layers " +
+         std::to_string(causes[int(Cause::kLayers)]) + ".\n\n";
 
   // Creases of the fall-offs on this rig (docs/model.md §2-3): every muscle Waters', then smooth.
   std::string creases;
@@ -356,8 +514,8 @@ int CmdFidelity(const Args& args) {
   md += "| shape | set | rig | neutral | ratio | off | cosine | magnitude | largest activations |\n";
   md += "|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    const bool ratio_ok = r.on.ratio <= 0.5, cosine_ok = r.on.direction_cosine >= 0.8,
-               magnitude_ok = std::fabs(r.on.magnitude_ratio - 1.0) <= 0.25;
+    const bool ratio_ok = RatioMet(r.on), cosine_ok = CosineMet(r.on),
+               magnitude_ok = MagnitudeMet(r.on);
     Count& c = sets[r.shape->trained ? 0 : 1];
     ++c.shapes;
     c.ratio += ratio_ok;
@@ -384,8 +542,8 @@ int CmdFidelity(const Args& args) {
           std::to_string(c.layers) + " |\n";
   }
   md += "\n\"train\" marks the shapes `mimetic calibrate` fitted the default template on; the "
-        "others it never saw. What the numbers show, where the residual is and why the ratio "
-        "target is out of reach: docs/calibration.md. The jaw (not a muscle; calibrated on "
+        "others it never saw. Where the residual is and why each missed target is missed: the "
+        "sections of those names below; the calibration's own account: docs/calibration.md. The jaw (not a muscle; calibrated on "
         "ICT's jawOpen, its figures and renders): docs/jaw.md.\n\n";
   if (!not_claimed.empty()) {
     md += "## Shapes the rig does not claim\n\n| shape | why |\n|---|---|\n";
@@ -398,6 +556,7 @@ int CmdFidelity(const Args& args) {
     md += ".\n\n";
   }
   md += where;
+  md += why;
   md += creases;
   md += "## Pictures: real | rig (every layer) | distance of the real shape to the rig\n\n"
         "Distance from blue (0) to red (half the shape's largest motion); grey outside the measured "

@@ -10,6 +10,7 @@
 
 #include "content/procedural.h"
 #include "fitting/solve.h"
+#include "geometry/normals.h"
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
 #include "rig/offline/rig_builder.h"
@@ -75,6 +76,95 @@ TEST(Solve, RecoversSurfaceActivationsExactlyWhenLinear) {
   ASSERT_EQ(r.activations.size(), truth.size());
   for (size_t m = 0; m < truth.size(); ++m) EXPECT_NEAR(r.activations[m], truth[m], 1e-4) << m;
   EXPECT_LT(r.residual, 1e-6 * r.neutral_residual);
+}
+
+TEST(Solve, ReachSeparatesWhatTheMusclesCannotMakeFromWhatTheBoundsCost) {
+  // A target built from the muscle basis with activations outside [0, 1] (1.6 and -0.4), plus
+  // a bump where no muscle reaches: the unbounded solve (SolveOptions::reach) must find the
+  // activations to 1e-3 and leave exactly the bump, the bounded one must pay for the bounds.
+  const MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 8.f);
+  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 8.f, 0.3f, 6.f);
+  spec.layers = {.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  const size_t nv = mesh.vertex_count();
+  std::vector<std::vector<float3>> basis(6);
+  for (size_t m = 0; m < 6; ++m) {
+    std::vector<float> e(6, 0.f);
+    e[m] = 1.f;
+    const MeshData p = Posed(rig, mesh, e);
+    basis[m].resize(nv);
+    for (size_t v = 0; v < nv; ++v) basis[m][v] = p.positions[v] - mesh.positions[v];
+  }
+  // The bump: vertices no muscle moves, lifted by 0.5 along z.
+  std::vector<uint8_t> still(nv, 1);
+  for (size_t m = 0; m < 6; ++m)
+    for (size_t v = 0; v < nv; ++v)
+      if (Length(basis[m][v]) > 0.f) still[v] = 0;
+  const std::vector<float> truth = {1.6f, 0.f, -0.4f, 0.5f, 0.f, 0.f};
+  MeshData target = mesh;
+  size_t bumped = 0;
+  for (size_t v = 0; v < nv; ++v) {
+    for (size_t m = 0; m < 6; ++m) target.positions[v] = target.positions[v] + basis[m][v] * truth[m];
+    if (still[v] && bumped < 40) target.positions[v].z += 0.5f, ++bumped;
+  }
+  ASSERT_EQ(bumped, 40u) << "the surface rig leaves too few vertices still";
+  SolveOptions options;
+  options.reach = true;
+  SolveResult r;
+  ASSERT_TRUE(SolveActivations(rig, mesh, target, options, &r, &diag)) << diag.Format();
+  ASSERT_TRUE(r.has_reach);
+  for (size_t m = 0; m < 6; ++m) EXPECT_NEAR(r.reach.activations[m], truth[m], 1e-3) << m;
+  // The weights: 1 where the target moves more than 2% of its largest motion, else 0.25.
+  double largest = 0.0;
+  for (size_t v = 0; v < nv; ++v)
+    largest = std::max(largest, double(Length(target.positions[v] - mesh.positions[v])));
+  double motion = 0.0, bump = 0.0;
+  for (size_t v = 0; v < nv; ++v) {
+    const float3 d = target.positions[v] - mesh.positions[v];
+    const double w = Length(d) > 0.02 * largest ? 1.0 : 0.25;
+    motion += w * double(Dot(d, d));
+    if (still[v] && Length(d) > 0.f) bump += w * 0.25;  // 0.5^2
+  }
+  EXPECT_NEAR(r.reach.motion, motion, 1e-6 * motion);
+  EXPECT_NEAR(r.reach.residual, bump, 1e-4 * bump);  // the bump alone is left
+  // Where no muscle reaches, the optimum stays at rest; elsewhere it is the target.
+  for (size_t v = 0; v < nv; ++v) {
+    const float3 want = still[v] ? mesh.positions[v] : target.positions[v];
+    ASSERT_LT(Length(r.reach.posed[v] - want), 1e-3f) << v;
+  }
+  // The bounded solve cannot reach 1.6 or -0.4: it pays more, and stays in [0, 1].
+  EXPECT_GT(r.reach.bounded_residual, r.reach.residual + 0.01 * motion);
+  EXPECT_NEAR(r.reach.bounded_residual, r.linear_residual, 1e-6 * motion);  // layers are off
+  for (float a : r.activations) EXPECT_TRUE(a >= 0.f && a <= 1.f) << a;
+  // The height-first optimum: its motion and residual are the weighted squared components
+  // along the neutral's vertex normals, its posed mesh is the basis at its activations, and
+  // no activation (the whole-motion optimum's included) leaves less height error.
+  const std::vector<float3> normals = ComputeVertexNormals(mesh);
+  ASSERT_EQ(r.reach.height_activations.size(), 6u);
+  double height_motion = 0.0, height_left = 0.0, height_left_whole = 0.0;
+  for (size_t v = 0; v < nv; ++v) {
+    const float3 d = target.positions[v] - mesh.positions[v];
+    const double w = Length(d) > 0.02 * largest ? 1.0 : 0.25;
+    float3 made = mesh.positions[v];
+    for (size_t m = 0; m < 6; ++m) made = made + basis[m][v] * r.reach.height_activations[m];
+    ASSERT_LT(Length(r.reach.height_posed[v] - made), 1e-3f) << v;
+    const double t = Dot(normals[v], d), e = Dot(normals[v], made - target.positions[v]),
+                 ew = Dot(normals[v], r.reach.posed[v] - target.positions[v]);
+    height_motion += w * t * t;
+    height_left += w * e * e;
+    height_left_whole += w * ew * ew;
+  }
+  EXPECT_NEAR(r.reach.height_motion, height_motion, 1e-5 * height_motion);
+  EXPECT_NEAR(r.reach.height_residual, height_left, 1e-5 * height_motion);
+  EXPECT_LE(r.reach.height_residual, height_left_whole + 1e-6 * height_motion);
+  EXPECT_LT(r.reach.height_residual, r.reach.height_motion);
+  // Without the option, nothing is computed.
+  SolveResult plain;
+  ASSERT_TRUE(SolveActivations(rig, mesh, target, {}, &plain, &diag));
+  EXPECT_FALSE(plain.has_reach);
+  EXPECT_TRUE(plain.reach.activations.empty());
 }
 
 TEST(Solve, RecoversSampleHeadActivationsWithEveryLayer) {
