@@ -39,12 +39,19 @@ class Evaluator {
   std::vector<float> buffer_;
 };
 
+// The error seen by the objective: e + (s - 1) n (n . e), so that |M e|^2 = |e - n (n . e)|^2 +
+// s^2 (n . e)^2 (SolveOptions::height_weight = s^2). Identity when `normals` is empty.
+float3 Weigh(const std::vector<float3>& normals, float s, uint32_t v, float3 e) {
+  if (normals.empty()) return e;
+  return e + normals[v] * ((s - 1.f) * Dot(normals[v], e));
+}
+
 double Residual(const std::vector<float3>& posed, const MeshData& target,
-                const std::vector<float>& weight) {
+                const std::vector<float>& weight, const std::vector<float3>& normals, float s) {
   double sum = 0.0;
   for (size_t v = 0; v < posed.size(); ++v) {
     if (weight[v] <= 0.f) continue;
-    const float3 d = posed[v] - target.positions[v];
+    const float3 d = Weigh(normals, s, uint32_t(v), posed[v] - target.positions[v]);
     sum += double(weight[v]) * (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
   }
   return sum;
@@ -70,6 +77,8 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
     d->Error("refine steps", "expected a whole number in [0, 100]");
   if (!(options.ridge >= 0.0) || !std::isfinite(options.ridge))
     d->Error("ridge", "expected a finite number >= 0");
+  if (!(options.height_weight >= 1e-6 && options.height_weight <= 1e6))
+    d->Error("height weight", "expected a number in [1e-6, 1e6]");
   if (!std::isfinite(options.region_threshold))
     d->Error("region threshold", "expected a finite number (mesh units; < 0 for the default)");
   const uint32_t nv = uint32_t(neutral.vertex_count()), nm = rig.muscle_count();
@@ -155,6 +164,11 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
   for (uint32_t v = 0; v < nv; ++v)
     if (weight[v] > 0.f) rows.push_back(v);
 
+  // The height weight: the error's component along the neutral's normals counts s^2 times.
+  const float height_scale = float(std::sqrt(options.height_weight));
+  const std::vector<float3> height_normals =
+      options.height_weight != 1.0 ? ComputeVertexNormals(neutral) : std::vector<float3>{};
+
   // Solves the bounded problem min |sqrt(w) (J delta - r)|^2, lo <= delta <= hi, with the
   // columns of J given per unknown as displacements of the target's vertices.
   auto bounded_step = [&](const std::vector<std::vector<float3>>& columns,
@@ -167,7 +181,7 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
       double norm2 = 0.0;
       for (size_t i = 0; i < rows.size(); ++i) {
         const double s = std::sqrt(double(weight[rows[i]]));
-        const float3 c = columns[k][rows[i]];
+        const float3 c = Weigh(height_normals, height_scale, rows[i], columns[k][rows[i]]);
         a[(3 * i) * nu + k] = s * c.x;
         a[(3 * i + 1) * nu + k] = s * c.y;
         a[(3 * i + 2) * nu + k] = s * c.z;
@@ -177,7 +191,7 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
     }
     for (size_t i = 0; i < rows.size(); ++i) {
       const double s = std::sqrt(double(weight[rows[i]]));
-      const float3 r = residual[rows[i]];
+      const float3 r = Weigh(height_normals, height_scale, rows[i], residual[rows[i]]);
       b[3 * i] = s * r.x;
       b[3 * i + 1] = s * r.y;
       b[3 * i + 2] = s * r.z;
@@ -276,10 +290,10 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
   const bool layers = options.skin_layers;
   std::fill(activations.begin(), activations.end(), 0.f);
   eval.Run(activations, layers, &layered);
-  out->neutral_residual = Residual(layered, target, weight);
+  out->neutral_residual = Residual(layered, target, weight, height_normals, height_scale);
   set_activations(x);
   eval.Run(activations, layers, &layered);
-  double current = out->linear_residual = Residual(layered, target, weight);
+  double current = out->linear_residual = Residual(layered, target, weight, height_normals, height_scale);
 
   // 2. Gauss-Newton steps with every layer on.
   const double h = 1e-3;
@@ -306,7 +320,7 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
       for (size_t k = 0; k < nu; ++k) xt[k] = std::clamp(x[k] + s * delta[k], 0.0, 1.0);
       set_activations(xt);
       eval.Run(activations, layers, &posed);
-      const double r = Residual(posed, target, weight);
+      const double r = Residual(posed, target, weight, height_normals, height_scale);
       if (r < current) {
         x = xt;
         current = r;

@@ -35,6 +35,11 @@ struct SolveOptions {
   // linear solve is then exact and no refinement step runs).
   bool skin_layers = true;
   double ridge = 1e-9;           // Tikhonov weight, relative to the largest basis column norm^2
+  // How much more the error's component along the neutral's vertex normals (its height, what
+  // a surface distance sees) counts than the components along the skin: the objective sums
+  // w_v (|e_v|^2 + (height_weight - 1) (n_v . e_v)^2). 1 = plain per-vertex least squares;
+  // in [1e-6, 1e6].
+  double height_weight = 1.0;
   // Also solve the linear problem on the muscle basis with no bounds (SolveResult::reach):
   // what these muscles could make with any activations, negative or above 1 included. It
   // tells a target's motion that no activation of the rig's muscles makes (the residual left

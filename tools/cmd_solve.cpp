@@ -23,7 +23,7 @@ namespace mimetic::tools {
 static const char* kSolveUsage =
     "usage: mimetic solve RIG --target SHAPE --out EXPRESSION.json [--muscles A,B,...]\n"
     "                     [--mirror] [--threshold T] [--outside-weight W] [--steps N]\n"
-    "                     [--name NAME] [--posed MESH]\n\n"
+    "                     [--height-weight H] [--name NAME] [--posed MESH]\n\n"
     "Finds the muscle activations (each in [0, 1]) whose evaluated mesh is closest to SHAPE,\n"
     "a mesh with the topology of RIG's own mesh (the same vertices and triangles, e.g. an\n"
     "expression scan of the same head), and writes them as an expression file.\n"
@@ -31,7 +31,10 @@ static const char* kSolveUsage =
     "from the rig's rest shape (--threshold, mesh units; default 2% of its largest motion),\n"
     "W elsewhere (--outside-weight, default 0.25). Muscle motion is linear in the activations,\n"
     "so a bounded linear solve on the muscle basis comes first, then N Gauss-Newton steps with\n"
-    "every skin layer on (--steps, default 3; docs/model.md §13).\n\n"
+    "every skin layer on (--steps, default 3; docs/model.md §13).\n"
+    "--height-weight H counts the error's component along the skin's normal (its height,\n"
+    "what shading and a surface distance see) H times as much as the components along the\n"
+    "skin (default 1: plain per-vertex least squares; H > 1 trades sliding for shape).\n\n"
     "options:\n"
     "  --muscles A,B,...   solve only these muscles (the others stay 0)\n"
     "  --mirror            solve each NAME_L / NAME_R pair as one value\n"
@@ -47,7 +50,8 @@ static std::string Stem(const std::string& path) {
 
 int CmdSolve(const Args& args) {
   const ParsedArgs parsed = ParseArgs(
-      args, {"target", "out", "muscles", "threshold", "outside-weight", "steps", "name", "posed"},
+      args, {"target", "out", "muscles", "threshold", "outside-weight", "steps", "name", "posed",
+             "height-weight"},
       {"mirror"});
   if (parsed.help) return std::fputs(kSolveUsage, stdout), 0;
   if (!parsed.error.empty()) return UsageError("solve", parsed.error, kSolveUsage);
@@ -76,6 +80,13 @@ int CmdSolve(const Args& args) {
                                      "': expected a number in [0, 1]",
                         kSolveUsage);
     options.outside_weight = float(v);
+  }
+  if (parsed.Has("height-weight")) {
+    if (!ParseNumber(parsed.Get("height-weight"), 1e-6, 1e6, &v))
+      return UsageError("solve", "--height-weight '" + parsed.Get("height-weight") +
+                                     "': expected a number in [1e-6, 1e6]",
+                        kSolveUsage);
+    options.height_weight = v;
   }
   if (parsed.Has("steps")) {
     if (!ParseNumber(parsed.Get("steps"), 0, 100, &v) || v != std::floor(v))

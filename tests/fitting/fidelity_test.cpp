@@ -142,6 +142,12 @@ TEST(FidelityTool, TheTableMatchesThePosedMeshItWrote) {
                              " | ";
     EXPECT_NE(md.find(want, why), std::string::npos) << want << "\n" << md.substr(why, 2000);
   }
+  // The solve's objective: with one claimed shape, the plain row's mean ratio is its ratio.
+  const size_t trade = md.find("## The solve's objective");
+  ASSERT_NE(trade, std::string::npos) << md;
+  EXPECT_NE(md.find("| 1 (the table above) | " + Fixed(r.ratio, 3) + " | ", trade), std::string::npos)
+      << md.substr(trade, 1200);
+  EXPECT_NE(md.find("| 16 | ", trade), std::string::npos) << md.substr(trade, 1200);
   EXPECT_NE(md.find("| jawOpen | the jaw, not a muscle"), std::string::npos) << md;
   EXPECT_TRUE(std::ifstream(dir + "/images/mouthSmile_L.png").good());
   // Bad usage: an unknown shape names the known ones.

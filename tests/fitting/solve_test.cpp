@@ -167,6 +167,76 @@ TEST(Solve, ReachSeparatesWhatTheMusclesCannotMakeFromWhatTheBoundsCost) {
   EXPECT_TRUE(plain.reach.activations.empty());
 }
 
+TEST(Solve, TheHeightWeightTradesSlidingForHeight) {
+  // A target the muscles cannot make exactly (the basis at 0.6 and 0.3 plus a twist of every
+  // moved point, part along the normal, part along the skin), solved twice with the layers
+  // off (an exact bounded linear problem): each solution must be optimal for its own
+  // objective against the other, computed here, and the height-weighted one must leave less
+  // error along the normals.
+  const MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 8.f);
+  RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 8.f, 0.3f, 6.f);
+  spec.layers = {.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  const MeshData base = Posed(rig, mesh, {0.6f, 0.f, 0.3f, 0.f});
+  const std::vector<float3> normals = ComputeVertexNormals(mesh);
+  MeshData target = base;
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const float3 d = base.positions[v] - mesh.positions[v];
+    const float len = Length(d);
+    if (len <= 0.f) continue;
+    target.positions[v] = target.positions[v] + normals[v] * (0.4f * len * std::sin(0.3f * float(v))) +
+                          float3{d.y, -d.x, 0.f} * 0.3f;
+  }
+  SolveOptions plain_options, height_options;
+  height_options.height_weight = 16.0;
+  SolveResult plain, height;
+  ASSERT_TRUE(SolveActivations(rig, mesh, target, plain_options, &plain, &diag)) << diag.Format();
+  ASSERT_TRUE(SolveActivations(rig, mesh, target, height_options, &height, &diag)) << diag.Format();
+  double largest = 0.0;
+  for (size_t v = 0; v < mesh.vertex_count(); ++v)
+    largest = std::max(largest, double(Length(target.positions[v] - mesh.positions[v])));
+  // objective(H) of a posed mesh: sum_v w_v (|e|^2 + (H - 1) (n . e)^2).
+  auto objective = [&](const std::vector<float3>& posed, double h, double* along) {
+    double sum = 0.0;
+    *along = 0.0;
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const double w = Length(target.positions[v] - mesh.positions[v]) > 0.02 * largest ? 1.0 : 0.25;
+      const float3 e = posed[v] - target.positions[v];
+      const double n = Dot(normals[v], e);
+      sum += w * (double(Dot(e, e)) + (h - 1.0) * n * n);
+      *along += w * n * n;
+    }
+    return sum;
+  };
+  double plain_along = 0, height_along = 0, unused = 0;
+  const double plain_1 = objective(plain.posed, 1.0, &plain_along),
+               height_1 = objective(height.posed, 1.0, &unused),
+               plain_16 = objective(plain.posed, 16.0, &unused),
+               height_16 = objective(height.posed, 16.0, &height_along);
+  EXPECT_NEAR(height.residual, height_16, 1e-4 * height_16);  // the residual is its objective's
+  EXPECT_NEAR(plain.residual, plain_1, 1e-4 * plain_1);
+  EXPECT_LE(plain_1, height_1 * (1 + 1e-6));
+  EXPECT_LE(height_16, plain_16 * (1 + 1e-6));
+  EXPECT_LT(height_along, plain_along);  // strictly: the two solutions differ
+  for (size_t m = 0; m < 4; ++m) EXPECT_TRUE(height.activations[m] >= 0.f && height.activations[m] <= 1.f);
+  // A target the basis makes exactly comes back the same whatever the weight.
+  SolveResult exact;
+  ASSERT_TRUE(SolveActivations(rig, mesh, base, height_options, &exact, &diag));
+  EXPECT_NEAR(exact.activations[0], 0.6f, 1e-4);
+  EXPECT_NEAR(exact.activations[2], 0.3f, 1e-4);
+  // Out of range: refused with the reason.
+  for (double bad : {0.0, -1.0, 2e6, std::nan("")}) {
+    SolveOptions o;
+    o.height_weight = bad;
+    Diagnostics d;
+    EXPECT_FALSE(SolveActivations(rig, mesh, target, o, &plain, &d)) << bad;
+    EXPECT_NE(d.Format().find("height weight: expected a number in [1e-6, 1e6]"), std::string::npos)
+        << d.Format();
+  }
+}
+
 TEST(Solve, RecoversSampleHeadActivationsWithEveryLayer) {
   // The default head rig with thickness, muscle wrinkles and curve wrinkles on: the linear
   // solve is off by what the layers add, the Gauss-Newton steps take it the rest of the way.
@@ -292,6 +362,16 @@ TEST(SolveTool, WritesTheExpressionAndSaysHowClose) {
   t = test::RunTool({"solve", rig, "--target", dir + "/target.obj", "--out", dir + "/x.json",
                      "--steps", "2.5"});
   EXPECT_EQ(t.exit_code, 2);
+  t = test::RunTool({"solve", rig, "--target", dir + "/target.obj", "--out", dir + "/x.json",
+                     "--height-weight", "0"});
+  EXPECT_EQ(t.exit_code, 2);
+  EXPECT_NE(t.output.find("--height-weight '0': expected a number in [1e-6, 1e6]"),
+            std::string::npos) << t.output;
+  // A target the rig makes comes back whatever the weight.
+  t = test::RunTool({"solve", rig, "--target", dir + "/target.obj", "--out", dir + "/h.json",
+                     "--height-weight", "16"});
+  ASSERT_EQ(t.exit_code, 0) << t.output;
+  EXPECT_NE(t.output.find("zygomatic                    0.6000"), std::string::npos) << t.output;
 }
 
 }  // namespace
