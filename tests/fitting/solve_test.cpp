@@ -36,6 +36,17 @@ MeshData Posed(const Rig& rig, const MeshData& input, const std::vector<float>& 
   return m;
 }
 
+// The test surface with `muscles` muscles and no skin layer: its output is exactly linear in
+// the activations.
+Rig LinearSurfaceRig(size_t muscles, const MeshData& mesh) {
+  RigSpec spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 8.f, 0.3f, 6.f);
+  spec.layers = {.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
+  Rig rig;
+  Diagnostics diag;
+  EXPECT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  return rig;
+}
+
 const LoadedRig& SampleHeadRig() {
   static const LoadedRig* rig = [] {
     auto* r = new LoadedRig;
@@ -64,11 +75,9 @@ TEST(RigLayout, OutputStartsWithTheFileVerticesInOrder) {
 TEST(Solve, RecoversSurfaceActivationsExactlyWhenLinear) {
   // Six muscles on the test surface, no skin layer: the target is in the muscle basis's span.
   const MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 8.f);
-  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 8.f, 0.3f, 6.f);
-  spec.layers = {.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
-  Rig rig;
+  const Rig rig = LinearSurfaceRig(6, mesh);
+  ASSERT_GT(rig.muscle_count(), 0u);
   Diagnostics diag;
-  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
   const std::vector<float> truth = {0.7f, 0.f, 0.35f, 1.f, 0.15f, 0.55f};
   const MeshData target = Posed(rig, mesh, truth);
   SolveResult r;
@@ -83,11 +92,9 @@ TEST(Solve, ReachSeparatesWhatTheMusclesCannotMakeFromWhatTheBoundsCost) {
   // a bump where no muscle reaches: the unbounded solve (SolveOptions::reach) must find the
   // activations to 1e-3 and leave exactly the bump, the bounded one must pay for the bounds.
   const MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 8.f);
-  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 8.f, 0.3f, 6.f);
-  spec.layers = {.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
-  Rig rig;
+  const Rig rig = LinearSurfaceRig(6, mesh);
+  ASSERT_GT(rig.muscle_count(), 0u);
   Diagnostics diag;
-  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
   const size_t nv = mesh.vertex_count();
   std::vector<std::vector<float3>> basis(6);
   for (size_t m = 0; m < 6; ++m) {
@@ -174,11 +181,9 @@ TEST(Solve, TheHeightWeightTradesSlidingForHeight) {
   // objective against the other, computed here, and the height-weighted one must leave less
   // error along the normals.
   const MeshData mesh = MakeSurfaceMesh(41, 41, 100.f, 100.f, 8.f);
-  RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 8.f, 0.3f, 6.f);
-  spec.layers = {.thickness = false, .muscle_wrinkles = false, .curve_wrinkles = false};
-  Rig rig;
+  const Rig rig = LinearSurfaceRig(4, mesh);
+  ASSERT_GT(rig.muscle_count(), 0u);
   Diagnostics diag;
-  ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
   const MeshData base = Posed(rig, mesh, {0.6f, 0.f, 0.3f, 0.f});
   const std::vector<float3> normals = ComputeVertexNormals(mesh);
   MeshData target = base;
