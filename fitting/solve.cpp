@@ -40,9 +40,9 @@ class Evaluator {
 };
 
 // The error seen by the objective: e + (s - 1) n (n . e), so that |M e|^2 = |e - n (n . e)|^2 +
-// s^2 (n . e)^2 (SolveOptions::height_weight = s^2). Identity when `normals` is empty.
+// s^2 (n . e)^2 (SolveOptions::height_weight = s^2). Identity when s = 1.
 float3 Weigh(const std::vector<float3>& normals, float s, uint32_t v, float3 e) {
-  if (normals.empty()) return e;
+  if (s == 1.f) return e;
   return e + normals[v] * ((s - 1.f) * Dot(normals[v], e));
 }
 
@@ -165,9 +165,11 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
     if (weight[v] > 0.f) rows.push_back(v);
 
   // The height weight: the error's component along the neutral's normals counts s^2 times.
+  // The normals serve it and the height-first optimum of `reach`.
   const float height_scale = float(std::sqrt(options.height_weight));
   const std::vector<float3> height_normals =
-      options.height_weight != 1.0 ? ComputeVertexNormals(neutral) : std::vector<float3>{};
+      options.height_weight != 1.0 || options.reach ? ComputeVertexNormals(neutral)
+                                                    : std::vector<float3>{};
 
   // Solves the bounded problem min |sqrt(w) (J delta - r)|^2, lo <= delta <= hi, with the
   // columns of J given per unknown as displacements of the target's vertices.
@@ -262,7 +264,7 @@ bool SolveActivations(const Rig& rig, const MeshData& neutral, const MeshData& t
     reach.residual = basis_residual(free_x, &reach.posed);
     reach.bounded_residual = basis_residual(x, nullptr);
     // The height alone: columns and motion projected on the neutral's normals, n (n . u).
-    const std::vector<float3> normals = ComputeVertexNormals(neutral);
+    const std::vector<float3>& normals = height_normals;
     auto along = [&](uint32_t v, float3 u) { return normals[v] * Dot(normals[v], u); };
     std::vector<std::vector<float3>> height_columns(nu, std::vector<float3>(nv));
     std::vector<float3> height_target(nv);

@@ -115,6 +115,7 @@ constexpr double kHeightWeights[] = {4.0, 16.0};
 bool RatioMet(const CompareResult& c) { return c.ratio <= 0.5; }
 bool CosineMet(const CompareResult& c) { return c.direction_cosine >= 0.8; }
 bool MagnitudeMet(const CompareResult& c) { return std::fabs(c.magnitude_ratio - 1.0) <= 0.25; }
+bool AllMet(const CompareResult& c) { return RatioMet(c) && CosineMet(c) && MagnitudeMet(c); }
 enum class Cause { kMet, kLayers, kBounds, kReach };
 Cause CauseOf(bool (*met)(const CompareResult&), const CompareResult& on, const CompareResult& off,
               const CompareResult& reach, const CompareResult& height) {
@@ -236,6 +237,14 @@ int CmdFidelity(const Args& args) {
     row.shape = shape;
     const auto t0 = std::chrono::steady_clock::now();
     MeshData posed[2] = {neutral, neutral}, reach_mesh = neutral, height_mesh = neutral;
+    // The measured region: the vertices the real shape moves more than the solve's threshold.
+    auto MovedRegion = [&](float threshold) {
+      CompareOptions co;
+      co.neutral = &neutral;
+      co.region.kind = CompareRegion::Kind::kMoved;
+      co.region.threshold = threshold;
+      return co;
+    };
     for (int layers = 1; layers >= 0; --layers) {
       SolveOptions options;
       options.skin_layers = layers == 1;
@@ -247,10 +256,7 @@ int CmdFidelity(const Args& args) {
         return Fail(diag, std::string("cannot solve ") + shape->name);
       }
       posed[layers].positions = result.posed;
-      CompareOptions co;
-      co.neutral = &neutral;
-      co.region.kind = CompareRegion::Kind::kMoved;
-      co.region.threshold = result.region_threshold;
+      CompareOptions co = MovedRegion(result.region_threshold);
       local.Clear();
       if (!CompareMeshes(posed[layers], target, co, layers ? &row.on : &row.off, &local)) {
         diag.Append(local, path);
@@ -302,11 +308,8 @@ int CmdFidelity(const Args& args) {
         return Fail(diag, std::string("cannot solve ") + shape->name + " with the height weighted");
       }
       weighted_mesh.positions = result.posed;
-      CompareOptions co;
-      co.neutral = &neutral;
-      co.region.kind = CompareRegion::Kind::kMoved;
-      co.region.threshold = result.region_threshold;
-      if (!CompareMeshes(weighted_mesh, target, co, &measured, &local)) {
+      if (!CompareMeshes(weighted_mesh, target, MovedRegion(result.region_threshold), &measured,
+                         &local)) {
         diag.Append(local, path);
         return Fail(diag, std::string("cannot measure ") + shape->name);
       }
@@ -314,17 +317,14 @@ int CmdFidelity(const Args& args) {
     }
     row.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!meshes_dir.empty()) {
-      MeshData out = posed[1];
-      out.normals.clear();
+      auto write = [&](const MeshData& mesh, const char* suffix) {
+        MeshData out = mesh;
+        out.normals.clear();
+        return ExportMesh(meshes_dir + "/" + shape->name + suffix, out, &local);
+      };
       local.Clear();
-      MeshData reach_out = reach_mesh, muscles_out = posed[0], height_out = height_mesh;
-      reach_out.normals.clear();
-      muscles_out.normals.clear();
-      height_out.normals.clear();
-      if (!ExportMesh(meshes_dir + "/" + shape->name + ".obj", out, &local) ||
-          !ExportMesh(meshes_dir + "/" + shape->name + ".muscles.obj", muscles_out, &local) ||
-          !ExportMesh(meshes_dir + "/" + shape->name + ".reach.obj", reach_out, &local) ||
-          !ExportMesh(meshes_dir + "/" + shape->name + ".height.obj", height_out, &local)) {
+      if (!write(posed[1], ".obj") || !write(posed[0], ".muscles.obj") ||
+          !write(reach_mesh, ".reach.obj") || !write(height_mesh, ".height.obj")) {
         diag.Append(local);
         return Fail(diag, "cannot write the posed mesh");
       }
@@ -550,7 +550,7 @@ int CmdFidelity(const Args& args) {
     c.ratio += ratio_ok;
     c.cosine += cosine_ok;
     c.magnitude += magnitude_ok;
-    c.all += ratio_ok && cosine_ok && magnitude_ok;
+    c.all += AllMet(r.on);
     c.layers += r.on.ratio <= r.off.ratio + 1e-9;
     md += "| " + std::string(r.shape->name) + " | " + (r.shape->trained ? "train" : "held out") +
           " | " + Fixed(r.on.b_to_a.mean, 3) + " | " +
@@ -593,6 +593,8 @@ int CmdFidelity(const Args& args) {
       "docs/model.md §13), every layer on, the same shapes:\n\n"
       "| height weight H | mean ratio | ratio <= 0.5 | cosine >= 0.8 | magnitude 0.75-1.25 | "
       "all three |\n|---|---|---|---|---|---|\n";
+  size_t best = 0, base = 0;
+  double best_h = 1.0;
   for (size_t w = 0; w <= std::size(kHeightWeights) && !rows.empty(); ++w) {
     double sum = 0.0;
     size_t ratio = 0, cosine = 0, magnitude = 0, all = 0;
@@ -602,30 +604,19 @@ int CmdFidelity(const Args& args) {
       ratio += RatioMet(c);
       cosine += CosineMet(c);
       magnitude += MagnitudeMet(c);
-      all += RatioMet(c) && CosineMet(c) && MagnitudeMet(c);
+      all += AllMet(c);
     }
+    if (w == 0) base = all;
+    if (all > best) best = all, best_h = w == 0 ? 1.0 : kHeightWeights[w - 1];
     trade += "| " + (w == 0 ? std::string("1 (the table above)") : Fixed(kHeightWeights[w - 1], 0)) +
              " | " + Fixed(sum / double(rows.size()), 3) + " | " + std::to_string(ratio) + " | " +
              std::to_string(cosine) + " | " + std::to_string(magnitude) + " | " +
              std::to_string(all) + " |\n";
   }
-  {
-    size_t best = 0, base = 0;
-    double best_h = 1.0;
-    for (size_t w = 0; w <= std::size(kHeightWeights); ++w) {
-      size_t all = 0;
-      for (const Row& r : rows) {
-        const CompareResult& c = w == 0 ? r.on : r.weighted[w - 1];
-        all += RatioMet(c) && CosineMet(c) && MagnitudeMet(c);
-      }
-      if (w == 0) base = all;
-      if (all > best) best = all, best_h = w == 0 ? 1.0 : kHeightWeights[w - 1];
-    }
-    trade += "\nOf the weights tried, the most shapes meeting all three targets: " +
-             std::to_string(best) + " (H = " + Fixed(best_h, 0) + "), against " +
-             std::to_string(base) + " with the plain solve. The report keeps the plain solve "
-             "(what `mimetic solve` does by default).\n\n";
-  }
+  trade += "\nOf the weights tried, the most shapes meeting all three targets: " +
+           std::to_string(best) + " (H = " + Fixed(best_h, 0) + "), against " +
+           std::to_string(base) + " with the plain solve. The report keeps the plain solve "
+           "(what `mimetic solve` does by default).\n\n";
 
   md += where;
   md += why;
