@@ -569,12 +569,25 @@ class Calibrator {
     const size_t c = CopyOf(t, i);
     if (c != size_t(-1)) one.muscles.push_back(t.muscles[c]);
     for (const TemplateMuscle& m : one.muscles) {
-      const bool deep = m.attachment[0].depth >= options_.min_attachment_depth &&
-                        m.attachment[0].depth > m.insertion[0].depth &&
-                        m.insertion[0].depth <= options_.max_insertion_depth;
-      const bool radii = m.type == MuscleType::kLinear ? m.falloff_start < m.falloff_end
-                                                       : m.falloff_start < m.length;
-      if (!deep || !radii) return diag->Error(m.name, "outside the constraints"), false;
+      // On the written digits: an attachment 0.00001 deeper than its insertion prints level.
+      const double att = TemplateDigits(m.attachment[0].depth);
+      const double ins = TemplateDigits(m.insertion[0].depth);
+      char broken[160] = "";
+      if (att < options_.min_attachment_depth)
+        std::snprintf(broken, sizeof broken, "attachment depth %g is shallower than %g s", att,
+                      double(options_.min_attachment_depth));
+      else if (att <= ins)
+        std::snprintf(broken, sizeof broken, "attachment depth %g is not deeper than the "
+                      "insertion's %g (at the 4 digits a template file holds)", att, ins);
+      else if (ins > options_.max_insertion_depth)
+        std::snprintf(broken, sizeof broken, "insertion depth %g is deeper than %g s", ins,
+                      double(options_.max_insertion_depth));
+      else if (m.type == MuscleType::kLinear ? !(m.falloff_start < m.falloff_end)
+                                             : !(m.falloff_start < m.length))
+        std::snprintf(broken, sizeof broken, "falloff_start %g is not below %s %g",
+                      double(m.falloff_start), m.type == MuscleType::kLinear ? "falloff_end" : "length",
+                      double(m.type == MuscleType::kLinear ? m.falloff_end : m.length));
+      if (broken[0]) return diag->Error(m.name, std::string("outside the constraints: ") + broken), false;
     }
     RigSpec spec;
     FitReport report;
@@ -765,8 +778,10 @@ std::vector<Param> ParamsFor(const MuscleTemplate& seed, size_t i, const Calibra
 double Value(const TemplateMuscle& m, const Param& p) {
   return Multiplicative(p.kind) ? std::log(Get(m, p.kind)) : Get(m, p.kind);
 }
+// At the digits the template file holds (TemplateDigits), so the constraints and the objective
+// are those of the template that `mimetic calibrate` writes.
 void SetValue(TemplateMuscle* m, const Param& p, double x) {
-  Set(m, p.kind, Multiplicative(p.kind) ? std::exp(x) : x);
+  Set(m, p.kind, TemplateDigits(Multiplicative(p.kind) ? std::exp(x) : x));
 }
 
 }  // namespace

@@ -4,8 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace mimetic {
+
+double TemplateDigits(double v) {
+  if (!std::isfinite(v)) return v;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return std::strtod(buf, nullptr);
+}
 
 float EvaluateTemplateThickness(const TemplateThickness& t, float3 p) {
   const float w0 = std::exp(-2.f);

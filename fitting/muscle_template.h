@@ -161,6 +161,11 @@ struct MuscleTemplate {
 // the thickness map's fade (TemplateThickness::front).
 float EvaluateTensionRegion(const TemplateTensionRegion& r, const float front[2], float3 p);
 
+// A number as a template file holds it: 4 significant digits, the shortest decimal that prints
+// so ("0.1", not "0.10000000149"). io/template_file.cpp writes every number through it, and
+// `mimetic calibrate` keeps its template at these digits, so what it measured is what it writes.
+double TemplateDigits(double v);
+
 // Thickness at face-frame position `p` (units of s, as FaceFrame::ToLocal gives), units of s.
 float EvaluateTemplateThickness(const TemplateThickness& t, float3 p);
 

@@ -575,13 +575,7 @@ namespace {
 
 using ordered_json = nlohmann::ordered_json;
 
-// Four significant digits, the shortest decimal that prints so ("0.1", not "0.10000000149").
-double Short(double v) {
-  if (!std::isfinite(v)) return v;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return std::strtod(buf, nullptr);
-}
+double Short(double v) { return TemplateDigits(v); }
 
 ordered_json PointJson(const TemplatePoint& p, bool with_depth) {
   ordered_json j;

@@ -137,6 +137,45 @@ TEST(Calibrate, RecoversTheStrengthAndPlacementThatMadeTheShapes) {
     EXPECT_LE(m.insertion[0].depth, options.max_insertion_depth) << m.name;
   }
   EXPECT_LE(std::fabs(zl.insertion[0].offset.y - 0.05f), options.offset_reach + 1e-6f);
+  // What it measured is what it writes: the result written at the file's 4 digits and read
+  // back is the same template, number for number, and scores the objective it reported.
+  const MuscleTemplate written = Parse(MuscleTemplateToJson(out));
+  ASSERT_EQ(written.muscles.size(), out.muscles.size());
+  for (size_t i = 0; i < out.muscles.size(); ++i) {
+    const TemplateMuscle &a = out.muscles[i], &b = written.muscles[i];
+    EXPECT_EQ(a.strength, b.strength) << a.name;
+    EXPECT_EQ(a.falloff_start, b.falloff_start) << a.name;
+    EXPECT_EQ(a.falloff_end, b.falloff_end) << a.name;
+    EXPECT_EQ(a.zone_angle_deg, b.zone_angle_deg) << a.name;
+    EXPECT_EQ(a.attachment[0].depth, b.attachment[0].depth) << a.name;
+    EXPECT_EQ(a.insertion[0].depth, b.insertion[0].depth) << a.name;
+    EXPECT_EQ(a.attachment[0].offset.x, b.attachment[0].offset.x) << a.name;
+    EXPECT_EQ(a.attachment[0].offset.y, b.attachment[0].offset.y) << a.name;
+    EXPECT_EQ(a.insertion[0].offset.x, b.insertion[0].offset.x) << a.name;
+    EXPECT_EQ(a.insertion[0].offset.y, b.insertion[0].offset.y) << a.name;
+  }
+  double written_objective = 0.0;
+  std::vector<double> written_scores;
+  ASSERT_TRUE(ScoreTemplate(written, Head().mesh, HeadLandmarks(), shapes, options, &written_scores, &diag));
+  for (double s : written_scores) written_objective += s / double(written_scores.size());
+  EXPECT_NEAR(written_objective, report.objective_after, 1e-12 + 1e-9 * report.objective_after);
+}
+
+// An attachment that is deeper than its insertion only below the 4 digits a template file
+// holds (0.020001 against 0.02) would be written level with it; the calibration refuses it as
+// a seed, naming the muscle and both depths.
+TEST(Calibrate, RefusesASeedWhoseDepthsPrintLevel) {
+  const MuscleTemplate seed = Parse(TemplateText(0.08f, 0.f, 0.020001f));
+  ASSERT_GT(seed.muscles[2].attachment[0].depth, seed.muscles[2].insertion[0].depth);
+  const MeshData smile = Pose(Parse(TemplateText(0.08f, 0.f, 0.05f)), {0.8f, 0.f, 0.f, 0.f});
+  CalibrationOptions options;
+  options.min_attachment_depth = 0.01f;
+  MuscleTemplate out;
+  Diagnostics diag;
+  EXPECT_FALSE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), {{"smile", &smile}}, options,
+                                 &out, nullptr, &diag));
+  EXPECT_TRUE(diag.Contains("depressor_anguli_oris_L")) << diag.Format();
+  EXPECT_TRUE(diag.Contains("attachment depth 0.02 is not deeper than the insertion's 0.02")) << diag.Format();
 }
 
 // One mirrored linear muscle on the cheek, away from the mouth and the eyes, that pulls the
