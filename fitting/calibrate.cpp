@@ -132,8 +132,9 @@ TemplateMuscle MirrorOf(const TemplateMuscle& src, const std::string& name) {
 // triangle the right way up (docs/model.md §16): the training head and the options' others.
 class ConstraintHead {
  public:
-  ConstraintHead(const CalibrationHead& h, bool check_anatomy, float crease_fraction)
-      : head_(h), check_anatomy_(check_anatomy), crease_fraction_(crease_fraction) {}
+  ConstraintHead(const CalibrationHead& h, bool check_anatomy, float crease_fraction, float max_miss)
+      : head_(h), check_anatomy_(check_anatomy), crease_fraction_(crease_fraction),
+        max_miss_(max_miss) {}
 
   bool Init(const MuscleTemplate& t, Diagnostics* diag) {
     const MeshData& mesh = *head_.mesh;
@@ -204,6 +205,14 @@ class ConstraintHead {
     Diagnostics diag;
     if (!FitTemplate(one, *head_.mesh, *head_.landmarks, "mm", &spec, &diag, &report))
       return "does not fit: " + diag.Format();
+    std::string missed;
+    if (const float miss = LargestMiss(report, &missed); miss > max_miss_) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "%s lies off the mesh of %s: its ray missed and the nearest "
+                    "surface point is %.3g s away, more than %.3g (the fit's limit is 0.5)",
+                    missed.c_str(), head_.name.c_str(), double(miss), double(max_miss_));
+      return buf;
+    }
     const MeshData& mesh = *head_.mesh;
     if (specs) *specs = spec.muscles;
     cols->assign(spec.muscles.size(), std::vector<float>(3 * mesh.vertex_count(), 0.f));
@@ -406,6 +415,7 @@ class ConstraintHead {
   CalibrationHead head_;
   bool check_anatomy_;
   float crease_fraction_;
+  float max_miss_;  // CalibrationOptions::max_miss
   std::unique_ptr<CreaseMeter> meter_;  // on fine_points_; null without the crease rule
   std::vector<float3> fine_points_;     // the head's points, then its edges' midpoints
   std::vector<std::array<uint32_t, 2>> mid_ends_;  // each midpoint's two ends
@@ -477,9 +487,9 @@ class Calibrator {
       Store(i, cols);
     }
     heads_.emplace_back(CalibrationHead{"the training head", &head_, &landmarks_}, false,
-                        options_.crease_fraction);
+                        options_.crease_fraction, options_.max_miss);
     for (const CalibrationHead& h : options_.check_heads)
-      heads_.emplace_back(h, h.anatomy, options_.crease_fraction);
+      heads_.emplace_back(h, h.anatomy, options_.crease_fraction, options_.max_miss);
     for (ConstraintHead& h : heads_)
       if (!h.Init(tmpl_, diag)) return false;
     return true;

@@ -329,6 +329,20 @@ struct Placer {
 
 }  // namespace
 
+float LargestMiss(const FitReport& report, std::string* where) {
+  float worst = 0.f;
+  if (where) where->clear();
+  for (const PlacedPoint& p : report.points) {
+    if (p.ray_hit) continue;
+    const float d = Length(p.landmark_point - p.surface) / report.frame.scale;
+    if (d > worst) {
+      worst = d;
+      if (where) *where = p.muscle + " " + p.role;
+    }
+  }
+  return worst;
+}
+
 void PlaceJaw(const TemplateJaw& tj, const std::vector<float3>& lm, const FaceFrame& frame,
               JawSpec* out) {
   const float s = frame.scale;

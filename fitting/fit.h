@@ -116,6 +116,12 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
                  const std::string& units, RigSpec* out, Diagnostics* diag,
                  FitReport* report = nullptr);
 
+// The largest distance, in units of s (`report.frame.scale`), from a point whose ray missed
+// the mesh to the nearest surface point the fit used instead (0 when every ray hit); the fit
+// refuses above 0.5. Its name, or "" when every ray hit. `mimetic calibrate` keeps a margin
+// under 0.5 so that a head a little different (a coarser sample head) still fits.
+float LargestMiss(const FitReport& report, std::string* where = nullptr);
+
 // Guesses the mesh unit from the eye-corner distance s (about 9 cm on adults): the unit in
 // which s is closest to 90 mm. Returns "" when s is not a positive finite number.
 std::string GuessUnits(float eye_corner_distance);

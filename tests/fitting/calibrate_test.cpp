@@ -191,6 +191,64 @@ MuscleTemplate CheekTemplate(const std::string& motion) {
        "zone_angle_deg": 30, "falloff_start": 0.3, "falloff_end": 0.6}]})");
 }
 
+// A muscle attached below the chin of a head with a short neck: its attachment's ray misses
+// the mesh and the fit uses the nearest surface point, up to 0.5 s away. The calibration keeps
+// a margin (max_miss, 0.4 s) so that a head a little different still fits its result: a seed
+// between the two fits, and the calibration refuses it by name unless the margin is lifted.
+TEST(Calibrate, RefusesAPointThatOnlyJustFitsOffTheMesh) {
+  auto chin_template = [](float dy) {
+    char buf[1024];
+    std::snprintf(buf, sizeof buf, R"({"format": "mimetic-muscle-template", "version": 1, "muscles": [
+      {"name": "chin_puller_L", "type": "linear", "mirror": true, "strength": 0.04,
+       "falloff": "smooth",
+       "attachment": {"landmarks": [8], "offset": [0.1, %g], "depth": 0.05},
+       "insertion": {"landmarks": [57], "offset": [0.05, -0.1], "depth": 0.02},
+       "zone_angle_deg": 30, "falloff_start": 0.2, "falloff_end": 0.5}]})", double(dy));
+    return Parse(buf);
+  };
+  // Walk the attachment down until the fit's miss lies between the margin and the limit.
+  float dy = 0.f, miss = 0.f;
+  FitReport report;
+  for (float y = -0.2f; y > -1.5f; y -= 0.01f) {
+    RigSpec spec;
+    Diagnostics diag;
+    report = FitReport{};
+    if (!FitTemplate(chin_template(y), Head().mesh, HeadLandmarks(), "mm", &spec, &diag, &report)) break;
+    miss = LargestMiss(report);
+    if (miss > 0.42f && miss < 0.48f) {
+      dy = y;
+      break;
+    }
+  }
+  ASSERT_NE(dy, 0.f) << "no offset put the attachment between 0.42 and 0.48 s off the mesh";
+  // LargestMiss against the distance to the nearest vertex (an upper bound of the distance to
+  // the surface, and within one edge of it).
+  const PlacedPoint* att = nullptr;
+  for (const PlacedPoint& p : report.points)
+    if (p.muscle == "chin_puller_L" && p.role == "attachment") att = &p;
+  ASSERT_NE(att, nullptr);
+  EXPECT_FALSE(att->ray_hit);
+  float nearest = 1e30f;
+  for (const float3& v : Head().mesh.positions) nearest = std::min(nearest, Length(v - att->landmark_point));
+  const float s = report.frame.scale;
+  EXPECT_LE(miss * s, nearest * 1.0001f);
+  EXPECT_GT(miss * s, nearest - 0.05f * s);
+  const MuscleTemplate seed = chin_template(dy);
+  const MeshData pulled = Pose(seed, {0.8f, 0.8f});
+  CalibrationOptions options;
+  options.passes = 1;
+  MuscleTemplate out;
+  Diagnostics diag;
+  EXPECT_FALSE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), {{"pulled", &pulled}}, options,
+                                 &out, nullptr, &diag));
+  EXPECT_TRUE(diag.Contains("chin_puller_L attachment lies off the mesh of the training head")) << diag.Format();
+  options.max_miss = 0.5f;
+  Diagnostics lifted;
+  EXPECT_TRUE(CalibrateTemplate(seed, Head().mesh, HeadLandmarks(), {{"pulled", &pulled}}, options,
+                                &out, nullptr, &lifted))
+      << lifted.Format();
+}
+
 // The search tries a muscle's other motion only when the seed does not name one: a shape made
 // with a tangent muscle pulls an unnamed (chord) seed over to tangent, whose residual is 0,
 // while a seed that says "chord" keeps it.
