@@ -13,7 +13,9 @@ namespace {
 // Zhang 2005 Fig. 1 and Bando 2003 §6 for the first twelve; the four added for the fidelity
 // issue (docs/fidelity.md) follow the FACS action units they make: levator labii superioris
 // AU10 (upper lip up), depressor labii inferioris AU16 (lower lip down), buccinator AU14
-// (dimple: the corner pulled back and out), platysma AU20-like stretch (corner down and out).
+// (dimple: the corner pulled back and out), platysma AU20-like stretch (corner down and out);
+// the lateral fibres of orbicularis oculi's orbital part, the brow lowerer of AU4 beside the
+// corrugator (a sphincter, stood in for by one linear muscle on each side), lower the outer brow.
 const MuscleAnatomy kAnatomy[] = {
     {"frontalis_inner", 22, 0, +1, "raises the inner brow"},
     {"frontalis_major", 24, 0, +1, "raises the brow"},
@@ -31,6 +33,7 @@ const MuscleAnatomy kAnatomy[] = {
     {"depressor_labii_inferioris", 56, 0, -1, "lowers the lower lip"},
     {"buccinator", 54, +1, 0, "pulls the mouth corner back and out"},
     {"platysma", 54, 0, -1, "pulls the mouth corner down and out"},
+    {"orbicularis_oculi_lateral", 26, 0, -1, "lowers the outer brow"},
 };
 
 std::string BaseName(const std::string& name) {
@@ -105,7 +108,7 @@ std::vector<MuscleRegion> DefaultMuscleRegions() {
     const std::string s = side;
     out.push_back({"brow" + s,
                    {"frontalis_inner" + s, "frontalis_major" + s, "frontalis_outer" + s,
-                    "corrugator_supercilii" + s, "procerus" + s}});
+                    "corrugator_supercilii" + s, "procerus" + s, "orbicularis_oculi_lateral" + s}});
     out.push_back({"upper mouth" + s,
                    {"nasalis" + s, "levator_labii_alaeque_nasi" + s, "zygomaticus_minor" + s,
                     "zygomaticus_major" + s, "levator_labii_superioris" + s, "risorius" + s}});

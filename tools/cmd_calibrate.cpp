@@ -36,8 +36,10 @@ const char* kCalibrateUsage =
     "(fitting/anatomy.h), and so is one that turns a triangle over (docs/model.md §16); both\n"
     "are checked on the ICT head and MakeHuman (DIR/makehuman), the fold-over rule on the\n"
     "sample head too, and with --crease-fraction one after which a muscle folds the skin\n"
-    "along its zone's edges more than that allows, on all three heads. Writes the\n"
-    "calibrated template to --out (atomically).\n\n"
+    "along its zone's edges more than that allows, on all three heads; a point whose ray\n"
+    "misses a head (an attachment below a short neck) may lie at most 0.4 s from the\n"
+    "surface, under the fit's 0.5. Numbers are kept at the 4 digits the file holds. Writes\n"
+    "the calibrated template to --out (atomically).\n\n"
     "options:\n"
     "  --train A,B,...    training shapes (default: the brow raise, browDown_L and the _L mouth\n"
     "                     shapes; `mimetic fidelity` reports the others as held out)\n"
@@ -54,7 +56,8 @@ const char* kCalibrateUsage =
     "                     not grow (default 0 = off; 0.333 is the fidelity target; 0..1; a run\n"
     "                     with the rule takes about twice as long; docs/model.md §17)\n"
     "Run from the repository root. A pass takes about a minute and a half on one core\n"
-    "(the default template is made with --passes 8: about 13 minutes).\n";
+    "(the default template is made with --passes 8 --crease-fraction 0.333: about 19\n"
+    "minutes).\n";
 
 int Fail(const Diagnostics& diag, const std::string& what) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);

@@ -354,8 +354,8 @@ TEST(MuscleTemplate, DefaultTemplateHasTheZhangAndBandoMusclesOnBothSides) {
                          "levator_labii_alaeque_nasi", "zygomaticus_minor", "zygomaticus_major",
                          "risorius", "depressor_anguli_oris", "mentalis",
                          "levator_labii_superioris", "depressor_labii_inferioris", "buccinator",
-                         "platysma"};
-  ASSERT_EQ(t.muscles.size(), 32u);
+                         "platysma", "orbicularis_oculi_lateral"};
+  ASSERT_EQ(t.muscles.size(), 34u);
   for (const char* n : names) {
     for (const char* side : {"_L", "_R"}) {
       bool found = false;
