@@ -220,6 +220,26 @@ const Object kJaw = {
     .description = "The jaw (docs/model.md §18): a hinge through the condyles, an opening range "
                    "and a per-vertex weight, explicit or from the region parameters."};
 
+// docs/model.md §24: the eyeballs the lids slide on.
+const Object kEyeSphere = {
+    .owner = "an eyeball",
+    .fields = {
+        Numbers("center", 3, "array of 3 numbers [x, y, z] (mesh units)").Required(),
+        Number("radius", "a number > 0 (mesh units)").Above(0).Required()},
+    .description = "An eyeball: a sphere (docs/model.md §24)."};
+const Object kEyes = {
+    .owner = "eyes",
+    .fields = {
+        Array("spheres", ObjectOf("", kEyeSphere, "object {\"center\": [...], \"radius\": ...}"),
+              "array of eyeballs").NonEmpty().Required(),
+        Numbers("band", 2, "array of 2 numbers [b0, b1], 0 <= b0 < b1 (mesh units from an "
+                           "eyeball's surface)")
+            .Required()
+            .About("skin a muscle or the jaw moves slides on the nearest eyeball with weight 1 "
+                   "within b0 of its surface, fading to 0 at b1")},
+    .description = "The eyeballs the lids slide on (docs/model.md §24): moved skin near one "
+                   "keeps its rest distance from the eyeball's centre."};
+
 // docs/tension.md: a named per-vertex mask; EvaluateJob reports its weight per frame.
 const Object kTensionRegion = {
     .owner = "a tension region",
@@ -307,6 +327,8 @@ const Object kRig = {
                  "object {\"enabled\": true, \"edge_fraction\": 0.25}"),
         ObjectOf("jaw", kJaw, "object {\"condyles\": [...], \"range_deg\": ..., ...}")
             .About("the jaw (docs/model.md §18); absent = none"),
+        ObjectOf("eyes", kEyes, "object {\"spheres\": [...], \"band\": [b0, b1]}")
+            .About("the eyeballs the lids slide on (docs/model.md §24); absent = none"),
         Array("tension_regions", ObjectOf("", kTensionRegion, "object (a tension region)"),
               "array of tension regions")
             .About("named masks whose per-frame weight engines blend wrinkle maps with "
@@ -346,6 +368,7 @@ class RigRules {
   }
   void Thickness(const View& t, ThicknessSpec* out);
   void Jaw(const View& j, RigSpec* spec);
+  void Eyes(const View& e, RigSpec* spec);
   void FineScale(const View& f, RigSpec* spec);
   void Fingerprint(const View& f, MeshFingerprint* out);
   bool Muscle(const View& m, MuscleSpec* out, std::optional<MuscleWrinkleSpec>* wrinkles);
@@ -411,6 +434,7 @@ void RigRules::Root(const View& top, RigSpec* spec) {
   refinement.Read("edge_fraction", &spec->refinement.edge_fraction);
   refinement.Read("falloff_error", &spec->refinement.falloff_error);
   if (top.Has("jaw")) Jaw(top.Member("jaw"), spec);
+  if (top.Has("eyes")) Eyes(top.Member("eyes"), spec);
   std::map<std::string, size_t> region_names;
   for (size_t i = 0; i < top.Size("tension_regions"); ++i) {
     const View g = top.Element("tension_regions", i);
@@ -543,6 +567,29 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
                                  "in front of them, between the lips");
   }
   if (ok) spec->jaw = std::move(jaw);
+}
+
+void RigRules::Eyes(const View& e, RigSpec* spec) {
+  if (!e.present() || !e.value()->is_object()) return;
+  EyesSpec eyes;
+  bool ok = e.ok();
+  for (size_t i = 0; i < e.Size("spheres"); ++i) {
+    const View s = e.Element("spheres", i);
+    EyeSphere sphere;
+    ok = s.ok() && ok;
+    s.Read("center", &sphere.center);
+    s.Read("radius", &sphere.radius);
+    eyes.spheres.push_back(sphere);
+  }
+  if (const json* band = e.Get("band")) {
+    eyes.band[0] = static_cast<float>((*band)[0].get<double>());
+    eyes.band[1] = static_cast<float>((*band)[1].get<double>());
+    if (!(eyes.band[0] >= 0.f && eyes.band[0] < eyes.band[1]))
+      ok = Fail(e.Path("band"), "is [" + FormatFloat(eyes.band[0]) + ", " +
+                                    FormatFloat(eyes.band[1]) + "]; expected [b0, b1] with "
+                                    "0 <= b0 < b1 (mesh units from an eyeball's surface)");
+  }
+  if (ok) spec->eyes = std::move(eyes);
 }
 
 void RigRules::Fingerprint(const View& f, MeshFingerprint* out) {
@@ -889,6 +936,20 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       j["weights"] = std::move(w);
     }
     root["jaw"] = std::move(j);
+  }
+
+  if (spec.eyes) {
+    ordered_json j, spheres = ordered_json::array();
+    for (const EyeSphere& s : spec.eyes->spheres) {
+      ordered_json sj;
+      sj["center"] = Vec3Json(s.center);
+      sj["radius"] = ShortestDecimal(s.radius);
+      spheres.push_back(std::move(sj));
+    }
+    j["spheres"] = std::move(spheres);
+    j["band"] = ordered_json::array(
+        {ShortestDecimal(spec.eyes->band[0]), ShortestDecimal(spec.eyes->band[1])});
+    root["eyes"] = std::move(j);
   }
 
   if (!spec.tension_regions.empty()) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/file_util.h"
+#include "fitting/eyes.h"
 #include "fitting/fit.h"
 #include "fitting/landmarks.h"
 #include "fitting/muscle_template.h"
@@ -30,7 +31,11 @@ const char* kFitUsage =
     "Places the muscles of TEMPLATE (a muscle template, docs/template-format.md, e.g.\n"
     "assets/head/default.template.json) on HEAD from its 68 facial landmarks and writes a rig\n"
     "file (docs/rig-format.md) whose mesh path is relative to the rig. The template is in\n"
-    "units of the outer eye-corner distance, so heads of any size, unit and topology fit.\n\n"
+    "units of the outer eye-corner distance, so heads of any size, unit and topology fit.\n"
+    "When HEAD's file also holds a mesh named \"eyes\" (the eyeballs, as the sample head's\n"
+    "does), the rig gets an `eyes` block: one sphere fitted to each of its connected parts,\n"
+    "and the band of skin that slides on them (within 1/6 of their radius of their surface,\n"
+    "fading out by 2/3; docs/model.md §24), so the lids slide over the eyeballs.\n\n"
     "options:\n"
     "  --mesh HEAD           the head mesh: .obj, .gltf or .glb\n"
     "  --landmarks FILE      landmark JSON (docs/landmarks-format.md): 68 points, or 68 vertex\n"
@@ -127,6 +132,24 @@ int CmdFit(const Args& args) {
   const bool fit_ok = FitTemplate(tmpl, head, landmarks, units, &spec, &fit_diag, &report);
   diag.Append(fit_diag, parsed.positional[0]);
   if (!fit_ok) return Fail(diag, "the template does not fit this head");
+  {  // the eyeballs the lids slide on, when the head's file carries them
+    std::vector<NamedMeshData> others;
+    Diagnostics others_diag;
+    if (!ImportOtherMeshes(mesh_path, "", &others, &others_diag)) {
+      diag.Append(others_diag, mesh_path);
+      return Fail(diag, "cannot read the head file's other meshes");
+    }
+    for (const NamedMeshData& m : others) {
+      if (m.name != "eyes") continue;
+      std::vector<EyeSphere> spheres;
+      std::string why;
+      if (!FitEyeballs(m.mesh, &spheres, &why)) {
+        diag.Error(mesh_path + ": mesh 'eyes'", why);
+        return Fail(diag, "the eyeballs are not spheres");
+      }
+      spec.eyes = MakeEyesSpec(spheres);
+    }
+  }
   PrintDiagnostics(diag);  // warnings
 
   const std::string out_dir = DirectoryOf(out_path);
@@ -170,6 +193,14 @@ int CmdFit(const Args& args) {
               "z (%.3f, %.3f, %.3f), s = %.4g %s\n",
               f.origin.x, f.origin.y, f.origin.z, f.x.x, f.x.y, f.x.z, f.y.x, f.y.y, f.y.z, f.z.x,
               f.z.y, f.z.z, double(f.scale), units.c_str());
+  if (spec.eyes) {
+    std::printf("eyes:      ");
+    for (const EyeSphere& e : spec.eyes->spheres)
+      std::printf(" (%.4g, %.4g, %.4g) radius %.4g,", double(e.center.x), double(e.center.y),
+                  double(e.center.z), double(e.radius));
+    std::printf(" sliding band %.3g .. %.3g %s\n", double(spec.eyes->band[0]),
+                double(spec.eyes->band[1]), units.c_str());
+  }
   std::printf("placed %zu muscles (%zu points):\n", spec.muscles.size(), report.points.size());
   for (const PlacedPoint& p : report.points) {
     const float3 l = f.ToLocal(p.position);

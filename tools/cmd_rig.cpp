@@ -133,6 +133,12 @@ int CmdInfo(const Args& args) {
   std::printf("layers:     thickness %s, muscle wrinkles %s, curve wrinkles %s\n",
               rig.layers().thickness ? "on" : "off", rig.layers().muscle_wrinkles ? "on" : "off",
               rig.layers().curve_wrinkles ? "on" : "off");
+  if (!rig.eyes().empty()) {
+    size_t full = 0;
+    for (float w : rig.eyes().weights) full += w >= 1.f;
+    std::printf("eyes:       %zu eyeballs; %zu points slide on them (docs/model.md §24), %zu fully\n",
+                rig.eyes().centers.size(), rig.eyes().points.size(), full);
+  }
   std::printf("muscles:    %u\n", rig.muscle_count());
   std::vector<uint32_t> influenced = CountInfluencedPoints(rig.muscles());
   influenced.resize(rig.muscle_count(), 0u);

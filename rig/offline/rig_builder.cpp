@@ -140,6 +140,47 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
   return true;
 }
 
+// docs/model.md §24: the points a muscle or the jaw moves that lie in the band over an
+// eyeball, each with its nearest eyeball (largest weight; the first on a tie), its rest
+// distance from that eyeball's centre and its weight EyeSlideWeight; their thickness is
+// scaled by 1 - weight.
+bool CompileEyes(const RigSpec& spec, RigData* rig, Diagnostics* diag) {
+  if (!spec.eyes) return true;
+  const EyesSpec& eyes = *spec.eyes;
+  RigEyes& out = rig->eyes;
+  for (const EyeSphere& s : eyes.spheres) out.centers.push_back(s.center);
+  const uint32_t points = rig->point_count();
+  std::vector<uint8_t> moved(points, 0);
+  for (uint32_t p = 0; p < points; ++p)
+    moved[p] = rig->muscles.offsets[p + 1] > rig->muscles.offsets[p];
+  for (uint32_t p : rig->jaw.points) moved[p] = 1;
+  for (uint32_t p = 0; p < points; ++p) {
+    if (!moved[p]) continue;
+    const float3 x = rig->rest_points[p];
+    float best = 0.f, radius = 0.f;
+    uint32_t eye = 0;
+    for (uint32_t e = 0; e < eyes.spheres.size(); ++e) {
+      const float r = Length(x - eyes.spheres[e].center);
+      const float w = EyeSlideWeight(r - eyes.spheres[e].radius, eyes.band);
+      if (w > best) best = w, radius = r, eye = e;
+    }
+    if (best > 0.f && radius > 0.f) {
+      // The lids' skin lies on the globe without subcutaneous fat: no thickness to bulge
+      // where it slides (docs/model.md §24).
+      if (p < rig->point_thickness.size()) rig->point_thickness[p] *= 1.f - best;
+      out.points.push_back(p);
+      out.eyes.push_back(eye);
+      out.radii.push_back(radius);
+      out.weights.push_back(best);
+    }
+  }
+  if (out.points.empty())
+    diag->Warning("eyes", "no vertex that a muscle or the jaw moves lies within eyes.band of an "
+                          "eyeball: check the spheres and the band against the mesh's units "
+                          "and placement");
+  return true;
+}
+
 // docs/tension.md: each tension region's weights checked (one per mesh vertex, in [0, 1]) and
 // averaged onto the welded points (as per-vertex thickness is); the rig keeps the points with a
 // weight above 0, ascending.
@@ -724,6 +765,7 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
   }
   ok = CompileSkinLayers(spec, mesh, file_triangle, &rig, diag) && ok;
   ok = CompileJaw(spec, mesh, welded, &rig, diag) && ok;
+  ok = CompileEyes(spec, &rig, diag) && ok;
   ok = ResolveTensionRegions(spec, mesh, welded, &rig, diag) && ok;
   if (!ok) return false;
   *out = std::move(rig);

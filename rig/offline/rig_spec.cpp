@@ -68,4 +68,11 @@ WrinkleMuscleGeometry WrinkleGeometryOf(const MuscleSpec& m) {
   return g;
 }
 
+float EyeSlideWeight(float d, const float band[2]) {
+  if (!(d < band[1])) return 0.f;  // also NaN
+  if (d <= band[0]) return 1.f;
+  const float t = (band[1] - d) / (band[1] - band[0]);
+  return t * t * (3.f - 2.f * t);
+}
+
 }  // namespace mimetic

@@ -84,6 +84,23 @@ struct JawSpec {
   std::vector<float> weights;    // explicit: one per file vertex, in [0, 1]
 };
 
+// The eyeballs the lids slide on (docs/model.md §24, docs/rig-format.md `eyes`): spheres, and
+// the band of skin over them that slides: a point a muscle or the jaw moves, whose rest distance
+// from the nearest eyeball's surface is d, slides with weight EyeSlideWeight(d, band).
+struct EyeSphere {
+  float3 center{};    // mesh units
+  float radius = 0.f;  // > 0, mesh units
+};
+struct EyesSpec {
+  std::vector<EyeSphere> spheres;  // at least one
+  float band[2] = {0.f, 0.f};      // [b0, b1], 0 <= b0 < b1, mesh units from the surface
+};
+
+// The weight of a point at distance d (mesh units, negative inside) from an eyeball's surface:
+// 1 for d <= b0, 0 for d >= b1, between them the smoothstep 3t^2 - 2t^3 of t = (b1 - d) /
+// (b1 - b0) (C1: no crease where the band ends).
+float EyeSlideWeight(float d, const float band[2]);
+
 // The frame of the jaw's hinge: pivot = the condyles' midpoint, axis = right -> left condyle
 // (unit), forward = pivot -> mouth without its axis part (unit), up = forward x axis.
 struct JawFrame {
@@ -133,6 +150,7 @@ struct RigSpec {
   SkinLayers layers;  // which skin layers to compile (all by default); docs/model.md §1 steps 3-4
   RefinementSpec refinement;
   std::optional<JawSpec> jaw;  // docs/model.md §18; absent = no jaw
+  std::optional<EyesSpec> eyes;  // docs/model.md §24; absent = no eyeballs to slide on
   std::vector<TensionRegionSpec> tension_regions;  // docs/tension.md
   // Fine-scale wrinkle textures (docs/model.md §20-23, docs/rig-format.md `fine_scale`);
   // absent = none.

@@ -400,6 +400,36 @@ void StageJaw(const FrameState& f, float jaw) {
   });
 }
 
+// docs/model.md §24: the lids slide on the eyeballs. Each listed point that the muscles or the
+// jaw moved (its bits differ from the rest pose's: a point at rest stays bit for bit) goes
+// toward the point at its rest distance R_p from its eyeball's centre c along c -> x, by its
+// weight: x + w (c + (x - c) R_p / |x - c| - x). Each point reads and writes only itself.
+void StageEyes(const FrameState& f) {
+  const RigEyes& eyes = f.rig.eyes();
+  const uint32_t* points = eyes.points.data();
+  const uint32_t* which = eyes.eyes.data();
+  const float* radii = eyes.radii.data();
+  const float* weights = eyes.weights.data();
+  const float3* centers = eyes.centers.data();
+  const float3* rest = f.base;
+  float3* x = f.points;
+  ParallelFor(f.job, uint32_t(eyes.points.size()), [&](uint32_t b, uint32_t e) {
+    for (uint32_t i = b; i < e; ++i) {
+      const uint32_t p = points[i];
+      const float3 xp = x[p], r = rest[p];
+      if (xp.x == r.x && xp.y == r.y && xp.z == r.z) continue;
+      const float3 c = centers[which[i]];
+      const float3 v = xp - c;
+      const float len = Length(v);
+      if (!(len > 0.f)) continue;  // at the centre (or not finite): no direction to slide on
+      const float s = radii[i] / len;
+      const float w = weights[i];
+      x[p] = float3{xp.x + w * (c.x + v.x * s - xp.x), xp.y + w * (c.y + v.y * s - xp.y),
+                    xp.z + w * (c.z + v.z * s - xp.z)};
+    }
+  });
+}
+
 // The strain of X1 against the rest pose (docs/model.md §4-5): face normals and triangle area
 // ratios of X1, and the lengths of the edges the strain measures read (compression eps per
 // wrinkled-muscle row, 001 eq. 9-10, and shrinkage s per curve-wrinkle entry, 000 eq. 4, are
@@ -1419,6 +1449,7 @@ bool EvaluateJob::Run() const {
   ctx.limited_points_ = ctx.limiter_passes_ = 0;
   StageMuscles(f);
   if (ctx.jaw_ > 0.f && !r.jaw().empty()) StageJaw(f, ctx.jaw_);
+  if (!r.eyes().empty()) StageEyes(f);
   if (!out_fine_amplitudes.empty() && !r.fine_scale().empty()) {
     StageFineScale(f);  // on X1
     f.edges = false;    // it measured the strain's edges on X1 too: StageStrain has them

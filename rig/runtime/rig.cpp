@@ -49,6 +49,8 @@ size_t Rig::ByteSize() const {
        Bytes(c.entries) + Bytes(c.probes);
   n += Bytes(d.muscle_names) + Bytes(d.muscles.offsets) + Bytes(d.muscles.entries);
   n += Bytes(d.jaw.points) + Bytes(d.jaw.weights);
+  n += Bytes(d.eyes.centers) + Bytes(d.eyes.points) + Bytes(d.eyes.eyes) + Bytes(d.eyes.radii) +
+       Bytes(d.eyes.weights);
   const RigTensionRegions& g = d.tension_regions;
   n += Bytes(g.names) + Bytes(g.references) + Bytes(g.offsets) + Bytes(g.points) +
        Bytes(g.weights);

@@ -75,6 +75,20 @@ struct RigJaw {
   bool empty() const { return points.empty(); }
 };
 
+// The eyeballs the lids slide on (docs/model.md §24): skin that rests on an eyeball keeps its
+// rest distance from the eyeball's centre when the muscles or the jaw move it, so a lid slides
+// over the globe instead of lifting off it. After the muscles and the jaw, a listed point p
+// that moved goes to x + w_p (c + (x - c) R_p / |x - c| - x) (c its eyeball's centre, R_p its
+// rest distance from c, w_p its weight). Points that no muscle or jaw moves are not listed.
+struct RigEyes {
+  std::vector<float3> centers;   // one per eyeball, mesh units
+  std::vector<uint32_t> points;  // held points, ascending, all < active points
+  std::vector<uint32_t> eyes;    // per entry of `points`: index into `centers`
+  std::vector<float> radii;      // per entry: R_p = |rest_p - c|, > 0
+  std::vector<float> weights;    // per entry, in (0, 1]
+  bool empty() const { return points.empty(); }
+};
+
 // A tension region's default reference c0 (docs/model.md §19): its weight 1 - exp(-C / c0) is
 // 0.63 at a mean area compression C of 10%.
 inline constexpr float kDefaultTensionReference = 0.1f;
@@ -150,6 +164,9 @@ struct RigData {
 
   // The jaw (empty = none: EvaluateJob::jaw is ignored).
   RigJaw jaw;
+
+  // The eyeballs the lids slide on (empty = none; docs/model.md §24).
+  RigEyes eyes;
 
   // Tension regions (empty = none). A rig with any keeps rest_triangle_areas, skin layers or
   // not, so that EvaluateJob's tension outputs can measure r.
@@ -265,6 +282,8 @@ class Rig {
   const MuscleTable& muscles() const { return data_.muscles; }
   // The jaw (empty when the rig has none).
   const RigJaw& jaw() const { return data_.jaw; }
+  // The eyeballs the lids slide on (empty when the rig has none).
+  const RigEyes& eyes() const { return data_.eyes; }
   // Tension regions (empty when the rig has none).
   const RigTensionRegions& tension_regions() const { return data_.tension_regions; }
   uint32_t tension_region_count() const { return data_.tension_regions.region_count(); }

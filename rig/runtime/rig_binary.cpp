@@ -65,6 +65,12 @@ enum SectionId : uint32_t {
   // 1.2: fine-scale amplitude probes (optional; absent = none).
   kFineScaleParams = 40,
   kFineScaleProbes = 41,
+  // 2.1: the eyeballs the lids slide on (optional; absent = none).
+  kEyeCenters = 42,
+  kEyePoints = 43,
+  kEyeIndices = 44,
+  kEyeRadii = 45,
+  kEyeWeights = 46,
   kInfoUnits = 64,
   kInfoSourceVertexCount = 65,
 };
@@ -116,6 +122,11 @@ constexpr SectionDesc kSections[] = {
     {kTensionWeights, "tension_region_weights", 4, 0, false},
     {kFineScaleParams, "fine_scale_params", 4, 1, false},
     {kFineScaleProbes, "fine_scale_probes", 48, 0, false},
+    {kEyeCenters, "eye_centers", 4, 0, false},
+    {kEyePoints, "eye_points", 4, 0, false},
+    {kEyeIndices, "eye_indices", 4, 0, false},
+    {kEyeRadii, "eye_radii", 4, 0, false},
+    {kEyeWeights, "eye_weights", 4, 0, false},
     {kInfoUnits, "info_units", 0, 1, false},
     {kInfoSourceVertexCount, "info_source_vertex_count", 4, 1, false},
 };
@@ -302,6 +313,16 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
   if (!d.fine_scale.empty()) {
     w.F32s(kFineScaleParams, {d.fine_scale.rest_amplitude});
     WriteProbes(&w, kFineScaleProbes, d.fine_scale.probes);
+  }
+  if (!d.eyes.empty()) {
+    const RigEyes& e = d.eyes;
+    std::vector<float> centers;
+    for (const float3& c : e.centers) centers.insert(centers.end(), {c.x, c.y, c.z});
+    w.F32s(kEyeCenters, centers);
+    w.U32s(kEyePoints, e.points);
+    w.U32s(kEyeIndices, e.eyes);
+    w.F32s(kEyeRadii, e.radii);
+    w.F32s(kEyeWeights, e.weights);
   }
   if (info) {
     w.Strings(kInfoUnits, {info->units});
@@ -518,6 +539,36 @@ bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
       r.F32s(kFineScaleParams, &v);
       d.fine_scale.rest_amplitude = v[0];
       ReadProbes(r.Of(kFineScaleProbes), &d.fine_scale.probes);
+    }
+  }
+  {  // 2.1's eyes: all five sections or none (Rig::Build checks the indices and values)
+    const uint32_t ids[] = {kEyeCenters, kEyePoints, kEyeIndices, kEyeRadii, kEyeWeights};
+    int present = 0;
+    for (uint32_t id : ids) present += r.Of(id).data != nullptr;
+    if (present != 0 && present != 5) {
+      *error = "sections 'eye_*' (ids 42-46): the eyes need all five sections; " +
+               std::to_string(present) + " are present";
+      return false;
+    }
+    if (present == 5) {
+      RigEyes& e = d.eyes;
+      std::vector<float> centers;
+      r.F32s(kEyeCenters, &centers);
+      r.U32s(kEyePoints, &e.points);
+      r.U32s(kEyeIndices, &e.eyes);
+      r.F32s(kEyeRadii, &e.radii);
+      r.F32s(kEyeWeights, &e.weights);
+      const InSection& s = r.Of(kEyePoints);
+      if (centers.size() % 3 != 0 || e.eyes.size() != e.points.size() ||
+          e.radii.size() != e.points.size() || e.weights.size() != e.points.size())
+        return r.Fail(s, std::to_string(e.points.size()) + " held points need as many eye "
+                         "indices, radii and weights, and the centres three floats each; got " +
+                         std::to_string(e.eyes.size()) + " indices, " +
+                         std::to_string(e.radii.size()) + " radii, " +
+                         std::to_string(e.weights.size()) + " weights, " +
+                         std::to_string(centers.size()) + " centre floats");
+      for (size_t i = 0; i + 2 < centers.size(); i += 3)
+        e.centers.push_back({centers[i], centers[i + 1], centers[i + 2]});
     }
   }
   RigBinaryInfo file_info;

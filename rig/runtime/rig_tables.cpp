@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rig/runtime/face_kernels.h"
 #include "wrinkles/runtime/profiles.h"
@@ -69,6 +70,20 @@ bool CheckRigData(const RigData& r) {
       if (!(std::fabs(len2 - 1.f) < 1e-4f) || !IsFinite(j.pivot) || !IsFinite(j.translation) || !(j.range > 0.f) ||
           !(j.range <= kMaxJawRange))
         return false;
+    }
+  }
+  {  // the eyes: held points ascending and active, an eyeball each, positive finite radii,
+     // weights in (0, 1], finite centres
+    const RigEyes& e = r.eyes;
+    const size_t n = e.points.size();
+    if (e.eyes.size() != n || e.radii.size() != n || e.weights.size() != n) return false;
+    for (const float3& c : e.centers)
+      if (!IsFinite(c)) return false;
+    for (size_t i = 0; i < n; ++i) {
+      if (e.points[i] >= n_active || (i > 0 && e.points[i] <= e.points[i - 1])) return false;
+      if (e.eyes[i] >= e.centers.size()) return false;
+      if (!(e.radii[i] > 0.f && e.radii[i] < std::numeric_limits<float>::infinity())) return false;
+      if (!(e.weights[i] > 0.f && e.weights[i] <= 1.f)) return false;
     }
   }
   {  // tension regions: named once each, a positive finite reference, a well-formed CSR of

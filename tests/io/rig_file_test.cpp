@@ -86,12 +86,20 @@ std::string Jaw(const std::string& from, const std::string& to) {
   return Extra(R"("jaw": )" + Replace(kJaw, from, to));
 }
 
+// An eyes block (docs/model.md §24).
+const std::string kEyes =
+    R"({"spheres": [{"center": [-31, 0, 66], "radius": 12}, {"center": [31, 0, 66], "radius": 12}], "band": [2, 8]})";
+std::string Eyes(const std::string& from, const std::string& to) {
+  return Extra(R"("eyes": )" + Replace(kEyes, from, to));
+}
+
 TEST(RigJsonTest, BaseTextsAreValid) {
   for (const std::string& text :
        {Doc(), Doc("[" + kSheet + "]"), Doc("[]"), Thickness(R"({"type": "constant", "value": 3})"),
         LinearW(R"({"depth": 1, "phi_c_deg": 10})"), SheetW(R"({"depth": 1, "h_c": 5})"),
         Curves("[" + kCurve + "]"), Extra(R"("layers": {"thickness": false})"),
         Extra(R"("refinement": {"edge_fraction": 1})"), Extra(R"("jaw": )" + kJaw),
+        Extra(R"("eyes": )" + kEyes),
         Extra(R"("tension_regions": [{"name": "glabella", "reference": 0.2, "weights": [0, 0.5, 1]}])")}) {
     RigSpec spec;
     Diagnostics diag;
@@ -441,7 +449,52 @@ std::vector<BadCase> BadCases() {
        {"jaw.neck_deg: is [20, 200]; expected [n0, n1] in [0, 180]"}},
       {"jaw neck of 1", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20])"),
        {"jaw.neck_deg: expected array of 2 numbers [n0, n1]", "got array of 1 elements"}},
+      // The eyeballs the lids slide on (docs/model.md §24).
+      {"eyes not an object", Extra(R"("eyes": [1])"), {"eyes: expected object {\"spheres\""}},
+      {"eyes without spheres", Eyes(R"("spheres": [{"center": [-31, 0, 66], "radius": 12}, {"center": [31, 0, 66], "radius": 12}], )", ""),
+       {"eyes.spheres: missing required key; expected array of eyeballs"}},
+      {"eyes with no sphere", Eyes(R"([{"center": [-31, 0, 66], "radius": 12}, {"center": [31, 0, 66], "radius": 12}])", "[]"),
+       {"eyes.spheres: expected array of eyeballs", "got array of 0 elements"}},
+      {"eyes radius 0", Eyes(R"("radius": 12})", R"("radius": 0})"),
+       {"eyes.spheres[0].radius: expected a number > 0 (mesh units), got 0"}},
+      {"eyes centre of 2", Eyes("[-31, 0, 66]", "[-31, 0]"),
+       {"eyes.spheres[0].center: expected array of 3 numbers [x, y, z] (mesh units)", "got array of 2 elements"}},
+      {"eyes sphere without centre", Eyes(R"("center": [31, 0, 66], )", ""),
+       {"eyes.spheres[1].center: missing required key"}},
+      {"eyes without band", Eyes(R"(, "band": [2, 8])", ""),
+       {"eyes.band: missing required key; expected array of 2 numbers [b0, b1], 0 <= b0 < b1"}},
+      {"eyes band reversed", Eyes("[2, 8]", "[8, 2]"),
+       {"eyes.band: is [8, 2]; expected [b0, b1] with 0 <= b0 < b1 (mesh units from an eyeball's surface)"}},
+      {"eyes band negative", Eyes("[2, 8]", "[-1, 8]"), {"eyes.band: is [-1, 8]; expected [b0, b1] with 0 <= b0 < b1"}},
+      {"eyes band of 3", Eyes("[2, 8]", "[2, 8, 9]"),
+       {"eyes.band: expected array of 2 numbers [b0, b1]", "got array of 3 elements"}},
+      {"unknown key in eyes", Eyes(R"("band")", R"("hold": 1, "band")"),
+       {"eyes.hold: unknown key \"hold\"; allowed keys for eyes: spheres, band"}},
   };
+}
+
+TEST(RigJsonTest, EyesParseToTheNumbersWrittenAndWriteBack) {
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(ParseRigSpec(Extra(R"("eyes": )" + kEyes), "", &spec, &diag)) << diag.Format();
+  ASSERT_TRUE(spec.eyes.has_value());
+  ASSERT_EQ(spec.eyes->spheres.size(), 2u);
+  EXPECT_EQ(spec.eyes->spheres[0].center.x, -31.f);
+  EXPECT_EQ(spec.eyes->spheres[1].center.x, 31.f);
+  EXPECT_EQ(spec.eyes->spheres[1].center.z, 66.f);
+  EXPECT_EQ(spec.eyes->spheres[1].radius, 12.f);
+  EXPECT_EQ(spec.eyes->band[0], 2.f);
+  EXPECT_EQ(spec.eyes->band[1], 8.f);
+  RigSpec again;
+  ASSERT_TRUE(ParseRigSpec(RigSpecText(spec, ""), "", &again, &diag)) << diag.Format();
+  ASSERT_TRUE(again.eyes.has_value());
+  EXPECT_EQ(again.eyes->spheres[0].center.x, -31.f);
+  EXPECT_EQ(again.eyes->spheres[1].radius, 12.f);
+  EXPECT_EQ(again.eyes->band[1], 8.f);
+  RigSpec none;
+  ASSERT_TRUE(ParseRigSpec(Doc(), "", &none, &diag));
+  EXPECT_FALSE(none.eyes.has_value());
+  EXPECT_EQ(RigSpecText(none, "").find("\"eyes\""), std::string::npos);
 }
 
 TEST(RigJsonTest, BadInputsAreRejectedWithPathAndExpectation) {

@@ -2,6 +2,7 @@
 // strides, and normals/positions against hand-computed values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include <atomic>
@@ -292,6 +293,160 @@ TEST(EvaluateJob, SeamVerticesStayTogetherAndStridesAreHonoured) {
     ASSERT_EQ(inter[8 * v + 6], -7.f);
     ASSERT_EQ(inter[8 * v + 7], -7.f);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The eyeballs the lids slide on (docs/model.md §24).
+
+// A sphere under the surface, off to one side (so the muscles' motion along the surface changes
+// the points' distance from its centre): its surface 1 unit below the nearest surface point,
+// so the band [2, 12] holds a patch of points fully and fades out around it.
+struct EyeSurface {
+  Surface plain;  // the same spec without eyes
+  Surface eyes;
+  float3 center;
+  float radius = 0.f;
+  float band[2] = {2.f, 12.f};
+};
+
+EyeSurface MakeEyeSurface(bool skin = false, uint32_t side = 40) {
+  EyeSurface e;
+  e.plain.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
+  e.plain.spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 10.f, 0.4f, 3.f);
+  if (skin) AddEverySkinLayer(&e.plain.spec);
+  e.plain.rig = BuildOrDie(e.plain.spec, e.plain.mesh);
+  e.center = {25.f, 0.f, -25.f};
+  float nearest = std::numeric_limits<float>::infinity();
+  for (const float3& p : e.plain.mesh.positions) nearest = std::min(nearest, Length(p - e.center));
+  e.radius = nearest - 1.f;
+  e.eyes.mesh = e.plain.mesh;
+  e.eyes.spec = e.plain.spec;
+  EyesSpec eyes;
+  eyes.spheres = {{e.center, e.radius}};
+  eyes.band[0] = e.band[0];
+  eyes.band[1] = e.band[1];
+  e.eyes.spec.eyes = eyes;
+  e.eyes.rig = BuildOrDie(e.eyes.spec, e.eyes.mesh);
+  return e;
+}
+
+// The band's weight from docs/model.md §24, in double: 1 within b0, 0 beyond b1, the
+// smoothstep 3t^2 - 2t^3 of t = (b1 - d) / (b1 - b0) between.
+double SlideWeight(double d, double b0, double b1) {
+  if (d <= b0) return 1.0;
+  if (d >= b1) return 0.0;
+  const double t = (b1 - d) / (b1 - b0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+TEST(EvaluateJobEyes, MovedPointsInTheBandKeepTheirWeightedRestDistanceFromTheEyeball) {
+  const EyeSurface e = MakeEyeSurface();
+  ASSERT_FALSE(e.eyes.rig.eyes().empty());
+  const std::vector<float> act = SomeActivations(e.plain.rig);
+  EvaluateContext c1(e.plain.rig), c2(e.eyes.rig);
+  std::vector<float> plain, slid, n1, n2;
+  EvaluateJob a = MakeJob(e.plain.rig, &c1, act, &plain, &n1);
+  a.layers = {false, false, false};
+  ASSERT_TRUE(a.Run());
+  EvaluateJob b = MakeJob(e.eyes.rig, &c2, act, &slid, &n2);
+  b.layers = {false, false, false};
+  ASSERT_TRUE(b.Run());
+  size_t full = 0, partial = 0, outside = 0;
+  for (size_t v = 0; v < e.plain.mesh.vertex_count(); ++v) {
+    const float3 x0 = e.plain.mesh.positions[v];
+    const float3 x{plain[3 * v], plain[3 * v + 1], plain[3 * v + 2]};
+    const float3 got{slid[3 * v], slid[3 * v + 1], slid[3 * v + 2]};
+    const double r0 = Length(x0 - e.center);
+    const double w = SlideWeight(r0 - e.radius, e.band[0], e.band[1]);
+    const bool moved = std::memcmp(&x, &x0, sizeof x) != 0;
+    if (w == 0.0 || !moved) {  // the muscles' own position, bit for bit
+      ASSERT_EQ(std::memcmp(&got, &x, sizeof x), 0) << v;
+      ++outside;
+      continue;
+    }
+    // x + w (c + (x - c) r0 / |x - c| - x), in double.
+    const double d[3] = {double(x.x) - e.center.x, double(x.y) - e.center.y,
+                         double(x.z) - e.center.z};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double want[3] = {x.x + w * (d[0] * r0 / len - d[0]), x.y + w * (d[1] * r0 / len - d[1]),
+                            x.z + w * (d[2] * r0 / len - d[2])};
+    ASSERT_NEAR(got.x, want[0], 1e-3) << v;
+    ASSERT_NEAR(got.y, want[1], 1e-3) << v;
+    ASSERT_NEAR(got.z, want[2], 1e-3) << v;
+    if (w == 1.0) {
+      ASSERT_NEAR(Length(got - e.center), r0, 1e-3) << v;  // on its rest sphere
+      if (std::fabs(len - r0) > 0.05) ++full;  // and the muscles had moved it off it
+    } else {
+      ++partial;
+    }
+  }
+  EXPECT_GT(full, 5u) << partial << " partly held, " << outside << " untouched";
+  EXPECT_GT(partial, 20u) << full;
+  EXPECT_GT(outside, e.plain.mesh.vertex_count() / 2);
+}
+
+TEST(EvaluateJobEyes, RestStaysBitForBitAndSplitsAndRerunsGiveTheSameBitsWithoutAllocating) {
+  const EyeSurface e = MakeEyeSurface(true);
+  ASSERT_FALSE(e.eyes.rig.eyes().empty());
+  const std::vector<float> zero(e.eyes.rig.muscle_count(), 0.f);
+  EvaluateContext c0(e.eyes.rig), cp(e.plain.rig);
+  std::vector<float> rest, n0, plain, np;
+  EvaluateJob still = MakeJob(e.eyes.rig, &c0, zero, &rest, &n0);
+  still.layers = {false, false, false};
+  ASSERT_TRUE(still.Run());
+  for (size_t v = 0; v < e.eyes.mesh.vertex_count(); ++v)
+    ASSERT_EQ(std::memcmp(&rest[3 * v], &e.eyes.mesh.positions[v], 12), 0) << v;
+  // Every layer on (the curve wrinkles' rest amplitude moves the surface): the same bits as
+  // the rig without eyes (at rest r = 1, so the thinned thickness changes nothing either).
+  ASSERT_TRUE(MakeJob(e.eyes.rig, &c0, zero, &rest, &n0).Run());
+  ASSERT_TRUE(MakeJob(e.plain.rig, &cp, zero, &plain, &np).Run());
+  EXPECT_EQ(std::memcmp(rest.data(), plain.data(), rest.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(n0.data(), np.data(), n0.size() * 4), 0);
+  const std::vector<float> act = SomeActivations(e.eyes.rig);
+  EvaluateContext c1(e.eyes.rig), c2(e.eyes.rig);
+  std::vector<float> pos1, nrm1, pos2, nrm2;
+  EvaluateJob serial = MakeJob(e.eyes.rig, &c1, act, &pos1, &nrm1);
+  ASSERT_TRUE(serial.Run());
+  EvaluateJob threaded = MakeJob(e.eyes.rig, &c2, act, &pos2, &nrm2);
+  threaded.parallel_for = TwoThreads;
+  threaded.parallel_min_count = 1;
+  ASSERT_TRUE(threaded.Run());
+  EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0);
+  EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(serial.Run());
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+TEST(EvaluateJobEyes, TheBuilderListsMovedPointsOfTheBandAndThinsTheirThickness) {
+  const EyeSurface e = MakeEyeSurface(true);
+  const Rig& rig = e.eyes.rig;
+  const RigEyes& eyes = rig.eyes();
+  ASSERT_EQ(eyes.centers.size(), 1u);
+  EXPECT_EQ(std::memcmp(&eyes.centers[0], &e.center, sizeof e.center), 0);
+  // Same spec but for the eyes: the same points in the same order.
+  ASSERT_EQ(rig.point_count(), e.plain.rig.point_count());
+  size_t listed = 0;
+  for (uint32_t p = 0; p < rig.point_count(); ++p) {
+    const float3 x = rig.rest_points()[p];
+    const double r0 = Length(x - e.center);
+    const double w = SlideWeight(r0 - e.radius, e.band[0], e.band[1]);
+    const auto it = std::lower_bound(eyes.points.begin(), eyes.points.end(), p);
+    const bool in = it != eyes.points.end() && *it == p;
+    const bool moved = rig.muscles().offsets[p + 1] > rig.muscles().offsets[p];
+    ASSERT_EQ(in, moved && w > 0.0) << p;
+    const float h = e.plain.rig.point_thickness()[p];
+    if (!in) {
+      ASSERT_EQ(rig.point_thickness()[p], h) << p;
+      continue;
+    }
+    const size_t i = size_t(it - eyes.points.begin());
+    ASSERT_NEAR(eyes.weights[i], w, 1e-5) << p;
+    ASSERT_NEAR(eyes.radii[i], r0, 1e-4) << p;
+    ASSERT_NEAR(rig.point_thickness()[p], h * (1.0 - w), 1e-5) << p;
+    ++listed;
+  }
+  EXPECT_GT(listed, 30u);
 }
 
 }  // namespace

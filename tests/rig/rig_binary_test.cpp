@@ -432,6 +432,71 @@ TEST(RigBinary, HostileIndicesAreRefusedByRigBuild) {
 // section's id changed to one no version knows, so the reader skips it as a newer minor's) is
 // refused naming the sections and the count; with all five renamed the rig loads without
 // regions; counts that do not agree are refused naming the offsets section.
+// docs/model.md §24: the eyeballs the lids slide on (format 2.1's optional sections 42-46).
+TEST(RigBinary, TheEyesRoundTripAndComeTogether) {
+  RigData data = Surface().data();
+  ASSERT_TRUE(data.eyes.empty());
+  const float3 c{0.f, 0.f, -30.f};
+  data.eyes.centers = {c, {5.f, 5.f, -40.f}};
+  for (uint32_t p = 0; p < data.active.points; p += 5) {
+    data.eyes.points.push_back(p);
+    data.eyes.eyes.push_back(p % 2);
+    data.eyes.radii.push_back(Length(data.rest_points[p] - data.eyes.centers[p % 2]));
+    data.eyes.weights.push_back(0.25f + 0.75f * float(p % 3) / 2.f);
+  }
+  Rig rig;
+  ASSERT_TRUE(Rig::Build(data, &rig));
+  const std::string bytes = WriteRigBinary(rig.data());
+  Rig loaded;
+  std::string error;
+  ASSERT_TRUE(ReadRigBinary(Bytes(bytes), &loaded, nullptr, &error)) << error;
+  EXPECT_EQ(loaded.eyes().points, rig.eyes().points);
+  EXPECT_EQ(loaded.eyes().eyes, rig.eyes().eyes);
+  EXPECT_EQ(loaded.eyes().radii, rig.eyes().radii);
+  EXPECT_EQ(loaded.eyes().weights, rig.eyes().weights);
+  ASSERT_EQ(loaded.eyes().centers.size(), 2u);
+  EXPECT_EQ(std::memcmp(&loaded.eyes().centers[1], &data.eyes.centers[1], 12), 0);
+  const std::vector<float> act(rig.muscle_count(), 0.7f);
+  const std::vector<float> want = Evaluate(rig, act), got = Evaluate(loaded, act);
+  EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
+  EXPECT_NE(want, Evaluate(Surface(), act));  // the eyes did something
+  EXPECT_EQ(WriteRigBinary(loaded.data()), bytes);
+  // Any of the five alone missing: refused, naming them.
+  for (uint32_t id = 42; id <= 46; ++id) {
+    const std::string e = ReadError(DropSections(bytes, {id}));
+    EXPECT_NE(e.find("sections 'eye_*' (ids 42-46): the eyes need all five sections; 4 are "
+                     "present"),
+              std::string::npos)
+        << id << ": " << e;
+  }
+  // All five missing: no eyes (a 2.0 file), the plain rig.
+  ASSERT_TRUE(ReadRigBinary(Bytes(DropSections(bytes, {42, 43, 44, 45, 46})), &loaded, nullptr,
+                            &error))
+      << error;
+  EXPECT_TRUE(loaded.eyes().empty());
+  // Fewer radii than points: refused by the reader, with the counts.
+  {
+    std::string bad = bytes;
+    const Entry radii = Find(bytes, 45);
+    PutU64(&bad, radii.at + 24, radii.count - 1);
+    PutU64(&bad, radii.at + 16, radii.size - 4);
+    Rechecksum(&bad);
+    const std::string e = ReadError(bad);
+    EXPECT_NE(e.find("held points need as many eye indices, radii and weights"),
+              std::string::npos)
+        << e;
+  }
+  // An eye index past the centres, and a weight above 1: refused by Rig::Build.
+  for (uint32_t id : {44u, 46u}) {
+    std::string bad = bytes;
+    const uint32_t value = id == 44 ? 2u : 0x3fc00000u;  // index 2 of 2 centres; 1.5f
+    PutU32(&bad, Find(bytes, id).offset, value);
+    Rechecksum(&bad);
+    EXPECT_FALSE(ReadRigBinary(Bytes(bad), &loaded, nullptr, &error)) << id;
+    EXPECT_NE(error.find("Rig::Build"), std::string::npos) << error;
+  }
+}
+
 TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
   const std::string bytes = WriteRigBinary(Surface().data(), nullptr);
   ASSERT_EQ(Surface().tension_region_count(), 2u);
@@ -508,7 +573,7 @@ TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
 TEST(RigBinary, VersionsAndUnknownSections) {
   const RigBinaryInfo info{"cm", 12};
   const std::string bytes = WriteRigBinary(Surface().data(), &info);
-  EXPECT_EQ(U32At(bytes, 4), 2u | 0u << 16);  // version 2.0
+  EXPECT_EQ(U32At(bytes, 4), 2u | 1u << 16);  // version 2.1
   EXPECT_EQ(U64At(bytes, 24), ChecksumOf(bytes, true));
   {
     // A 1.1 file (the same sections, the one-lane checksum) still loads, to the same rig.
