@@ -364,6 +364,7 @@ void PlaceJaw(const TemplateJaw& tj, const std::vector<float3>& lm, const FaceFr
   jaw.cheek_blend_deg = tj.cheek_blend_deg;
   jaw.cheek_drop_deg = tj.cheek_drop_deg;
   jaw.corner_fade = tj.corner_fade;
+  jaw.thickness_fade = tj.thickness_fade;
   jaw.back[0] = tj.back[0];
   jaw.back[1] = tj.back[1];
   jaw.neck_deg[0] = tj.neck_deg[0];

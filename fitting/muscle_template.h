@@ -109,6 +109,7 @@ struct TemplateJaw {
   float3 translation{};        // the glide at jaw = 1: face-frame (dx, dy, dz), units of s
   float lip_blend_deg = 2.f, cheek_blend_deg = 12.f, cheek_drop_deg = 0.f;
   float corner_fade = 0.2f;  // fraction of the mouth width (JawSpec::corner_fade)
+  float thickness_fade = 0.3f;  // fraction of the mouth width (JawSpec::thickness_fade)
   float back[2] = {0.2f, 0.6f};
   float neck_deg[2] = {90.f, 180.f};
 };

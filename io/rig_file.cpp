@@ -207,6 +207,9 @@ const Object kJaw = {
             .About("how far the blend's centre drops beyond the corners; default 0"),
         Number("corner_fade", "a number in [0, 0.5] (a fraction of the mouth width)").Min(0).Max(0.5)
             .About("where the lips' side term fades out before each mouth corner; default 0.2"),
+        Number("thickness_fade", "a number in [0, 1] (a fraction of the mouth width)").Min(0).Max(1)
+            .About("distance from the edge of a slit between the lips over which the skin's "
+                   "thickness fades in (the lips carry no fat); 0 = off; default 0.3"),
         Numbers("back", 2, "array of 2 numbers [b0, b1] in [-1, 1], b0 < b1 (fractions of the "
                            "hinge-to-mouth distance)")
             .About("forward distance from the hinge where the weight fades in; default [0.2, 0.6]"),
@@ -542,6 +545,7 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
   j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
   j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
   j.Read("corner_fade", &jaw.corner_fade);
+  j.Read("thickness_fade", &jaw.thickness_fade);
   if (const json* back = j.Get("back")) {
     jaw.back[0] = static_cast<float>((*back)[0].get<double>());
     jaw.back[1] = static_cast<float>((*back)[1].get<double>());
@@ -927,6 +931,7 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       j["cheek_blend_deg"] = ShortestDecimal(jw.cheek_blend_deg);
       j["cheek_drop_deg"] = ShortestDecimal(jw.cheek_drop_deg);
       j["corner_fade"] = ShortestDecimal(jw.corner_fade);
+      j["thickness_fade"] = ShortestDecimal(jw.thickness_fade);
       j["back"] = ordered_json::array({ShortestDecimal(jw.back[0]), ShortestDecimal(jw.back[1])});
       j["neck_deg"] =
           ordered_json::array({ShortestDecimal(jw.neck_deg[0]), ShortestDecimal(jw.neck_deg[1])});
@@ -934,6 +939,11 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
       ordered_json w = ordered_json::array();
       for (float v : jw.weights) w.push_back(ShortestDecimal(v));
       j["weights"] = std::move(w);
+      if (jw.mouth_width > 0.f) {  // the mouth still places the lips' thickness fade
+        j["mouth"] = Vec3Json(jw.mouth);
+        j["mouth_width"] = ShortestDecimal(jw.mouth_width);
+        j["thickness_fade"] = ShortestDecimal(jw.thickness_fade);
+      }
     }
     root["jaw"] = std::move(j);
   }

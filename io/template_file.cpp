@@ -168,6 +168,7 @@ const Object kJaw = {"the jaw", {
     Number("cheek_blend_deg", "a number in (0, 90] (degrees)").Above(0).Max(90),
     Number("cheek_drop_deg", "a number in [0, 45] (degrees)").Min(0).Max(45),
     Number("corner_fade", "a number in [0, 0.5] (a fraction of the mouth width)").Min(0).Max(0.5),
+    Number("thickness_fade", "a number in [0, 1] (a fraction of the mouth width)").Min(0).Max(1),
     Numbers("back", 2, "[b0, b1], two numbers in [-1, 1] with b0 < b1 (fractions of the "
                        "hinge-to-mouth distance)"),
     Numbers("neck_deg", 2, "[n0, n1], two numbers in [0, 180] with n0 < n1 (degrees below the "
@@ -328,6 +329,7 @@ void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
   j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
   j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
   j.Read("corner_fade", &jaw.corner_fade);
+  j.Read("thickness_fade", &jaw.thickness_fade);
   // An ordered pair [a, b] in [lo, hi] with a < b; `what` says what the numbers are.
   auto pair = [&](const char* key, float lo, float hi, const char* what, float* dst) {
     float2 v{dst[0], dst[1]};
@@ -735,6 +737,7 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     e["cheek_blend_deg"] = Short(jw.cheek_blend_deg);
     e["cheek_drop_deg"] = Short(jw.cheek_drop_deg);
     e["corner_fade"] = Short(jw.corner_fade);
+    e["thickness_fade"] = Short(jw.thickness_fade);
     e["back"] = ordered_json::array({Short(jw.back[0]), Short(jw.back[1])});
     e["neck_deg"] = ordered_json::array({Short(jw.neck_deg[0]), Short(jw.neck_deg[1])});
     j["jaw"] = e;

@@ -79,6 +79,14 @@ bool ResolveThickness(const ThicknessSpec& spec, const MeshData& mesh, const Wel
 }
 
 
+// The nearest point of segment [a, b] to x, as a distance.
+float SegmentDistance(float3 x, float3 a, float3 b) {
+  const float3 ab = b - a;
+  const float len2 = Dot(ab, ab);
+  const float t = len2 > 0.f ? std::fmin(std::fmax(Dot(x - a, ab) / len2, 0.f), 1.f) : 0.f;
+  return Length(x - (a + ab * t));
+}
+
 // docs/model.md §18: the jaw's hinge, range and per-point weights (explicit per file vertex,
 // averaged over a point's vertices, or the region function of the rest position and normal). Only points
 // with w > 0 are listed.
@@ -123,6 +131,13 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
     const std::vector<float3> normals = ComputeVertexNormals(welded.points, welded.triangles, no);
     for (uint32_t p = 0; p < points; ++p)
       w[p] = JawRegionWeight(jaw, frame, welded.points[p], normals[p]);
+  }
+  // The lips carry no fat: thickness fades in from the edge of the slit between them.
+  if (jaw.thickness_fade > 0.f && jaw.mouth_width > 0.f && !rig->point_thickness.empty()) {
+    const std::vector<float> d = MouthEdgeDistances(jaw, welded.points, welded.triangles);
+    const float fade = jaw.thickness_fade * jaw.mouth_width;
+    for (size_t p = 0; p < d.size() && p < rig->point_thickness.size(); ++p)
+      rig->point_thickness[p] *= Smoothstep(0.f, fade, d[p]);
   }
   RigJaw& out = rig->jaw;
   out.pivot = frame.pivot;
@@ -1225,6 +1240,47 @@ bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> act
   diag->Error(where, "the evaluation gives non-finite positions or normals (first: output vertex " +
                          std::to_string(bad) + "): " + what);
   return false;
+}
+
+std::vector<float> MouthEdgeDistances(const JawSpec& jaw, span<const float3> points,
+                                      span<const uint32_t> triangles) {
+  EdgeTable edges;
+  BuildEdgeTable(triangles, &edges);
+  const std::vector<uint32_t> boundary = BoundaryEdges(edges);
+  if (boundary.empty() || !(jaw.mouth_width > 0.f)) return {};
+  // Union-find over the boundary's points: one set per loop (the smallest point names it).
+  std::unordered_map<uint32_t, uint32_t> parent;
+  auto find = [&](uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  for (uint32_t e : boundary) {
+    const uint32_t a = EdgeKeyLow(edges.keys[e]), b = EdgeKeyHigh(edges.keys[e]);
+    parent.emplace(a, a);
+    parent.emplace(b, b);
+    const uint32_t ra = find(a), rb = find(b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  auto distance = [&](float3 x, uint32_t e) {
+    return SegmentDistance(x, points[EdgeKeyLow(edges.keys[e])], points[EdgeKeyHigh(edges.keys[e])]);
+  };
+  float nearest = std::numeric_limits<float>::infinity();
+  uint32_t loop = 0;
+  for (uint32_t e : boundary) {  // ascending edge ids: the first of equally near loops
+    const float d = distance(jaw.mouth, e);
+    if (d < nearest) nearest = d, loop = find(EdgeKeyLow(edges.keys[e]));
+  }
+  if (!(nearest <= 0.25f * jaw.mouth_width)) return {};
+  std::vector<uint32_t> mouth;
+  for (uint32_t e : boundary)
+    if (find(EdgeKeyLow(edges.keys[e])) == loop) mouth.push_back(e);
+  std::vector<float> out(points.size());
+  for (size_t p = 0; p < points.size(); ++p) {
+    float d = std::numeric_limits<float>::infinity();
+    for (uint32_t e : mouth) d = std::fmin(d, distance(points[p], e));
+    out[p] = d;
+  }
+  return out;
 }
 
 }  // namespace mimetic

@@ -96,4 +96,11 @@ bool PosedMesh(const Rig& rig, span<const float> activations, const SkinLayers& 
 bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> activations,
                       const SkinLayers& layers, const MeshData& posed, Diagnostics* diag);
 
+// docs/model.md §18, the mouth's free edge: every point's distance (mesh units) from the edge
+// of the slit between the lips, that is from the boundary loop of (points, triangles) nearest
+// jaw.mouth, when that loop passes within a quarter of jaw.mouth_width of it. Empty when no
+// loop does (a closed lip line) or the mesh has no boundary. O(#P * loop edges).
+std::vector<float> MouthEdgeDistances(const JawSpec& jaw, span<const float3> points,
+                                      span<const uint32_t> triangles);
+
 }  // namespace mimetic

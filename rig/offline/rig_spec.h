@@ -76,6 +76,10 @@ struct JawSpec {
   // Where the lips' side term fades out toward each corner, a fraction of the mouth width:
   // full at |x| <= W/2 - corner_fade W, none at the corners and beyond (docs/model.md §18).
   float corner_fade = 0.2f;
+  // The lips carry no subcutaneous fat (docs/model.md §18, "the mouth's free edge"): on a mesh
+  // with a slit between the lips, a point's thickness is scaled by smoothstep(0, f W, d), d its
+  // distance from the slit's edge, f = thickness_fade (0 = off), W the mouth width.
+  float thickness_fade = 0.3f;
   float back[2] = {0.2f, 0.6f};  // forward distance from the hinge (fractions of the
                                  // hinge-to-mouth distance) where w fades in: 0 -> 1
   float neck_deg[2] = {90.f, 180.f};  // angles below the lip line where w fades out toward the

@@ -429,6 +429,10 @@ std::vector<BadCase> BadCases() {
        {"jaw.cheek_drop_deg: expected a number in [0, 45] (degrees), got -1"}},
       {"jaw corner_fade 0.6", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "corner_fade": 0.6)"),
        {"jaw.corner_fade: expected a number in [0, 0.5] (a fraction of the mouth width), got 0.6"}},
+      {"jaw thickness_fade 1.5", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "thickness_fade": 1.5)"),
+       {"jaw.thickness_fade: expected a number in [0, 1] (a fraction of the mouth width), got 1.5"}},
+      {"jaw thickness_fade text", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "thickness_fade": "x")"),
+       {"jaw.thickness_fade: expected a number in [0, 1] (a fraction of the mouth width), got string"}},
       {"jaw back reversed", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "back": [0.6, 0.2])"),
        {"jaw.back: is [0.6, 0.2]; expected [b0, b1] in [-1, 1] with b0 < b1"}},
       {"jaw back of 3", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "back": [0, 0.2, 0.4])"),
@@ -1481,7 +1485,7 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
   Diagnostics diag;
   ASSERT_TRUE(ParseRigSpec(Jaw(R"("mouth_width": 40)",
                                R"("mouth_width": 40, "lip_blend_deg": 3, "back": [0.1, 0.5], )"
-                               R"("translation": [0, -4, 2.5], "neck_deg": [25, 55])"),
+                               R"("translation": [0, -4, 2.5], "neck_deg": [25, 55], "thickness_fade": 0.2)"),
                            "", &spec, &diag))
       << diag.Format();
   ASSERT_TRUE(spec.jaw.has_value());
@@ -1497,6 +1501,7 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
   ExpectVec(spec.jaw->translation, 0, -4, 2.5);
   EXPECT_EQ(spec.jaw->neck_deg[0], 25.f);
   EXPECT_EQ(spec.jaw->neck_deg[1], 55.f);
+  EXPECT_EQ(spec.jaw->thickness_fade, 0.2f);
   EXPECT_TRUE(spec.jaw->weights.empty());
   const std::string dir = test::TempDir();
   for (bool explicit_weights : {false, true}) {
@@ -1512,6 +1517,10 @@ TEST(RigJsonTest, JawParsesAndRoundTripsInBothForms) {
     EXPECT_EQ(loaded.jaw->range_deg, 20.f);
     EXPECT_EQ(loaded.jaw->weights, spec.jaw->weights);
     ExpectVec(loaded.jaw->translation, 0, -4, 2.5);
+    // The mouth is kept beside explicit weights too: it places the lips' thickness fade.
+    ExpectVec(loaded.jaw->mouth, 0, 0, 10);
+    EXPECT_EQ(loaded.jaw->mouth_width, 40.f);
+    EXPECT_EQ(loaded.jaw->thickness_fade, 0.2f);
     if (!explicit_weights) {
       EXPECT_EQ(loaded.jaw->neck_deg[0], 25.f);
       EXPECT_EQ(loaded.jaw->neck_deg[1], 55.f);

@@ -165,7 +165,8 @@ std::string WithJaw(const std::string& extra) {
 TEST(MuscleTemplate, JawWithGlideAndNeckParses) {
   MuscleTemplate t;
   Diagnostics diag;
-  ASSERT_TRUE(ParseMuscleTemplate(WithJaw(R"("translation": [0, -0.25, -0.2], "neck_deg": [26, 56])"),
+  ASSERT_TRUE(ParseMuscleTemplate(WithJaw(R"("translation": [0, -0.25, -0.2], "neck_deg": [26, 56], )"
+                                          R"("thickness_fade": 0.45)"),
                                   &t, &diag))
       << diag.Format();
   ASSERT_TRUE(t.jaw.has_value());
@@ -174,11 +175,13 @@ TEST(MuscleTemplate, JawWithGlideAndNeckParses) {
   EXPECT_EQ(t.jaw->translation.z, -0.2f);
   EXPECT_EQ(t.jaw->neck_deg[0], 26.f);
   EXPECT_EQ(t.jaw->neck_deg[1], 56.f);
+  EXPECT_EQ(t.jaw->thickness_fade, 0.45f);
   MuscleTemplate none;
   ASSERT_TRUE(ParseMuscleTemplate(WithJaw(R"("lip_blend_deg": 1)"), &none, &diag)) << diag.Format();
   EXPECT_EQ(none.jaw->translation.y, 0.f);  // defaults: no glide, no neck fade in front
   EXPECT_EQ(none.jaw->neck_deg[0], 90.f);
   EXPECT_EQ(none.jaw->neck_deg[1], 180.f);
+  EXPECT_EQ(none.jaw->thickness_fade, 0.3f);  // the lips' fade is on by default
 }
 
 TEST(MuscleTemplate, BadInputTable) {
@@ -310,6 +313,8 @@ TEST(MuscleTemplate, BadInputTable) {
        {"jaw.back", "is [0.6, 0.2]; expected [b0, b1] in [-1, 1] with b0 < b1 (fractions of "
                     "the hinge-to-mouth distance)"}},
       {"jaw back below -1", WithJaw(R"("back": [-1.5, 0.2])"), {"jaw.back", "is [-1.5, 0.2]"}},
+      {"jaw thickness_fade -0.1", WithJaw(R"("thickness_fade": -0.1)"),
+       {"jaw.thickness_fade", "a number in [0, 1] (a fraction of the mouth width)", "-0.1"}},
       {"jaw without range", Replace(WithJaw(R"("lip_blend_deg": 1)"), R"("range_deg": 5, )", ""),
        {"jaw.range_deg", "missing"}},
   };

@@ -3,6 +3,7 @@
 // layout (mesh.fingerprint) is refused with how to refit.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include <algorithm>
@@ -478,6 +479,119 @@ TEST(BuildRig, ReportsItsStagesInOrderFromZeroToOne) {
   ASSERT_EQ(with.point_count(), without.point_count());
   for (uint32_t p = 0; p < with.point_count(); ++p)
     ASSERT_EQ(with.rest_points()[p], without.rest_points()[p]) << p;
+}
+
+// --- the lips carry no fat (docs/model.md §18, the mouth's free edge) -------------------------
+
+// A flat 100 x 100 sheet (z = 0, points 2.5 apart) with a slit between the lips along y = 0 from
+// x = -20 to 20: the cells above the slit use copies of its inner points raised by 0.01 (so the
+// weld keeps them apart), the corners x = +-20 are shared. `slit` false: one closed sheet.
+MeshData SlitSheet(bool slit) {
+  constexpr int n = 41;
+  MeshData m;
+  m.source = slit ? "slit.obj" : "sheet.obj";
+  auto at = [](int i, int j) { return float3{-50.f + 2.5f * float(i), -50.f + 2.5f * float(j), 0.f}; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) m.positions.push_back(at(i, j));
+  std::vector<uint32_t> upper(n, 0);
+  for (int i = 13; i <= 27 && slit; ++i) {  // x = -17.5 .. 17.5 on the row y = 0 (j = 20)
+    upper[i] = uint32_t(m.positions.size());
+    m.positions.push_back(at(i, 20) + float3{0.f, 0.01f, 0.f});
+  }
+  auto id = [&](int i, int j) {
+    return (slit && j == 20 && upper[i] != 0) ? upper[i] : uint32_t(j * n + i);
+  };
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      // The cell's bottom row is the slit's upper side when the cell lies above it (j = 20).
+      auto lo = [&](int ii) { return j == 20 ? id(ii, 20) : uint32_t(j * n + ii); };
+      const uint32_t a = lo(i), b = lo(i + 1), c = uint32_t((j + 1) * n + i + 1),
+                     d = uint32_t((j + 1) * n + i);
+      m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+    }
+  return m;
+}
+
+RigSpec SlitSpec(float thickness_fade, float3 mouth = {0.f, 0.005f, 0.f}) {
+  RigSpec spec = MakeSurfaceRigSpec(4, 100.f, 100.f, 0.f, 0.3f, 3.f);
+  spec.refinement.enabled = false;
+  spec.thickness.value = 3.f;
+  JawSpec jaw;
+  jaw.condyles[0] = {-60.f, 20.f, -60.f};
+  jaw.condyles[1] = {60.f, 20.f, -60.f};
+  jaw.range_deg = 20.f;
+  jaw.mouth = mouth;
+  jaw.mouth_width = 40.f;
+  jaw.thickness_fade = thickness_fade;
+  spec.jaw = jaw;
+  return spec;
+}
+
+// Distance from the segment x in [-20, 20], y = z = 0: the slit's lower side exactly, its
+// upper side within 0.01.
+float SlitDistance(float3 p) {
+  const float dx = std::max(std::fabs(p.x) - 20.f, 0.f);
+  return std::sqrt(dx * dx + p.y * p.y + p.z * p.z);
+}
+
+TEST(BuildRigLips, ThicknessFadesInFromTheSlitsEdgeBySmoothstepOfTheDistance) {
+  Rig rig;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(SlitSpec(0.3f), SlitSheet(true), BuildOptions{}, &rig, &diag)) << diag.Format();
+  const float fade = 0.3f * 40.f;  // f W
+  size_t zero = 0, partial = 0, full = 0;
+  for (uint32_t p = 0; p < rig.point_count(); ++p) {
+    const float d = SlitDistance(rig.rest_points()[p]);
+    const float t = std::min(d / fade, 1.f);
+    const float want = 3.f * t * t * (3.f - 2.f * t);
+    // The upper side's 0.01 offset moves d by at most 0.01: h * 1.5 / (f W) * 0.01 in h.
+    ASSERT_NEAR(rig.point_thickness()[p], want, 4e-3f) << "point " << p << " at distance " << d;
+    zero += rig.point_thickness()[p] == 0.f;
+    full += rig.point_thickness()[p] == 3.f;
+    partial += rig.point_thickness()[p] > 0.f && rig.point_thickness()[p] < 3.f;
+  }
+  EXPECT_EQ(zero, 17u + 15u);  // the lower side's 17 points with the corners, the upper side's 15
+  EXPECT_GT(partial, 100u);
+  EXPECT_GT(full, rig.point_count() / 2);
+}
+
+TEST(BuildRigLips, AClosedLipLineAMouthFarFromTheSlitOrFadeZeroKeepTheThickness) {
+  struct Case {
+    const char* what;
+    bool slit;
+    RigSpec spec;
+    bool faded;
+  };
+  const Case cases[] = {
+      {"closed sheet", false, SlitSpec(0.3f), false},
+      {"thickness_fade 0", true, SlitSpec(0.f), false},
+      {"mouth 11 from the slit (more than W/4)", true, SlitSpec(0.3f, {0.f, -11.f, 0.f}), false},
+      {"mouth 9 from the slit", true, SlitSpec(0.3f, {0.f, -9.f, 0.f}), true},
+  };
+  for (const Case& c : cases) {
+    Rig rig;
+    Diagnostics diag;
+    ASSERT_TRUE(BuildRig(c.spec, SlitSheet(c.slit), BuildOptions{}, &rig, &diag)) << c.what << diag.Format();
+    const float least = *std::min_element(rig.point_thickness().begin(), rig.point_thickness().end());
+    EXPECT_EQ(least, c.faded ? 0.f : 3.f) << c.what;
+  }
+}
+
+TEST(MouthEdgeDistances, PicksTheLoopNearestTheMouthNotTheSheetsRim) {
+  const MeshData m = SlitSheet(true);
+  JawSpec jaw = SlitSpec(0.3f).jaw.value();
+  // Every vertex's distance (nothing welds here: all positions differ) from the slit alone,
+  // not from the sheet's rim 30 beyond it.
+  const std::vector<float> d = MouthEdgeDistances(jaw, m.positions, m.indices);
+  ASSERT_EQ(d.size(), m.positions.size());
+  for (size_t v = 0; v < d.size(); ++v)
+    ASSERT_NEAR(d[v], SlitDistance(m.positions[v]), 0.0101f) << v;
+  // A mouth beside the rim picks the rim: (50, 0) is 0 from it.
+  jaw.mouth = {49.f, 30.f, 0.f};
+  const std::vector<float> rim = MouthEdgeDistances(jaw, m.positions, m.indices);
+  ASSERT_EQ(rim.size(), m.positions.size());
+  EXPECT_NEAR(rim[20 * 41 + 40], 0.f, 1e-6f);
+  EXPECT_NEAR(rim[20 * 41 + 20], 50.f, 1e-4f);
 }
 
 }  // namespace
