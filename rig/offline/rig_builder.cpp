@@ -155,6 +155,17 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
   return true;
 }
 
+// The points a muscle or the jaw moves themselves (1), before their neighbours are added
+// (MovingPoints below; CompileEyes).
+std::vector<uint8_t> MovedByMuscleOrJaw(const RigData& rig) {
+  const uint32_t points = rig.point_count();
+  std::vector<uint8_t> moved(points, 0);
+  for (uint32_t p = 0; p < points; ++p)
+    moved[p] = rig.muscles.offsets[p + 1] > rig.muscles.offsets[p];
+  for (uint32_t p : rig.jaw.points) moved[p] = 1;  // the jaw turns them (docs/model.md §18)
+  return moved;
+}
+
 // docs/model.md §24: the points a muscle or the jaw moves that lie in the band over an
 // eyeball, each with its nearest eyeball (largest weight; the first on a tie), its rest
 // distance from that eyeball's centre and its weight EyeSlideWeight; their thickness is
@@ -165,10 +176,7 @@ bool CompileEyes(const RigSpec& spec, RigData* rig, Diagnostics* diag) {
   RigEyes& out = rig->eyes;
   for (const EyeSphere& s : eyes.spheres) out.centers.push_back(s.center);
   const uint32_t points = rig->point_count();
-  std::vector<uint8_t> moved(points, 0);
-  for (uint32_t p = 0; p < points; ++p)
-    moved[p] = rig->muscles.offsets[p + 1] > rig->muscles.offsets[p];
-  for (uint32_t p : rig->jaw.points) moved[p] = 1;
+  const std::vector<uint8_t> moved = MovedByMuscleOrJaw(*rig);
   for (uint32_t p = 0; p < points; ++p) {
     if (!moved[p]) continue;
     const float3 x = rig->rest_points[p];
@@ -794,10 +802,12 @@ bool BuildOnWelded(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& 
 // adds 1 = normal can change).
 std::vector<uint8_t> MovingPoints(const RigData& rig) {
   const uint32_t points = rig.point_count(), tris = rig.triangle_count();
-  std::vector<uint8_t> moved(points, 0), level(points, 0);
+  const std::vector<uint8_t> moved = MovedByMuscleOrJaw(rig);
+  std::vector<uint8_t> level(points, 0);
+  // A moved point is active even when no triangle uses it (a stray vertex of a scan that a
+  // muscle reaches: it moves with its displacement and is drawn by nothing).
   for (uint32_t p = 0; p < points; ++p)
-    moved[p] = rig.muscles.offsets[p + 1] > rig.muscles.offsets[p];
-  for (uint32_t p : rig.jaw.points) moved[p] = 1;  // the jaw turns them (docs/model.md §18)
+    if (moved[p]) level[p] = 2;
   for (const RigMuscleWrinkles& w : rig.muscle_wrinkles)
     for (uint32_t p : w.points) level[p] = 2;
   for (uint32_t p : rig.curve_wrinkles.points) level[p] = 2;

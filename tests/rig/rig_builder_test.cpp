@@ -594,5 +594,32 @@ TEST(MouthEdgeDistances, PicksTheLoopNearestTheMouthNotTheSheetsRim) {
   EXPECT_NEAR(rim[20 * 41 + 20], 50.f, 1e-4f);
 }
 
+// A stray vertex no triangle uses (scans carry them) inside a muscle's reach: the muscle moves
+// it, so the build makes it active like any moved point (it used to be left in the static range
+// with muscle entries, and Rig::Build refused the tables as an internal error). Every other
+// vertex poses exactly as without it; the stray one moves, and no skin layer touches it.
+TEST(BuildRig, AStrayVertexAMuscleReachesMovesAndChangesNothingElse) {
+  RigSpec spec = SlitSpec(0.f);
+  spec.jaw.reset();
+  const MeshData plain = SlitSheet(false);
+  MeshData stray = plain;
+  stray.positions.push_back({1.25f, 1.25f, 0.5f});  // inside the sheet's muscles' reach
+  Rig with, without;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, plain, BuildOptions{}, &without, &diag)) << diag.Format();
+  ASSERT_TRUE(BuildRig(spec, stray, BuildOptions{}, &with, &diag)) << diag.Format();
+  ASSERT_EQ(with.vertex_count(), without.vertex_count() + 1);
+  const std::vector<float> a(with.muscle_count(), 0.8f);
+  MeshData posed_with, posed_without, bare;
+  ASSERT_TRUE(PosedMesh(with, a, SkinLayers{}, &posed_with));
+  ASSERT_TRUE(PosedMesh(without, a, SkinLayers{}, &posed_without));
+  ASSERT_TRUE(PosedMesh(with, a, SkinLayers{false, false, false}, &bare));
+  for (size_t v = 0; v < plain.vertex_count(); ++v)
+    ASSERT_EQ(posed_with.positions[v], posed_without.positions[v]) << v;
+  const size_t s = plain.vertex_count();
+  EXPECT_GT(Length(posed_with.positions[s] - stray.positions[s]), 0.1f);
+  EXPECT_EQ(posed_with.positions[s], bare.positions[s]);
+}
+
 }  // namespace
 }  // namespace mimetic
