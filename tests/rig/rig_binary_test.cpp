@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -226,6 +227,30 @@ TEST(RigBinary, FineScaleSectionsComeTogetherAndOldFilesHaveNone) {
   EXPECT_NE(no_probes.find("missing 'fine_scale_probes' (id 41)"), std::string::npos) << no_probes;
 }
 
+// Two eyeballs on the surface, every fifth active point sliding on one of them (the eyes
+// sections 42-46 of docs/mrig-format.md 2.1).
+RigData SurfaceWithEyes() {
+  RigData data = Surface().data();
+  data.eyes.centers = {{0.f, 0.f, -30.f}, {5.f, 5.f, -40.f}};
+  for (uint32_t p = 0; p < data.active.points; p += 5) {
+    data.eyes.points.push_back(p);
+    data.eyes.eyes.push_back(p % 2);
+    data.eyes.radii.push_back(Length(data.rest_points[p] - data.eyes.centers[p % 2]));
+    data.eyes.weights.push_back(0.25f + 0.75f * float(p % 3) / 2.f);
+  }
+  return data;
+}
+
+// `loaded` evaluates to the bits `rig` does at activations `act` and each jaw opening.
+void ExpectSameBits(const Rig& rig, const Rig& loaded, const std::vector<float>& act,
+                    std::initializer_list<float> jaws = {0.f}) {
+  for (float jaw : jaws) {
+    const std::vector<float> want = Evaluate(rig, act, jaw), got = Evaluate(loaded, act, jaw);
+    ASSERT_EQ(want.size(), got.size());
+    EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0) << "jaw " << jaw;
+  }
+}
+
 TEST(RigBinary, TheJawRoundTrips) {
   RigData data = Surface().data();
   for (uint32_t p = 0; p < data.active.points; p += 3) {
@@ -244,11 +269,7 @@ TEST(RigBinary, TheJawRoundTrips) {
   ASSERT_TRUE(ReadRigBinary(Bytes(bytes), &loaded, nullptr, &error)) << error;
   EXPECT_EQ(loaded.jaw().points, rig.jaw().points);
   const std::vector<float> act(rig.muscle_count(), 0.4f);
-  for (float jaw : {0.f, 0.6f, 1.f}) {
-    const std::vector<float> want = Evaluate(rig, act, jaw), got = Evaluate(loaded, act, jaw);
-    ASSERT_EQ(want.size(), got.size());
-    EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0) << jaw;
-  }
+  ExpectSameBits(rig, loaded, act, {0.f, 0.6f, 1.f});
   EXPECT_NE(Evaluate(rig, act, 1.f), Evaluate(rig, act, 0.f));  // the jaw did something
   // A hostile jaw point (past the active points) is refused by Rig::Build.
   std::string bad = bytes;
@@ -265,39 +286,48 @@ TEST(RigBinary, WritingTwiceGivesTheSameBytes) {
   EXPECT_EQ(U64At(a, 16), a.size());
 }
 
+// Cut anywhere (the header, the table, each section's start, middle and last byte): the message
+// names the first section that does not fit. On the plain surface and on the surface with
+// eyes (whose sections 42-46 come last).
 TEST(RigBinary, TruncationNamesTheSection) {
-  const std::string bytes = WriteRigBinary(Surface().data(), nullptr);
-  const std::vector<Entry> table = Table(bytes);
-  ASSERT_GE(table.size(), 34u);
-  std::vector<size_t> cuts = {0, 3, 39};
-  for (size_t k = 40; k < 40 + 32 * table.size(); k += 13) cuts.push_back(k);
-  for (const Entry& e : table) {
-    cuts.push_back(e.offset);                   // the boundary before it
-    cuts.push_back(e.offset + e.size / 2);      // inside it
-    if (e.size > 0) cuts.push_back(e.offset + e.size - 1);
-  }
-  const size_t table_end = 40 + 32 * table.size();
-  for (size_t cut : cuts) {
-    if (cut >= bytes.size()) continue;
-    const std::string error = ReadError(bytes.substr(0, cut));
-    SCOPED_TRACE("cut at " + std::to_string(cut) + ": " + error);
-    if (cut < 40) {
-      EXPECT_NE(error.find("header"), std::string::npos);
-    } else if (cut < table_end) {
-      EXPECT_NE(error.find("section table"), std::string::npos);
-    } else {
-      // The first section (in table order) that does not fit is named.
-      const Entry* first = nullptr;
-      for (const Entry& e : table)
-        if (e.offset + e.size > cut) {
-          first = &e;
-          break;
-        }
-      ASSERT_NE(first, nullptr);
-      EXPECT_NE(error.find("(id " + std::to_string(first->id) + ") at byte " +
-                           std::to_string(first->offset)),
-                std::string::npos);
-      EXPECT_NE(error.find("extend past the end of the file"), std::string::npos);
+  for (const RigData& data : {Surface().data(), SurfaceWithEyes()}) {
+    const std::string bytes = WriteRigBinary(data, nullptr);
+    const std::vector<Entry> table = Table(bytes);
+    ASSERT_GE(table.size(), 34u);
+    SCOPED_TRACE(data.eyes.empty() ? "no eyes" : "with eyes");
+    if (!data.eyes.empty()) {
+      ASSERT_EQ(table.back().id, 46u);
+    }
+    std::vector<size_t> cuts = {0, 3, 39};
+    for (size_t k = 40; k < 40 + 32 * table.size(); k += 13) cuts.push_back(k);
+    for (const Entry& e : table) {
+      cuts.push_back(e.offset);                   // the boundary before it
+      cuts.push_back(e.offset + e.size / 2);      // inside it
+      if (e.size > 0) cuts.push_back(e.offset + e.size - 1);
+    }
+    const size_t table_end = 40 + 32 * table.size();
+    for (size_t cut : cuts) {
+      if (cut >= bytes.size()) continue;
+      const std::string error = ReadError(bytes.substr(0, cut));
+      SCOPED_TRACE("cut at " + std::to_string(cut) + ": " + error);
+      if (cut < 40) {
+        EXPECT_NE(error.find("header"), std::string::npos);
+      } else if (cut < table_end) {
+        EXPECT_NE(error.find("section table"), std::string::npos);
+      } else {
+        // The first section (in table order) that does not fit is named.
+        const Entry* first = nullptr;
+        for (const Entry& e : table)
+          if (e.offset + e.size > cut) {
+            first = &e;
+            break;
+          }
+        ASSERT_NE(first, nullptr);
+        EXPECT_NE(error.find("(id " + std::to_string(first->id) + ") at byte " +
+                             std::to_string(first->offset)),
+                  std::string::npos);
+        EXPECT_NE(error.find("extend past the end of the file"), std::string::npos);
+      }
     }
   }
 }
@@ -434,16 +464,8 @@ TEST(RigBinary, HostileIndicesAreRefusedByRigBuild) {
 // regions; counts that do not agree are refused naming the offsets section.
 // docs/model.md §24: the eyeballs the lids slide on (format 2.1's optional sections 42-46).
 TEST(RigBinary, TheEyesRoundTripAndComeTogether) {
-  RigData data = Surface().data();
-  ASSERT_TRUE(data.eyes.empty());
-  const float3 c{0.f, 0.f, -30.f};
-  data.eyes.centers = {c, {5.f, 5.f, -40.f}};
-  for (uint32_t p = 0; p < data.active.points; p += 5) {
-    data.eyes.points.push_back(p);
-    data.eyes.eyes.push_back(p % 2);
-    data.eyes.radii.push_back(Length(data.rest_points[p] - data.eyes.centers[p % 2]));
-    data.eyes.weights.push_back(0.25f + 0.75f * float(p % 3) / 2.f);
-  }
+  ASSERT_TRUE(Surface().data().eyes.empty());
+  const RigData data = SurfaceWithEyes();
   Rig rig;
   ASSERT_TRUE(Rig::Build(data, &rig));
   const std::string bytes = WriteRigBinary(rig.data());
@@ -457,9 +479,8 @@ TEST(RigBinary, TheEyesRoundTripAndComeTogether) {
   ASSERT_EQ(loaded.eyes().centers.size(), 2u);
   EXPECT_EQ(std::memcmp(&loaded.eyes().centers[1], &data.eyes.centers[1], 12), 0);
   const std::vector<float> act(rig.muscle_count(), 0.7f);
-  const std::vector<float> want = Evaluate(rig, act), got = Evaluate(loaded, act);
-  EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
-  EXPECT_NE(want, Evaluate(Surface(), act));  // the eyes did something
+  ExpectSameBits(rig, loaded, act);
+  EXPECT_NE(Evaluate(rig, act), Evaluate(Surface(), act));  // the eyes did something
   EXPECT_EQ(WriteRigBinary(loaded.data()), bytes);
   // Any of the five alone missing: refused, naming them.
   for (uint32_t id = 42; id <= 46; ++id) {

@@ -111,6 +111,16 @@ write('rig_falloff_error_one.json', json.dumps(
     {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
      'muscles': [rig['muscles'][0]], 'refinement': {'enabled': True, 'falloff_error': 1}},
     indent=1) + '\n')
+# Small rigs (one muscle) with a bad eyes block (docs/model.md §24) and a bad jaw key (§18).
+write('rig_eye_radius_negative.json', json.dumps(
+    {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
+     'muscles': [rig['muscles'][0]],
+     'eyes': {'spheres': [{'center': [-32, 36, 62], 'radius': -12}], 'band': [2, 8]}},
+    indent=1) + '\n')
+write('rig_jaw_thickness_fade_two.json', json.dumps(
+    {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
+     'muscles': [rig['muscles'][0]], 'jaw': dict(rig['jaw'], thickness_fade=2)},
+    indent=1) + '\n')
 def bad_field_and_missing_mesh(r):
     r['units'] = 'furlong'
     r['mesh']['path'] = 'no_such_mesh.glb'
