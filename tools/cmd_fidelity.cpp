@@ -46,7 +46,8 @@ const char* kFidelityUsage =
     "activations (what any activations of these muscles could make). Writes the table, where\n"
     "each shape's residual lies (along the skin's normal, by part of the face), why each\n"
     "missed target is missed (the muscles' reach, the bounds [0, 1] or the skin layers) and\n"
-    "what would make it, the targets met when the solve weighs height more (--height-weight\n"
+    "what would make it, what each skin layer adds to the ratio at the solved activations,\n"
+    "the targets met when the solve weighs height more (--height-weight\n"
     "4 and 16 of `mimetic solve`), and the rig's crease numbers with Waters' and with smooth fall-offs\n"
     "to --report (default docs/fidelity.md) and one picture per shape, real | rig | distance\n"
     "(blue 0, red = half the shape's largest motion), to --images (default\n"
@@ -54,7 +55,9 @@ const char* kFidelityUsage =
     "--only solves just the named shapes (the report then lists only them); --meshes writes\n"
     "each posed rig (the input mesh's vertices) as DIR/SHAPE.obj, the muscles alone as\n"
     "DIR/SHAPE.muscles.obj and their unbounded optima as DIR/SHAPE.reach.obj (the whole\n"
-    "motion) and DIR/SHAPE.height.obj (its height). Run from the repository root.\n";
+    "motion) and DIR/SHAPE.height.obj (its height), and the every-layer activations posed\n"
+    "with a layer off as DIR/SHAPE.no_thickness.obj, .no_muscle_wrinkles.obj,\n"
+    ".no_curve_wrinkles.obj and .no_layers.obj. Run from the repository root.\n";
 
 struct Row {
   const IctShape* shape = nullptr;
@@ -68,9 +71,20 @@ struct Row {
   // Every layer, solved with the height weighted (kHeightWeights; SolveOptions::height_weight).
   std::vector<CompareResult> weighted;
   SolveReach reach_solve;
+  // At the every-layer solve's activations: the measures with one skin layer off at a time
+  // (kLayerCases: thickness, muscle wrinkles, curve wrinkles) and with all three off.
+  std::vector<float> on_activations;
+  float on_threshold = 0.f;
+  CompareResult without[4];
   double solve_seconds = 0;
   std::string image;         // relative to the report
 };
+
+// The layer cases of Row::without, and their file suffixes under --meshes.
+constexpr SkinLayers kLayerCases[4] = {
+    {false, true, true}, {true, false, true}, {true, true, false}, {false, false, false}};
+constexpr const char* kLayerSuffix[4] = {".no_thickness.obj", ".no_muscle_wrinkles.obj",
+                                         ".no_curve_wrinkles.obj", ".no_layers.obj"};
 
 int Fail(const Diagnostics& diag, const std::string& what) {
   if (!diag.empty()) std::fputs(diag.Format().c_str(), stderr);
@@ -83,6 +97,14 @@ std::string Fixed(double v, int digits) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
+}
+
+// A difference to 3 decimals with its sign: "+0.012", "-0.004", and "0.000" when it rounds to
+// zero either way.
+std::string Signed3(double v) {
+  const std::string s = Fixed(v, 3);
+  if (s == "-0.000" || s == "0.000") return "0.000";
+  return (v > 0 ? "+" : "") + s;
 }
 
 // Parts of the face for the residual's split: each vertex takes the part of its nearest iBUG
@@ -279,6 +301,8 @@ int CmdFidelity(const Args& args) {
         }
       }
       if (layers) {
+        row.on_activations = result.activations;
+        row.on_threshold = result.region_threshold;
         local.Clear();
         if (!SplitResidual(posed[1], target, neutral, row.on.in_region, row.on.b_distance,
                            parts, kPartCount, &row.split, &local)) {
@@ -315,6 +339,24 @@ int CmdFidelity(const Args& args) {
       }
       row.weighted.push_back(std::move(measured));
     }
+    // What each skin layer adds: the every-layer solve's activations with the layers off.
+    MeshData ablated[4] = {neutral, neutral, neutral, neutral};
+    for (int k = 0; k < 4; ++k) {
+      MeshData m;
+      local.Clear();
+      if (!PosedMesh(rig, row.on_activations, kLayerCases[k], &m) ||
+          m.vertex_count() < neutral.vertex_count()) {
+        diag.Append(local, path);
+        return Fail(diag, std::string("cannot pose ") + shape->name + " with the layers off");
+      }
+      ablated[k].positions.assign(m.positions.begin(),
+                                  m.positions.begin() + std::ptrdiff_t(neutral.vertex_count()));
+      if (!CompareMeshes(ablated[k], target, MovedRegion(row.on_threshold), &row.without[k],
+                         &local)) {
+        diag.Append(local, path);
+        return Fail(diag, std::string("cannot measure ") + shape->name + " with the layers off");
+      }
+    }
     row.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!meshes_dir.empty()) {
       auto write = [&](const MeshData& mesh, const char* suffix) {
@@ -323,8 +365,10 @@ int CmdFidelity(const Args& args) {
         return ExportMesh(meshes_dir + "/" + shape->name + suffix, out, &local);
       };
       local.Clear();
-      if (!write(posed[1], ".obj") || !write(posed[0], ".muscles.obj") ||
-          !write(reach_mesh, ".reach.obj") || !write(height_mesh, ".height.obj")) {
+      bool ok = write(posed[1], ".obj") && write(posed[0], ".muscles.obj") &&
+                write(reach_mesh, ".reach.obj") && write(height_mesh, ".height.obj");
+      for (int k = 0; k < 4 && ok; ++k) ok = write(ablated[k], kLayerSuffix[k]);
+      if (!ok) {
         diag.Append(local);
         return Fail(diag, "cannot write the posed mesh");
       }
@@ -482,6 +526,37 @@ int CmdFidelity(const Args& args) {
          ", the bounds " + std::to_string(causes[int(Cause::kBounds)]) + ", the skin layers " +
          std::to_string(causes[int(Cause::kLayers)]) + ".\n\n";
 
+  // What each skin layer costs, at the every-layer solve's activations.
+  std::string costs =
+      "## What each skin layer costs\n\n"
+      "The every-layer solve's activations posed again with one skin layer off at a time and "
+      "with all three off (the same activations: not a new solve; the first table's **off** "
+      "is the muscles alone solved on their own). A layer whose removal lowers the ratio moves "
+      "the skin where the real shape does not: a fold, bulge or furrow the real shape lacks or "
+      "places elsewhere. **adds**: every layer's ratio minus the ratio without that layer.\n\n"
+      "| shape | every layer | no thickness (adds) | no muscle wrinkles (adds) | no curve "
+      "wrinkles (adds) | none (adds) | off (solved) |\n|---|---|---|---|---|---|---|\n";
+  double added[4] = {0, 0, 0, 0};
+  size_t worse = 0;
+  for (const Row& r : rows) {
+    costs += "| " + std::string(r.shape->name) + " | " + Fixed(r.on.ratio, 3);
+    for (int k = 0; k < 4; ++k) {
+      const double add = r.on.ratio - r.without[k].ratio;
+      added[k] += add;
+      costs += " | " + Fixed(r.without[k].ratio, 3) + " (" + Signed3(add) + ")";
+    }
+    costs += " | " + Fixed(r.off.ratio, 3) + " |\n";
+    worse += r.on.ratio > r.off.ratio + 1e-9;
+  }
+  if (!rows.empty()) {
+    costs += "\nMean over the " + std::to_string(rows.size()) + " shapes, what each layer adds "
+             "to the ratio: thickness " + Signed3(added[0] / double(rows.size())) +
+             ", muscle wrinkles " + Signed3(added[1] / double(rows.size())) +
+             ", curve wrinkles " + Signed3(added[2] / double(rows.size())) + ", all three " +
+             Signed3(added[3] / double(rows.size())) + "; the layers make the solved ratio "
+             "worse than the muscles alone on " + std::to_string(worse) + ".\n\n";
+  }
+
   // Creases of the fall-offs on this rig (docs/model.md §2-3): every muscle Waters', then smooth.
   std::string creases;
   {
@@ -620,6 +695,7 @@ int CmdFidelity(const Args& args) {
 
   md += where;
   md += why;
+  md += costs;
   md += trade;
   md += creases;
   md += "## Pictures: real | rig (every layer) | distance of the real shape to the rig\n\n"

@@ -150,6 +150,32 @@ TEST(FidelityTool, TheTableMatchesThePosedMeshItWrote) {
   EXPECT_NE(md.find("| 16 | ", trade), std::string::npos) << md.substr(trade, 1200);
   EXPECT_NE(md.find("| jawOpen | the jaw, not a muscle"), std::string::npos) << md;
   EXPECT_TRUE(std::ifstream(dir + "/images/mouthSmile_L.png").good());
+  // What each skin layer costs: the every-layer activations posed with a layer off, measured
+  // here from the meshes the tool wrote. Each mesh differs from the every-layer one (each
+  // layer moves the smile's skin), and the row reads each ratio and what the layer adds.
+  const size_t costs = md.find("## What each skin layer costs");
+  ASSERT_NE(costs, std::string::npos) << md;
+  std::string want = "| mouthSmile_L | " + Fixed(r.ratio, 3);
+  for (const char* suffix : {".no_thickness.obj", ".no_muscle_wrinkles.obj", ".no_curve_wrinkles.obj",
+                             ".no_layers.obj"}) {
+    MeshData without;
+    ASSERT_TRUE(ImportMesh(dir + "/meshes/mouthSmile_L" + suffix, "", &without, &diag)) << diag.Format();
+    double moved = 0;
+    for (size_t v = 0; v < without.vertex_count(); ++v)
+      moved = std::max(moved, double(Length(without.positions[v] - posed.positions[v])));
+    EXPECT_GT(moved, 1e-4) << suffix << ": the layer did nothing on the smile";
+    CompareResult w;
+    ASSERT_TRUE(CompareMeshes(without, target, o, &w, &diag)) << diag.Format();
+    std::string add = Fixed(r.ratio - w.ratio, 3);  // signed; 0.000 when it rounds to zero
+    if (add == "-0.000") add = "0.000";
+    if (add != "0.000" && add[0] != '-') add = "+" + add;
+    want += " | " + Fixed(w.ratio, 3) + " (" + add + ")";
+  }
+  want += " | " + Fixed(rm.ratio, 3) + " |";
+  const std::string cline = md.substr(md.find("| mouthSmile_L | ", costs),
+                                      md.find('\n', md.find("| mouthSmile_L | ", costs)) -
+                                          md.find("| mouthSmile_L | ", costs));
+  EXPECT_EQ(cline, want);
   // Bad usage: an unknown shape names the known ones.
   const test::ToolResult bad = test::RunTool({"fidelity", "--only", "smile"});
   EXPECT_EQ(bad.exit_code, 2);
