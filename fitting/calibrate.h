@@ -61,7 +61,8 @@ struct CalibrationOptions {
   float min_attachment_depth = 0.03f;  // units of s
   float max_insertion_depth = 0.04f;   // units of s
   // On every head, a point whose ray misses the mesh (an attachment below a short neck) may
-  // lie at most this far from the surface point used (units of s; the fit refuses above 0.5):
+  // lie at most this far from the surface point used (units of s; the fit refuses above
+  // kMaxOffMeshDistance, 0.5):
   // the margin lets a head a little different from the check heads still fit the result.
   float max_miss = 0.4f;
   // The crease rule (docs/model.md §2-3): on every head, each muscle alone at 1 (its own

@@ -305,7 +305,7 @@ struct Placer {
     } else {
       hit = query.Nearest(p);
       placed.ray_hit = false;
-      if (!hit.found || hit.t > 0.5f * frame.scale) {
+      if (!hit.found || hit.t > kMaxOffMeshDistance * frame.scale) {
         diag->Error(where, "found no surface: the ray along -z of the face frame from " + Vec(p) +
                                " missed the mesh and the nearest surface point is " +
                                (hit.found ? std::to_string(hit.t / frame.scale) + " s away"

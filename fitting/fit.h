@@ -116,9 +116,13 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
                  const std::string& units, RigSpec* out, Diagnostics* diag,
                  FitReport* report = nullptr);
 
+// The farthest, in units of s, that a point whose ray misses the mesh may lie from the nearest
+// surface point the fit uses instead; farther, the fit refuses the point ("found no surface").
+constexpr float kMaxOffMeshDistance = 0.5f;
+
 // The largest distance, in units of s (`report.frame.scale`), from a point whose ray missed
 // the mesh to the nearest surface point the fit used instead (0 when every ray hit); the fit
-// refuses above 0.5. Its name, or "" when every ray hit. `mimetic calibrate` keeps a margin
+// refuses above kMaxOffMeshDistance. Its name, or "" when every ray hit. `mimetic calibrate` keeps a margin
 // under 0.5 so that a head a little different (a coarser sample head) still fits.
 float LargestMiss(const FitReport& report, std::string* where = nullptr);
 

@@ -577,8 +577,6 @@ namespace {
 
 using ordered_json = nlohmann::ordered_json;
 
-double Short(double v) { return TemplateDigits(v); }
-
 ordered_json PointJson(const TemplatePoint& p, bool with_depth) {
   ordered_json j;
   j["landmarks"] = p.landmarks;
@@ -586,12 +584,12 @@ ordered_json PointJson(const TemplatePoint& p, bool with_depth) {
   for (float w : p.weights) equal &= std::fabs(w - p.weights[0]) < 1e-6f;
   if (!equal) {
     ordered_json w = ordered_json::array();
-    for (float x : p.weights) w.push_back(Short(x));
+    for (float x : p.weights) w.push_back(TemplateDigits(x));
     j["weights"] = w;
   }
   if (p.offset.x != 0.f || p.offset.y != 0.f)
-    j["offset"] = ordered_json::array({Short(p.offset.x), Short(p.offset.y)});
-  if (with_depth) j["depth"] = Short(p.depth);
+    j["offset"] = ordered_json::array({TemplateDigits(p.offset.x), TemplateDigits(p.offset.y)});
+  if (with_depth) j["depth"] = TemplateDigits(p.depth);
   return j;
 }
 
@@ -631,17 +629,17 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
   j["version"] = 1;
   if (!t.description.empty()) j["description"] = t.description;
   ordered_json th;
-  th["base"] = Short(t.thickness.base);
-  th["front"] = ordered_json::array({Short(t.thickness.front[0]), Short(t.thickness.front[1])});
+  th["base"] = TemplateDigits(t.thickness.base);
+  th["front"] = ordered_json::array({TemplateDigits(t.thickness.front[0]), TemplateDigits(t.thickness.front[1])});
   ordered_json regions = ordered_json::array();
   for (size_t i = 0; i < t.thickness.regions.size(); ++i) {
     const ThicknessRegion& r = t.thickness.regions[i];
     if (r.mirrored_copy) continue;
     ordered_json e;
     if (!r.name.empty()) e["name"] = r.name;
-    e["center"] = ordered_json::array({Short(r.center.x), Short(r.center.y)});
-    e["radius"] = ordered_json::array({Short(r.radius.x), Short(r.radius.y)});
-    e["value"] = Short(r.value);
+    e["center"] = ordered_json::array({TemplateDigits(r.center.x), TemplateDigits(r.center.y)});
+    e["radius"] = ordered_json::array({TemplateDigits(r.radius.x), TemplateDigits(r.radius.y)});
+    e["value"] = TemplateDigits(r.value);
     if (i + 1 < t.thickness.regions.size() && t.thickness.regions[i + 1].mirrored_copy)
       e["mirror"] = true;
     regions.push_back(e);
@@ -654,9 +652,9 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     if (g.mirrored_copy) continue;
     ordered_json e;
     e["name"] = g.name;
-    e["center"] = ordered_json::array({Short(g.center.x), Short(g.center.y)});
-    e["radius"] = ordered_json::array({Short(g.radius.x), Short(g.radius.y)});
-    if (!(g.reference == kDefaultTensionReference)) e["reference"] = Short(g.reference);
+    e["center"] = ordered_json::array({TemplateDigits(g.center.x), TemplateDigits(g.center.y)});
+    e["radius"] = ordered_json::array({TemplateDigits(g.radius.x), TemplateDigits(g.radius.y)});
+    if (!(g.reference == kDefaultTensionReference)) e["reference"] = TemplateDigits(g.reference);
     if (i + 1 < t.tension_regions.size() && t.tension_regions[i + 1].mirrored_copy)
       e["mirror"] = true;
     tension.push_back(e);
@@ -670,33 +668,33 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     e["name"] = m.name;
     e["type"] = MuscleTypeName(m.type);
     if (i + 1 < t.muscles.size() && t.muscles[i + 1].mirrored_copy) e["mirror"] = true;
-    e["strength"] = Short(m.strength);
+    e["strength"] = TemplateDigits(m.strength);
     if (m.falloff != MuscleFalloff::kWaters) e["falloff"] = MuscleFalloffName(m.falloff);
     if (m.motion_given || m.motion != MuscleMotion::kChord)
       e["motion"] = MuscleMotionName(m.motion);
-    if (m.tangent_radius != 0.f) e["tangent_radius"] = Short(m.tangent_radius);
+    if (m.tangent_radius != 0.f) e["tangent_radius"] = TemplateDigits(m.tangent_radius);
     if (linear) {
       e["attachment"] = PointJson(m.attachment[0], true);
       e["insertion"] = PointJson(m.insertion[0], true);
-      e["zone_angle_deg"] = Short(m.zone_angle_deg);
-      e["falloff_start"] = Short(m.falloff_start);
-      e["falloff_end"] = Short(m.falloff_end);
+      e["zone_angle_deg"] = TemplateDigits(m.zone_angle_deg);
+      e["falloff_start"] = TemplateDigits(m.falloff_start);
+      e["falloff_end"] = TemplateDigits(m.falloff_end);
     } else {
       e["attachment"] = ordered_json::array({PointJson(m.attachment[0], true), PointJson(m.attachment[1], true)});
       e["insertion"] = ordered_json::array({PointJson(m.insertion[0], true), PointJson(m.insertion[1], true)});
-      e["length"] = Short(m.length);
-      e["width"] = Short(m.width);
-      e["falloff_start"] = Short(m.falloff_start);
+      e["length"] = TemplateDigits(m.length);
+      e["width"] = TemplateDigits(m.width);
+      e["falloff_start"] = TemplateDigits(m.falloff_start);
     }
     if (m.wrinkles) {
       const MuscleWrinkleSpec& w = *m.wrinkles;
       ordered_json wj;
-      wj["lambda_w"] = Short(w.lambda_w);
+      wj["lambda_w"] = TemplateDigits(w.lambda_w);
       wj["count"] = w.count;
-      wj["depth"] = Short(w.depth);
-      wj["shape"] = Short(w.shape);
-      if (linear && w.phi_c != 0.f) wj["phi_c_deg"] = Short(w.phi_c * 180.0 / 3.14159265358979323846);
-      if (!linear && w.h_c != 0.f) wj["h_c"] = Short(w.h_c);
+      wj["depth"] = TemplateDigits(w.depth);
+      wj["shape"] = TemplateDigits(w.shape);
+      if (linear && w.phi_c != 0.f) wj["phi_c_deg"] = TemplateDigits(w.phi_c * 180.0 / 3.14159265358979323846);
+      if (!linear && w.h_c != 0.f) wj["h_c"] = TemplateDigits(w.h_c);
       e["wrinkles"] = wj;
     }
     muscles.push_back(e);
@@ -712,11 +710,11 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     ordered_json control = ordered_json::array();
     for (const TemplatePoint& p : c.control) control.push_back(PointJson(p, false));
     e["control"] = control;
-    e["depth"] = Short(c.depth);
-    e["width"] = Short(c.width);
+    e["depth"] = TemplateDigits(c.depth);
+    e["width"] = TemplateDigits(c.width);
     e["profile"] = CurveWrinkleProfileName(c.profile);
     e["modulation"] = CurveWrinkleModulationName(c.modulation);
-    e["rest_amplitude"] = Short(c.rest_amplitude);
+    e["rest_amplitude"] = TemplateDigits(c.rest_amplitude);
     curves.push_back(e);
   }
   if (!curves.empty()) j["curve_wrinkles"] = curves;
@@ -725,21 +723,21 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     ordered_json c;
     c["landmarks"] = jw.landmarks;
     ordered_json w = ordered_json::array();
-    for (float v : jw.weights) w.push_back(Short(v));
+    for (float v : jw.weights) w.push_back(TemplateDigits(v));
     c["weights"] = w;
-    c["offset"] = ordered_json::array({Short(jw.offset.x), Short(jw.offset.y), Short(jw.offset.z)});
+    c["offset"] = ordered_json::array({TemplateDigits(jw.offset.x), TemplateDigits(jw.offset.y), TemplateDigits(jw.offset.z)});
     ordered_json e;
     e["condyle"] = c;
-    e["range_deg"] = Short(jw.range_deg);
-    e["translation"] = ordered_json::array({Short(jw.translation.x), Short(jw.translation.y),
-                                            Short(jw.translation.z)});
-    e["lip_blend_deg"] = Short(jw.lip_blend_deg);
-    e["cheek_blend_deg"] = Short(jw.cheek_blend_deg);
-    e["cheek_drop_deg"] = Short(jw.cheek_drop_deg);
-    e["corner_fade"] = Short(jw.corner_fade);
-    e["thickness_fade"] = Short(jw.thickness_fade);
-    e["back"] = ordered_json::array({Short(jw.back[0]), Short(jw.back[1])});
-    e["neck_deg"] = ordered_json::array({Short(jw.neck_deg[0]), Short(jw.neck_deg[1])});
+    e["range_deg"] = TemplateDigits(jw.range_deg);
+    e["translation"] = ordered_json::array({TemplateDigits(jw.translation.x), TemplateDigits(jw.translation.y),
+                                            TemplateDigits(jw.translation.z)});
+    e["lip_blend_deg"] = TemplateDigits(jw.lip_blend_deg);
+    e["cheek_blend_deg"] = TemplateDigits(jw.cheek_blend_deg);
+    e["cheek_drop_deg"] = TemplateDigits(jw.cheek_drop_deg);
+    e["corner_fade"] = TemplateDigits(jw.corner_fade);
+    e["thickness_fade"] = TemplateDigits(jw.thickness_fade);
+    e["back"] = ordered_json::array({TemplateDigits(jw.back[0]), TemplateDigits(jw.back[1])});
+    e["neck_deg"] = ordered_json::array({TemplateDigits(jw.neck_deg[0]), TemplateDigits(jw.neck_deg[1])});
     j["jaw"] = e;
   }
   if (!tension.empty()) j["tension_regions"] = tension;
@@ -752,10 +750,10 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
         if (v[k].mirrored_copy) continue;
         ordered_json e;
         e["name"] = v[k].name;
-        e["at"] = ordered_json::array({Short(v[k].at.x), Short(v[k].at.y)});
+        e["at"] = ordered_json::array({TemplateDigits(v[k].at.x), TemplateDigits(v[k].at.y)});
         e["direction"] = ordered_json::array(
-            {Short(v[k].direction.x), Short(v[k].direction.y), Short(v[k].direction.z)});
-        e["magnitude"] = Short(v[k].magnitude);
+            {TemplateDigits(v[k].direction.x), TemplateDigits(v[k].direction.y), TemplateDigits(v[k].direction.z)});
+        e["magnitude"] = TemplateDigits(v[k].magnitude);
         if (k + 1 < v.size() && v[k + 1].mirrored_copy) e["mirror"] = true;
         vectors.push_back(e);
       }
@@ -766,12 +764,12 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
     }
     ordered_json fs;
     fs["fields"] = fields;
-    if (!(t.fine_scale->rest_amplitude == 0.5f)) fs["rest_amplitude"] = Short(t.fine_scale->rest_amplitude);
+    if (!(t.fine_scale->rest_amplitude == 0.5f)) fs["rest_amplitude"] = TemplateDigits(t.fine_scale->rest_amplitude);
     j["fine_scale"] = fs;
   }
   if (!(t.falloff_error == 0.f)) {
     ordered_json r;
-    r["falloff_error"] = Short(t.falloff_error);
+    r["falloff_error"] = TemplateDigits(t.falloff_error);
     j["refinement"] = r;
   }
   std::string out;
