@@ -22,6 +22,9 @@
 //                                      moving (two contexts, the same activations); `ratio` =
 //                                      with / without (the jaw issue's budget: at most 1.10)
 //   BM_PairedJawNoLimiter/<vertices>   the same with the fold limiter off on both sides
+//   BM_PairedEyes                      the sample head (assets/head/sample_head.rig.json)
+//                                      frame by frame without its eyes block and with it (the
+//                                      lids' sliding, docs/model.md §24), every layer
 //                                      (EvaluateJob::limit_folds): the jaw's own cost
 //   BM_PairedHeadFine/<vertices>     every layer without and with out_fine_amplitudes (the two
 //                                      fine-scale amplitudes per vertex), frame by frame;
@@ -54,6 +57,7 @@
 #include "fitting/landmarks.h"
 #include "fitting/muscle_template.h"
 #include "io/expression_library.h"
+#include "io/rig_loader.h"
 #include "io/template_file.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
@@ -389,6 +393,48 @@ void BM_PairedSheet(benchmark::State& s) { RunPaired(s, false); }
 void BM_PairedHead(benchmark::State& s) { RunPaired(s, true); }
 void BM_PairedHeadJaw(benchmark::State& s) { RunPaired(s, true, true); }
 void BM_PairedHeadFine(benchmark::State& s) { RunPairedFine(s); }
+// docs/model.md §24: the sample head's rig with its eyes block, against the same rig data with
+// the eyes cleared (the same thickness, so only StageEyes differs), the same activations each
+// frame; `ratio` = with / without. The procedural heads of the other fixtures have no eyeballs.
+void BM_PairedEyes(benchmark::State& state) {
+  static LoadedRig* head = nullptr;
+  static Rig* without = nullptr;
+  if (!head) {
+    head = new LoadedRig;
+    Diagnostics diag;
+    if (!LoadRig(std::string(MIMETIC_SOURCE_DIR) + "/assets/head/sample_head.rig.json", head, &diag))
+      Die(diag, "cannot load the sample head");
+    RigData data = head->rig.data();
+    data.eyes = RigEyes{};
+    without = new Rig;
+    if (!Rig::Build(std::move(data), without)) Die(diag, "cannot build the sample head without eyes");
+  }
+  if (head->rig.eyes().empty()) state.SkipWithError("the sample head's rig has no eyes block");
+  EvaluateSetup plain(*without, SkinLayers{}), eyes(head->rig, SkinLayers{});
+  using Clock = std::chrono::steady_clock;
+  Clock::duration t_plain{}, t_eyes{};
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    FillWeights(&plain.activations, frame);
+    FillWeights(&eyes.activations, frame);
+    const Clock::time_point t0 = Clock::now();
+    if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(plain.positions.data());
+    const Clock::time_point t1 = Clock::now();
+    if (!eyes.job.Run()) state.SkipWithError("EvaluateJob failed");
+    benchmark::DoNotOptimize(eyes.positions.data());
+    const Clock::time_point t2 = Clock::now();
+    t_plain += t1 - t0;
+    t_eyes += t2 - t1;
+    ++frame;
+  }
+  const double n = double(frame) * double(head->rig.vertex_count());
+  state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(t_plain).count() / n;
+  state.counters["eyes_ns_per_vertex"] = std::chrono::duration<double, std::nano>(t_eyes).count() / n;
+  state.counters["ratio"] = double(t_eyes.count()) / double(t_plain.count());
+  state.counters["eye_points"] = double(head->rig.eyes().points.size());
+}
+
 void BM_PairedJaw(benchmark::State& s) { RunPairedJaw(s); }
 void BM_PairedJawNoLimiter(benchmark::State& s) { RunPairedJaw(s, false); }
 void BM_EvaluateHeadHardPose(benchmark::State& s) { RunHardPose(s, false); }
@@ -417,6 +463,7 @@ BENCHMARK(BM_PairedHeadJaw) MIMETIC_SIZES;
 BENCHMARK(BM_PairedHeadFine) MIMETIC_SIZES;
 BENCHMARK(BM_PairedJaw) MIMETIC_SIZES;
 BENCHMARK(BM_PairedJawNoLimiter) MIMETIC_SIZES;
+BENCHMARK(BM_PairedEyes)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", Fastest);
 #define MIMETIC_HARD_POSES                                                     \
   ->ArgsProduct({{10000, 50000, 100000}, {0, 1, 2}})->Unit(benchmark::kMicrosecond) \
       ->ComputeStatistics("min", Fastest)
