@@ -277,8 +277,9 @@ void RunPaired(benchmark::State& state, bool head, bool jaw = false) {
 // other / plain.
 template <class Vary>
 void RunPairedAgainstPlain(benchmark::State& state, const Rig& rig, EvaluateSetup* other,
-                           const std::string& name, const Vary& vary) {
-  EvaluateSetup plain(rig, SkinLayers{});
+                           const std::string& name, const Vary& vary,
+                           const Rig* plain_rig = nullptr) {
+  EvaluateSetup plain(plain_rig ? *plain_rig : rig, SkinLayers{});
   plain.job.limit_folds = other->job.limit_folds;
   using Clock = std::chrono::steady_clock;
   Clock::duration without{}, with{};
@@ -410,28 +411,8 @@ void BM_PairedEyes(benchmark::State& state) {
     if (!Rig::Build(std::move(data), without)) Die(diag, "cannot build the sample head without eyes");
   }
   if (head->rig.eyes().empty()) state.SkipWithError("the sample head's rig has no eyes block");
-  EvaluateSetup plain(*without, SkinLayers{}), eyes(head->rig, SkinLayers{});
-  using Clock = std::chrono::steady_clock;
-  Clock::duration t_plain{}, t_eyes{};
-  uint32_t frame = 0;
-  for (auto _ : state) {
-    FillWeights(&plain.activations, frame);
-    FillWeights(&eyes.activations, frame);
-    const Clock::time_point t0 = Clock::now();
-    if (!plain.job.Run()) state.SkipWithError("EvaluateJob failed");
-    benchmark::DoNotOptimize(plain.positions.data());
-    const Clock::time_point t1 = Clock::now();
-    if (!eyes.job.Run()) state.SkipWithError("EvaluateJob failed");
-    benchmark::DoNotOptimize(eyes.positions.data());
-    const Clock::time_point t2 = Clock::now();
-    t_plain += t1 - t0;
-    t_eyes += t2 - t1;
-    ++frame;
-  }
-  const double n = double(frame) * double(head->rig.vertex_count());
-  state.counters["plain_ns_per_vertex"] = std::chrono::duration<double, std::nano>(t_plain).count() / n;
-  state.counters["eyes_ns_per_vertex"] = std::chrono::duration<double, std::nano>(t_eyes).count() / n;
-  state.counters["ratio"] = double(t_eyes.count()) / double(t_plain.count());
+  EvaluateSetup eyes(head->rig, SkinLayers{});
+  RunPairedAgainstPlain(state, head->rig, &eyes, "eyes", [](EvaluateSetup&, uint32_t) {}, without);
   state.counters["eye_points"] = double(head->rig.eyes().points.size());
 }
 
