@@ -331,6 +331,24 @@ TEST(ViewerRigEdit, AFailedBuildKeepsTheLastGoodRig) {
   EXPECT_FALSE(s.rig_stale());
 }
 
+// A build refused at once can be over before the script line returns; the line must fail
+// all the same (it once passed now and then under a loaded ctest: the script asked whether a
+// build was running, not whether its own request had been built). Repeated, so that the
+// build's thread wins the race on some of the tries.
+TEST(ViewerRigEdit, ARefusedBuildFailsItsLineHoweverFastItIsRefused) {
+  Fixture f("fast_fail");
+  Session s(1);
+  Load(&s, f);
+  for (int i = 0; i < 40; ++i) {
+    std::string error;
+    EXPECT_FALSE(Script(&s, "muscle zygomatic strength 1e7", &error)) << "try " << i;
+    EXPECT_NE(error.find("muscles[0].strength"), std::string::npos) << "try " << i << ": " << error;
+    EXPECT_TRUE(s.rig_stale()) << "try " << i;
+    ASSERT_TRUE(Script(&s, "undo", &error)) << "try " << i << ": " << error;
+    EXPECT_FALSE(s.rig_stale()) << "try " << i;
+  }
+}
+
 TEST(ViewerRigEdit, BadValuesAreRefusedNamingTheFieldAndChangeNothing) {
   Fixture f("bad");
   Session s(1);

@@ -110,7 +110,7 @@ void UiFrame(App* app, int width, int height) {
 bool TakeScreenshot(const ViewerArgs& args, App* app, const std::string& path, std::string* error) {
   // The headless path draws only finished rigs: a rebuild of the edited rig is waited for, and
   // the mesh uploaded again (a script's rig edits may have swapped the rig in already).
-  if (app->session.rig_rebuilding()) app->session.WaitRigRebuild();
+  if (app->session.rig_stale()) app->session.WaitRigRebuild();  // running, or done, not taken
   if (app->session.has_rig()) app->OnRigRebuilt();
   const int w = args.width, h = args.height;
   if (!app->renderer.BindOffscreen(w, h)) {

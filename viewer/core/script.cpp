@@ -332,7 +332,7 @@ bool RunScriptWords(const std::vector<std::string>& w, Session* s, const ScriptH
   }
   if (op == "screenshot") {
     if (!Arity(w, 2, 2, "screenshot PATH", error)) return false;
-    if (s->rig_rebuilding()) s->WaitRigRebuild();
+    if (s->rig_stale()) s->WaitRigRebuild();  // running, or done and not yet taken
     if (!hooks.screenshot) {
       *error = "screenshot: no renderer here";
       return false;
@@ -356,9 +356,12 @@ bool RunScript(const std::string& text, const std::string& file, Session* s,
     std::vector<std::string> words;
     std::string why;
     const size_t before = s->messages().size();
+    const uint64_t requested = s->rig_requested();
     bool ok = SplitScriptLine(line, &words, &why) && RunScriptWords(words, s, hooks, &time, &why);
     // A rig edit's rebuild finishes before the next line (the line fails when it does not build).
-    if (ok && s->rig_rebuilding() && !s->WaitRigRebuild()) {
+    // Asked by generation, not by rig_rebuilding(): a build refused at once may be over, and
+    // its result not yet taken, by the time the line returns.
+    if (ok && s->rig_requested() != requested && !s->WaitRigRebuild()) {
       ok = false;
       why = NewMessages(*s, before, "the edited rig did not build");
     }

@@ -193,6 +193,10 @@ class Session {
   // The spec the shown rig was built from differs from rig_spec() (an edit is not built yet,
   // or its build failed).
   bool rig_stale() const { return rig_spec_ && built_generation_ != rebuilder_.requested(); }
+  // The generation of the newest rebuild requested (it grows with every rig edit, undo and
+  // redo): a caller that must wait for its own edit's build compares it before and after,
+  // since a fast build (one refused early) can be over before rig_rebuilding() is asked.
+  uint64_t rig_requested() const { return rebuilder_.requested(); }
   // On the UI thread between frames: swaps in a finished rebuild (true: the rig changed, so
   // its mesh must be uploaded again; the pose and the clip stay). A failed build keeps the
   // last good rig and puts its messages in messages().
