@@ -357,12 +357,22 @@ TEST(FitTemplate, ThicknessFollowsTheTemplateRegions) {
     const SurfaceQuery::Hit h = q.Raycast(fr.ToWorld({x, y, 3.f}), -fr.z);
     return EvaluateTemplateThickness(t.thickness, fr.ToLocal(h.point)) * s;
   };
-  // At a region's centre its own weight is 1 and the base's w0 = exp(-2), so the value is
-  // about (w0 base + v) / (w0 + 1), a little more where a neighbouring region adds in:
-  // forehead 0.03 -> 0.0305 s, cheeks 0.0225 -> 0.0240 s, lips 0.0125 -> 0.0152 s against a
-  // base of 0.035 s (the calibrated template's: docs/template-format.md).
+  // The blend of docs/template-format.md written out here from the regions' numbers: at a
+  // face point (x, y) each region weighs g = exp(-(dx^2/rx^2 + dy^2/ry^2)/2),
+  // the base w0 = exp(-2), and h = (w0 base + sum g v) / (w0 + sum g); the front switch F(z)
+  // is 1 on the face. At a region's centre its own weight is 1, so the value is near
+  // (w0 base + v) / (w0 + 1), moved by its neighbours (the cheek by the nasolabial band).
   const float w0 = std::exp(-2.f);
-  auto centre = [&](float v) { return (w0 * t.thickness.base + v) / (w0 + 1.f) * s; };
+  auto blend = [&](float x, float y) {
+    double num = w0 * t.thickness.base, den = w0;
+    for (const auto& r : t.thickness.regions) {  // mirrored copies are regions of their own
+      const double dx = (x - r.center.x) / r.radius.x, dy = (y - r.center.y) / r.radius.y;
+      const double g = std::exp(-(dx * dx + dy * dy) / 2.0);
+      num += g * r.value;
+      den += g;
+    }
+    return float(num / den) * s;
+  };
   auto value = [&](const char* name) {
     for (const auto& r : t.thickness.regions)
       if (r.name == name) return r.value;
@@ -370,9 +380,13 @@ TEST(FitTemplate, ThicknessFollowsTheTemplateRegions) {
     return 0.f;
   };
   const float forehead = at(0.f, 0.55f), cheek = at(0.33f, -0.47f), lips = at(0.f, -0.8f);
-  EXPECT_NEAR(forehead, centre(value("forehead")), 0.004f * s);
-  EXPECT_NEAR(cheek, centre(value("cheek")), 0.004f * s);
-  EXPECT_NEAR(lips, centre(value("lips")), 0.004f * s);
+  EXPECT_NEAR(forehead, blend(0.f, 0.55f), 0.0005f * s);
+  EXPECT_NEAR(cheek, blend(0.33f, -0.47f), 0.0005f * s);
+  EXPECT_NEAR(lips, blend(0.f, -0.8f), 0.0005f * s);
+  // Each near its own region's value: forehead 0.03 s, cheek 0.0225 s, lips 0.008 s.
+  EXPECT_NEAR(forehead, value("forehead") * s, 0.004f * s);
+  EXPECT_NEAR(cheek, value("cheek") * s, 0.004f * s);
+  EXPECT_NEAR(lips, value("lips") * s, 0.004f * s);
   EXPECT_LT(forehead, t.thickness.base * s);  // thinner than the base, as Bando paints it
   EXPECT_LT(lips, 0.6f * t.thickness.base * s);
   // The fitted per-vertex values are the template function at each vertex.
