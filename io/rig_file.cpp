@@ -880,6 +880,7 @@ ordered_json ToJson(const RigSpec& spec, const std::string& dir) {
         wj["phi_c_deg"] = ShortestDegrees(w.phi_c);
       else
         wj["h_c"] = ShortestDecimal(w.h_c);
+      if (w.gate != 0.f) wj["gate"] = ShortestDecimal(w.gate);
       j["wrinkles"] = std::move(wj);
     }
     muscles.push_back(std::move(j));
@@ -1090,7 +1091,11 @@ json_reader::Object MuscleWrinkleBlock(bool linear, const std::string& unit) {
                      .Min(0).Below(1),
                  Integer("count").Min(1).About("n_w, wrinkles across the region; default 3"),
                  Number("depth").Min(0).Required().About("k0, " + unit),
-                 Number("shape", "a finite number (alpha)"), attenuation.CrossField()},
+                 Number("shape", "a finite number (alpha)"), attenuation.CrossField(),
+                 Number("gate", "an activation in [0, 1] (0: no gate)").Min(0).Max(1)
+                     .About("the muscle's activation at which its wrinkles reach full "
+                            "amplitude (amplitude times smoothstep(0, gate, a)); default 0, "
+                            "no gate: the amplitude follows the compression alone")},
       .notes = {{other_key, Quoted(other_key) + " is for the wrinkles of a " + other +
                                 " muscle, and this is a " + type + " muscle; expected " +
                                 Quoted(key) + " (" + meaning + ")",
@@ -1106,6 +1111,7 @@ bool ReadMuscleWrinkles(const json_reader::View& w, const json_reader::View& m, 
   w.Read("count", &spec.count);
   w.Read("depth", &spec.depth);
   w.Read("shape", &spec.shape);
+  w.Read("gate", &spec.gate);
   bool ok = w.ok();
   float bound = 0.f;
   if (linear) {

@@ -695,6 +695,7 @@ std::string MuscleTemplateToJson(const MuscleTemplate& t) {
       wj["shape"] = TemplateDigits(w.shape);
       if (linear && w.phi_c != 0.f) wj["phi_c_deg"] = TemplateDigits(w.phi_c * 180.0 / 3.14159265358979323846);
       if (!linear && w.h_c != 0.f) wj["h_c"] = TemplateDigits(w.h_c);
+      if (w.gate != 0.f) wj["gate"] = TemplateDigits(w.gate);
       e["wrinkles"] = wj;
     }
     muscles.push_back(e);

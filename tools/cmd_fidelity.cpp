@@ -538,6 +538,7 @@ int CmdFidelity(const Args& args) {
       "wrinkles (adds) | none (adds) | off (solved) |\n|---|---|---|---|---|---|---|\n";
   double added[4] = {0, 0, 0, 0};
   size_t worse = 0;
+  std::string worse_names;  // "SHAPE by D" of each, D to 4 decimals
   for (const Row& r : rows) {
     costs += "| " + std::string(r.shape->name) + " | " + Fixed(r.on.ratio, 3);
     for (int k = 0; k < 4; ++k) {
@@ -546,7 +547,11 @@ int CmdFidelity(const Args& args) {
       costs += " | " + Fixed(r.without[k].ratio, 3) + " (" + Signed3(add) + ")";
     }
     costs += " | " + Fixed(r.off.ratio, 3) + " |\n";
-    worse += r.on.ratio > r.off.ratio + 1e-9;
+    if (r.on.ratio > r.off.ratio + 1e-9) {
+      ++worse;
+      worse_names += std::string(worse_names.empty() ? "" : ", ") + r.shape->name + " by " +
+                     Fixed(r.on.ratio - r.off.ratio, 4);
+    }
   }
   if (!rows.empty()) {
     costs += "\nMean over the " + std::to_string(rows.size()) + " shapes, what each layer adds "
@@ -554,7 +559,8 @@ int CmdFidelity(const Args& args) {
              ", muscle wrinkles " + Signed3(added[1] / double(rows.size())) +
              ", curve wrinkles " + Signed3(added[2] / double(rows.size())) + ", all three " +
              Signed3(added[3] / double(rows.size())) + "; the layers make the solved ratio "
-             "worse than the muscles alone on " + std::to_string(worse) + ".\n\n";
+             "worse than the muscles alone on " + std::to_string(worse) +
+             (worse_names.empty() ? std::string() : " (" + worse_names + ")") + ".\n\n";
   }
 
   // Creases of the fall-offs on this rig (docs/model.md §2-3): every muscle Waters', then smooth.

@@ -214,8 +214,10 @@ int CmdFit(const Args& args) {
     if (!spec.muscle_wrinkles[m]) continue;
     const MuscleWrinkleSpec& w = *spec.muscle_wrinkles[m];
     if (wrinkled++ == 0) std::printf("muscle wrinkles (docs/model.md §6):\n");
-    std::printf("  %-32s lambda_w %.3g, %d wrinkles, depth %.3g %s\n", spec.muscles[m].name.c_str(),
+    std::printf("  %-32s lambda_w %.3g, %d wrinkles, depth %.3g %s", spec.muscles[m].name.c_str(),
                 double(w.lambda_w), w.count, double(w.depth), units.c_str());
+    if (w.gate > 0.f) std::printf(", full from activation %.3g", double(w.gate));
+    std::printf("\n");
   }
   if (!spec.curve_wrinkles.empty())
     std::printf("curve wrinkles (docs/model.md §7-8), control points in texture space:\n");

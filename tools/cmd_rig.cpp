@@ -153,9 +153,12 @@ int CmdInfo(const Args& args) {
     } else {
       std::printf("  %-28s moves %u points", rig.muscle_names()[m].c_str(), influenced[m]);
     }
-    if (const RigMuscleWrinkles* w = wrinkles_of[m])
-      std::printf(", wrinkles on %u (half cycle %.3g %s)", w->row_count(), w->half_cycle,
+    if (const RigMuscleWrinkles* w = wrinkles_of[m]) {
+      std::printf(", wrinkles on %u (half cycle %.3g %s", w->row_count(), w->half_cycle,
                   loaded.spec.units.c_str());
+      if (w->gate > 0.f) std::printf(", full from activation %.3g", double(w->gate));
+      std::printf(")");
+    }
     std::printf("\n");
   }
   // A muscle that moves almost none of the mesh's own vertices is usually misplaced for this

@@ -311,6 +311,7 @@ bool CompileSkinLayers(const RigSpec& spec, const MeshData& mesh,
       w.half_cycle = table.half_cycle;
       w.furrow_depth = table.furrow_depth;
       w.shape = table.shape;
+      w.gate = spec.muscle_wrinkles[m]->gate;
       w.profile.resize(w.points.size());
       for (size_t i = 0; i < w.points.size(); ++i)
         w.profile[i] = MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth, w.shape,

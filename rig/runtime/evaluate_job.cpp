@@ -32,6 +32,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   muscle_count_ = rig.muscle_count();
   const RigTables& t = rig.tables();
   activations_.assign(muscle_count_, 0.f);
+  wrinkle_gates_.assign(muscle_count_, 1.f);
   jaw_ = 0.f;
   // One float3 of padding covers kPointPadFloats.
   static_assert(kPointPadFloats <= 3, "pad points_ by more than one float3");
@@ -83,7 +84,7 @@ static size_t Bytes(const std::vector<T>& v) {
 }
 
 size_t EvaluateContext::ByteSize() const {
-  return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(points_) + Bytes(faces_) +
+  return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(wrinkle_gates_) + Bytes(points_) + Bytes(faces_) +
          Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
          Bytes(slope_min_bounds_) +
@@ -230,6 +231,7 @@ struct FrameState {
   float* compressions;             // #P compression eps (context), StageTension
   float* fine;                     // 2 #P fine-scale amplitudes (context), StageFineScale
   const float* activations;        // #muscles, sanitised
+  const float* wrinkle_gates;      // #muscles: G of each muscle's wrinkles (1 without a gate)
   const float3* base;              // #P: the pose the muscles add to (the rest pose)
   float3* points;                  // #P + pad: X1, then X3 (context)
   float4* faces;                   // #T face slots (context)
@@ -729,6 +731,8 @@ void StageDisplace(const FrameState& f) {
       const float* coeffs = t.entry_coeffs.data();
       const float* rest = t.entry_rest.data();
       const float* profiles = t.row_profiles.data();
+      const uint32_t* row_muscles = t.row_muscles.data();
+      const float* gates = f.wrinkle_gates;
       const CurveWrinkleParams* params = r.curve_wrinkles().wrinkles.data();
       const CurveWrinkleEntry* entries = r.curve_wrinkles().entries.data();
       const ShrinkageProbe* probes = r.curve_wrinkles().probes.data();
@@ -750,12 +754,12 @@ void StageDisplace(const FrameState& f) {
         float d = 0.f;
         if (muscle_wrinkles) {
           for (uint32_t row = point_rows[p]; row < point_rows[p + 1]; ++row) {
-            // 001 eq. 9-10: eps = sum_j c_j (L_j - l_j); eq. 4: W = H(w_i) A(eps) At_i
-            // (docs/model.md §5-6).
+            // 001 eq. 9-10: eps = sum_j c_j (L_j - l_j); eq. 4: W = H(w_i) A(eps) At_i,
+            // times the muscle's gate G (docs/model.md §5-6).
             float eps = 0.f;
             for (uint32_t k = row_entries[row]; k < row_entries[row + 1]; ++k)
               eps += coeffs[k] * (rest[k] - length[edges[k]]);
-            d += profiles[row] * Anisotropy(eps);
+            d += profiles[row] * Anisotropy(eps) * gates[row_muscles[row]];
           }
         }
         if (curve_wrinkles) {
@@ -1397,6 +1401,8 @@ bool EvaluateJob::Run() const {
   const Rig& r = *rig;
   const RigTables& t = r.tables();
   SanitizeActivations(activations.first(r.muscle_count()), ctx.activations_);
+  for (const RigMuscleWrinkles& w : r.muscle_wrinkles())  // docs/model.md §6: G = 1 ungated
+    ctx.wrinkle_gates_[w.muscle] = WrinkleGate(ctx.activations_[w.muscle], w.gate);
   ctx.jaw_ = jaw >= 0.f ? (jaw <= 1.f ? jaw : 1.f) : 0.f;  // NaN -> 0
   FrameState f{
       .job = *this,
@@ -1414,6 +1420,7 @@ bool EvaluateJob::Run() const {
       .compressions = ctx.point_compressions_.data(),
       .fine = ctx.point_fine_.data(),
       .activations = ctx.activations_.data(),
+      .wrinkle_gates = ctx.wrinkle_gates_.data(),
       .base = r.rest_points().data(),
       .points = ctx.points_.data(),  // padded (face_kernels.h)
       .faces = ctx.faces_.data(),

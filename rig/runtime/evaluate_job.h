@@ -104,6 +104,8 @@ class EvaluateContext {
   uint64_t rig_uid_ = 0;
   uint32_t point_count_ = 0, triangle_count_ = 0, muscle_count_ = 0;
   std::vector<float> activations_;     // #muscles, sanitised, in [0, 1]
+  std::vector<float> wrinkle_gates_;   // #muscles: this frame's wrinkle gate G per muscle, 1
+                                       // for a muscle without wrinkles or gate (docs/model.md §6)
   float jaw_ = 0.f;                    // the last frame's jaw value, sanitised, in [0, 1]
   std::vector<float3> points_;         // #P deformed (rest where nothing moves), then
                                        // kPointPadFloats (face_kernels.h); mesh units

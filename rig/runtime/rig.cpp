@@ -58,7 +58,7 @@ size_t Rig::ByteSize() const {
   const RigTables& t = tables_;
   n += Bytes(t.rest_faces) + Bytes(t.rest_point_normals) + Bytes(t.edge_pairs) +
        Bytes(t.row_offsets) + Bytes(t.entry_edges) + Bytes(t.entry_rest) +
-       Bytes(t.entry_coeffs) + Bytes(t.row_profiles) + Bytes(t.probe_edges) +
+       Bytes(t.entry_coeffs) + Bytes(t.row_profiles) + Bytes(t.row_muscles) + Bytes(t.probe_edges) +
        Bytes(t.point_row_offsets) + Bytes(t.point_curve_offsets) + Bytes(t.point_curve_rows) +
        Bytes(t.wrinkle_points) + Bytes(t.point_neighbor_offsets) + Bytes(t.point_neighbors) +
        Bytes(t.fine_edge_pairs) + Bytes(t.fine_probe_edges) +

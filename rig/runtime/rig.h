@@ -42,6 +42,8 @@ struct RigMuscleWrinkles {
   float half_cycle = 0.f;                 // u, mesh units
   float furrow_depth = 0.f;               // k0, mesh units
   float shape = 0.f;                      // alpha
+  float gate = 0.f;                       // activation of full amplitude, [0, 1]; 0 = no gate
+                                          // (WrinkleGate, docs/model.md §6)
   uint32_t row_count() const { return uint32_t(points.size()); }
 };
 
@@ -195,6 +197,7 @@ struct RigTables {
   std::vector<float> entry_rest;           // L_ij, mesh units
   std::vector<float> entry_coeffs;         // w_ij / (L_ij sum_j w_ij); 0 where L_ij <= 0
   std::vector<float> row_profiles;         // H(w_i) At_i per row, mesh units
+  std::vector<uint32_t> row_muscles;       // per row: its muscle (index of the frame's gates)
   std::vector<uint32_t> probe_edges;       // 4 per curve-wrinkle probe: sides' v1v2, v1v3
   // Fine-scale probes' edges (docs/model.md §23) that no strain measure reads: they follow the
   // strain's edges as ids [edge_count(), edge_count() + fine_edge_count()), measured only by

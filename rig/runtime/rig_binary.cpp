@@ -71,6 +71,8 @@ enum SectionId : uint32_t {
   kEyeIndices = 44,
   kEyeRadii = 45,
   kEyeWeights = 46,
+  // 2.2: the muscle wrinkles' activation gates (optional; absent = no gate).
+  kMwGates = 47,
   kInfoUnits = 64,
   kInfoSourceVertexCount = 65,
 };
@@ -127,6 +129,7 @@ constexpr SectionDesc kSections[] = {
     {kEyeIndices, "eye_indices", 4, 0, false},
     {kEyeRadii, "eye_radii", 4, 0, false},
     {kEyeWeights, "eye_weights", 4, 0, false},
+    {kMwGates, "muscle_wrinkle_gates", 4, 0, false},
     {kInfoUnits, "info_units", 0, 1, false},
     {kInfoSourceVertexCount, "info_source_vertex_count", 4, 1, false},
 };
@@ -323,6 +326,12 @@ std::string WriteRigBinary(const RigData& d, const RigBinaryInfo* info) {
     w.U32s(kEyeIndices, e.eyes);
     w.F32s(kEyeRadii, e.radii);
     w.F32s(kEyeWeights, e.weights);
+  }
+  {  // 2.2's gates: written only when some table has one (a 2.1 reader then reads the rest)
+    std::vector<float> gates;
+    bool any = false;
+    for (const RigMuscleWrinkles& m : d.muscle_wrinkles) gates.push_back(m.gate), any |= m.gate != 0.f;
+    if (any) w.F32s(kMwGates, gates);
   }
   if (info) {
     w.Strings(kInfoUnits, {info->units});
@@ -570,6 +579,15 @@ bool ReadData(span<const uint8_t> bytes, const uint64_t* checksum, RigData* out,
       for (size_t i = 0; i + 2 < centers.size(); i += 3)
         e.centers.push_back({centers[i], centers[i + 1], centers[i + 2]});
     }
+  }
+  if (r.Of(kMwGates).data != nullptr) {  // 2.2's gates: one per muscle-wrinkle table
+    std::vector<float> gates;
+    r.F32s(kMwGates, &gates);
+    if (gates.size() != d.muscle_wrinkles.size())
+      return r.Fail(r.Of(kMwGates), std::to_string(gates.size()) + " gates for " +
+                                        std::to_string(d.muscle_wrinkles.size()) +
+                                        " muscle-wrinkle tables; expected one per table");
+    for (size_t i = 0; i < gates.size(); ++i) d.muscle_wrinkles[i].gate = gates[i];
   }
   RigBinaryInfo file_info;
   {

@@ -19,7 +19,7 @@ namespace mimetic {
 
 inline constexpr char kRigBinaryTag[4] = {'M', 'R', 'I', 'G'};
 inline constexpr uint16_t kRigBinaryMajor = 2;  // a reader refuses a newer major version
-inline constexpr uint16_t kRigBinaryMinor = 1;  // a newer minor may add sections (skipped); 2.1: eyes
+inline constexpr uint16_t kRigBinaryMinor = 2;  // a newer minor may add sections (skipped); 2.1: eyes, 2.2: wrinkle gates
 inline constexpr size_t kRigBinaryHeaderBytes = 40;
 inline constexpr size_t kRigBinarySectionEntryBytes = 32;
 // The file helper refuses a larger file before reading it.

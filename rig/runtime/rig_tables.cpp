@@ -28,7 +28,7 @@ bool CheckRigData(const RigData& r) {
       r.curve_wrinkles.names.size() != r.curve_wrinkles.wrinkles.size())
     return false;
   for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
-    if (w.muscle >= r.muscle_count()) return false;
+    if (w.muscle >= r.muscle_count() || !(w.gate >= 0.f && w.gate <= 1.f)) return false;
   for (uint32_t i : r.triangles)
     if (i >= points) return false;
   if (r.point_triangle_offsets.size() != size_t(points) + 1) return false;
@@ -288,6 +288,7 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
   t.entry_rest.resize(entry_total);
   t.entry_coeffs.resize(entry_total);
   t.row_profiles.resize(row_total);
+  t.row_muscles.resize(row_total);
   t.point_row_offsets.resize(size_t(active) + 1);
   t.row_offsets[0] = 0;
   t.point_row_offsets[0] = 0;
@@ -301,6 +302,7 @@ void BuildStrainTables(const RigData& r, RigTables* out) {
                                 ? MuscleWrinkleProfile(w.phase[i], w.half_cycle, w.furrow_depth,
                                                        w.shape, w.attenuation[i])
                                 : w.profile[i];
+      t.row_muscles[row] = w.muscle;
       float weight_sum = 0.f;
       for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k)
         weight_sum += w.edge_weights[k];
@@ -457,7 +459,8 @@ void BuildRigTables(const RigData& r, RigTables* out) {
   // Built by push_back: give back the slack.
   for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
                                    &t.point_row_offsets, &t.point_curve_offsets,
-                                   &t.point_curve_rows, &t.wrinkle_points, &t.point_neighbors})
+                                   &t.point_curve_rows, &t.wrinkle_points, &t.point_neighbors,
+                                   &t.row_muscles})
     v->shrink_to_fit();
   for (std::vector<float>* v : {&t.entry_rest, &t.entry_coeffs, &t.row_profiles})
     v->shrink_to_fit();

@@ -16,6 +16,7 @@
 #include "expressions/offline/clip_builder.h"
 #include "expressions/runtime/clip_binary.h"
 #include "expressions/runtime/clip_sample_job.h"
+#include "binary_file_checks.h"
 
 namespace mimetic {
 namespace {
@@ -60,23 +61,14 @@ span<const uint8_t> Bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
 
-// The format's fields, decoded here independently of the reader (docs/mclip-format.md).
-uint32_t U32At(const std::string& b, size_t at) {
-  uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = v << 8 | uint8_t(b[at + i]);
-  return v;
-}
-uint64_t U64At(const std::string& b, size_t at) {
-  return U32At(b, at) | uint64_t(U32At(b, at + 4)) << 32;
-}
-void PutU32(std::string* b, size_t at, uint32_t v) {
-  for (int i = 0; i < 4; ++i) (*b)[at + i] = char(v >> (8 * i));
-}
-void PutF32(std::string* b, size_t at, float v) { PutU32(b, at, std::bit_cast<uint32_t>(v)); }
-void PutU64(std::string* b, size_t at, uint64_t v) {
-  PutU32(b, at, uint32_t(v));
-  PutU32(b, at + 4, uint32_t(v >> 32));
-}
+// The format's fields (tests/binary_file_checks.h, docs/mclip-format.md).
+using test::Entry;
+using test::PutF32;
+using test::PutU32;
+using test::PutU64;
+using test::Table;
+using test::U32At;
+using test::U64At;
 uint64_t Checksum(const std::string& b) {
   uint64_t h = 0xcbf29ce484222325ull;
   std::string padded = b;
@@ -89,19 +81,6 @@ uint64_t Checksum(const std::string& b) {
 }
 void Rechecksum(std::string* b) { PutU64(b, 24, Checksum(*b)); }
 
-struct Entry {
-  uint32_t id, element_size;
-  uint64_t offset, size, count;
-};
-std::vector<Entry> Table(const std::string& b) {
-  std::vector<Entry> t;
-  for (uint32_t i = 0; i < U32At(b, 12); ++i) {
-    const size_t at = 40 + 32 * size_t(i);
-    t.push_back({U32At(b, at), U32At(b, at + 4), U64At(b, at + 8), U64At(b, at + 16),
-                 U64At(b, at + 24)});
-  }
-  return t;
-}
 Entry Find(const std::string& b, uint32_t id) {
   for (const Entry& e : Table(b))
     if (e.id == id) return e;
@@ -213,34 +192,8 @@ TEST(ClipBinary, HeaderAndChecksumAreTheFormats) {
 TEST(ClipBinary, TruncationAtEveryByteIsRefused) {
   const std::string bytes = WriteClipBinary(RichClip());
   const std::vector<Entry> table = Table(bytes);
-  const size_t table_end = 40 + 32 * table.size();
-  for (size_t cut = 0; cut < bytes.size(); ++cut) {
-    const std::string error = ReadError(bytes.substr(0, cut));
-    SCOPED_TRACE("cut at " + std::to_string(cut) + ": " + error);
-    if (cut < 40) {
-      EXPECT_NE(error.find("header"), std::string::npos);
-      EXPECT_NE(error.find("truncated"), std::string::npos);
-    } else if (cut < table_end) {
-      EXPECT_NE(error.find("section table at byte 40"), std::string::npos);
-    } else {
-      // The first section (in table order) that does not fit is named; a cut in the padding
-      // after the last section's payload leaves every section whole: the total size is wrong.
-      const Entry* first = nullptr;
-      for (const Entry& e : table)
-        if (e.offset + e.size > cut) {
-          first = &e;
-          break;
-        }
-      if (first) {
-        EXPECT_NE(error.find("(id " + std::to_string(first->id) + ") at byte " +
-                             std::to_string(first->offset) + ": its " +
-                             std::to_string(first->size) + " bytes extend past the end"),
-                  std::string::npos);
-      } else {
-        EXPECT_NE(error.find("header at byte 16: total size"), std::string::npos);
-      }
-    }
-  }
+  for (size_t cut = 0; cut < bytes.size(); ++cut)
+    test::ExpectTruncationNamed(table, cut, ReadError(bytes.substr(0, cut)));
 }
 
 TEST(ClipBinary, FlippedBytesAreRefused) {

@@ -97,6 +97,7 @@ TEST(RigJsonTest, BaseTextsAreValid) {
   for (const std::string& text :
        {Doc(), Doc("[" + kSheet + "]"), Doc("[]"), Thickness(R"({"type": "constant", "value": 3})"),
         LinearW(R"({"depth": 1, "phi_c_deg": 10})"), SheetW(R"({"depth": 1, "h_c": 5})"),
+        LinearW(R"({"depth": 1, "gate": 1})"), SheetW(R"({"depth": 1, "gate": 0})"),
         Curves("[" + kCurve + "]"), Extra(R"("layers": {"thickness": false})"),
         Extra(R"("refinement": {"edge_fraction": 1})"), Extra(R"("jaw": )" + kJaw),
         Extra(R"("eyes": )" + kEyes),
@@ -323,7 +324,13 @@ std::vector<BadCase> BadCases() {
        {"muscles[0].wrinkles.shape: expected a finite number (alpha)", "overflows to infinity"}},
       {"unknown wrinkle key", LinearW(R"({"depth": 1, "alpha": 2})"),
        {"muscles[0].wrinkles.alpha: unknown key \"alpha\"; allowed keys for the wrinkles of a "
-        "linear muscle: lambda_w, count, depth, shape, phi_c_deg"}},
+        "linear muscle: lambda_w, count, depth, shape, phi_c_deg, gate"}},
+      {"gate above 1", LinearW(R"({"depth": 1, "gate": 1.5})"),
+       {"muscles[0].wrinkles.gate: expected an activation in [0, 1] (0: no gate), got 1.5"}},
+      {"gate negative", SheetW(R"({"depth": 1, "gate": -0.25})"),
+       {"muscles[0].wrinkles.gate: expected an activation in [0, 1] (0: no gate), got -0.25"}},
+      {"gate a string", LinearW(R"({"depth": 1, "gate": "full"})"),
+       {"muscles[0].wrinkles.gate: expected an activation in [0, 1] (0: no gate), got string"}},
       {"wrinkles not an object", LinearW("true"),
        {"muscles[0].wrinkles: expected object", "\"phi_c_deg\": ...}, got boolean"}},
 
@@ -934,6 +941,7 @@ RigSpec SampleWrinkleSpec(const std::string& dir) {
   lw.depth = 1.f / 3.f;
   lw.shape = -0.1f;
   lw.phi_c = 0.1f;  // radians, below the zone angle 0.7, not a round number of degrees
+  lw.gate = 0.35f;  // the sheet's stays 0: no gate, and no key in the file
   MuscleWrinkleSpec sw;
   sw.lambda_w = 0.f;
   sw.count = 1;
@@ -1019,6 +1027,7 @@ void ExpectSameSpec(const RigSpec& a, const RigSpec& b) {
       EXPECT_EQ(p.shape, q.shape);
       EXPECT_EQ(p.phi_c, q.phi_c);
       EXPECT_EQ(p.h_c, q.h_c);
+      EXPECT_EQ(p.gate, q.gate);
     }
   }
   ASSERT_EQ(a.curve_wrinkles.size(), b.curve_wrinkles.size());
@@ -1190,6 +1199,7 @@ TEST(RigJsonTest, SavedWrinkleTextHasTheDocumentedLayout) {
                         "\"depth\": 0.33333334",
                         "\"shape\": -0.1",
                         "\"phi_c_deg\": 12.0",
+                        "\"gate\": 0.35",
                         "\"name\": \"frontalis_inner_L\"",
                         "\"falloff_start\": 2.05",
                         "\"wrinkles\": {",
@@ -1228,6 +1238,8 @@ TEST(RigJsonTest, SavedWrinkleTextHasTheDocumentedLayout) {
   // The attenuation key of the other muscle type is not written.
   EXPECT_EQ(text.find("\"h_c\""), text.rfind("\"h_c\""));
   EXPECT_EQ(text.find("\"phi_c_deg\""), text.rfind("\"phi_c_deg\""));
+  // Nor a gate of 0 (no gate, the default): only the linear muscle's.
+  EXPECT_EQ(text.find("\"gate\""), text.rfind("\"gate\""));
   EXPECT_EQ(text.find("0000000"), std::string::npos) << text;
 
   // Defaults are not written: no curve_wrinkles, layers or refinement block.

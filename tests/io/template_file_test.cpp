@@ -30,7 +30,7 @@ const std::string kValid = R"({
                     {"landmarks": [24], "offset": [0, 0.6], "depth": 0.03}],
      "insertion": [{"landmarks": [22], "depth": 0.01}, {"landmarks": [24], "depth": 0.01}],
      "length": 0.8, "width": 0.36, "falloff_start": 0.6,
-     "wrinkles": {"lambda_w": 0.2, "count": 4, "depth": 0.01, "shape": 0.5, "h_c": 0.05}}
+     "wrinkles": {"lambda_w": 0.2, "count": 4, "depth": 0.01, "shape": 0.5, "h_c": 0.05, "gate": 0.6}}
   ],
   "curve_wrinkles": [
     {"name": "fold_L", "mirror": true,
@@ -130,6 +130,8 @@ TEST(MuscleTemplate, WrinkleBlocksAndCurveWrinklesParseMirrorAndDefault) {
   EXPECT_FLOAT_EQ(sw.depth, 0.01f);
   EXPECT_FLOAT_EQ(sw.shape, 0.5f);
   EXPECT_FLOAT_EQ(sw.h_c, 0.05f);
+  EXPECT_FLOAT_EQ(sw.gate, 0.6f);  // and the linear block's default: no gate
+  EXPECT_EQ(t.muscles[0].wrinkles->gate, 0.f);
   // Curve: mirrored (35 <-> 31, 54 <-> 48, dx negated), defaults, depth 0 on the skin.
   ASSERT_EQ(t.curve_wrinkles.size(), 2u);
   const TemplateCurveWrinkle& l = t.curve_wrinkles[0];
@@ -476,7 +478,7 @@ TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
     EXPECT_EQ(b.description, a.description);
     ASSERT_EQ(b.muscles.size(), a.muscles.size());
     auto near = [](float x, float y) { return std::fabs(x - y) <= 5e-4f * std::max(1.f, std::fabs(x)); };
-    size_t copies = 0;
+    size_t copies = 0, gated = 0;
     for (size_t i = 0; i < a.muscles.size(); ++i) {
       const TemplateMuscle &x = a.muscles[i], &y = b.muscles[i];
       EXPECT_EQ(x.name, y.name);
@@ -497,7 +499,12 @@ TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
         EXPECT_TRUE(near(x.attachment[k].depth, y.attachment[k].depth)) << x.name;
       }
       EXPECT_EQ(x.wrinkles.has_value(), y.wrinkles.has_value()) << x.name;
+      if (x.wrinkles && y.wrinkles) EXPECT_EQ(x.wrinkles->gate, y.wrinkles->gate) << x.name;
+      gated += x.wrinkles && x.wrinkles->gate > 0.f;
     }
+    // Every wrinkled muscle's furrows wait for the muscle (docs/calibration.md "Furrows that
+    // wait for their muscle"): the four sides' blocks, mirrored.
+    EXPECT_EQ(gated, 8u) << file;
     EXPECT_EQ(copies, a.muscles.size() / 2);
     // Both ask the fitted rig to refine where the fall-offs bend (docs/model.md §11).
     EXPECT_EQ(a.falloff_error, 0.005f) << file;

@@ -544,7 +544,7 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   expect += VectorBytes(t.rest_faces) + VectorBytes(t.rest_point_normals) +
             VectorBytes(t.edge_pairs) + VectorBytes(t.row_offsets) + VectorBytes(t.entry_edges) +
             VectorBytes(t.entry_rest) + VectorBytes(t.entry_coeffs) +
-            VectorBytes(t.row_profiles) + VectorBytes(t.probe_edges) +
+            VectorBytes(t.row_profiles) + VectorBytes(t.row_muscles) + VectorBytes(t.probe_edges) +
             VectorBytes(t.point_row_offsets) + VectorBytes(t.point_curve_offsets) +
             VectorBytes(t.point_curve_rows) + VectorBytes(t.wrinkle_points) +
             VectorBytes(t.point_neighbor_offsets) + VectorBytes(t.point_neighbors) +
@@ -569,13 +569,13 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   const EvaluateContext ctx(rig);
   const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
   const size_t E = t.edge_count();
-  // activations, points (+1 pad), faces, ratios, compressions, fine-scale amplitudes (2 per
+  // activations, the muscles' wrinkle gates, points (+1 pad), faces, ratios, compressions, fine-scale amplitudes (2 per
   // point), fine-scale edge lengths (+1: the length-1 slot), sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
   // flags, the smallest slope bound per point; its worklists over the active points (three
   // lists, marks) and triangles (list, marks, verdicts)
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
-  EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
+  EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
                                 8 * P + 4 * (t.fine_edge_count() + 1) + 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
                                 4 * T + P + 4 * P + 3 * 4 * A + A + 4 * AT + AT + AT);
 }

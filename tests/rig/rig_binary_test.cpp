@@ -15,6 +15,7 @@
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
 #include "rig/runtime/rig_binary.h"
+#include "binary_file_checks.h"
 
 namespace mimetic {
 namespace {
@@ -54,22 +55,13 @@ span<const uint8_t> Bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
 
-// The format's fields, decoded here independently of the reader (docs/mrig-format.md).
-uint32_t U32At(const std::string& b, size_t at) {
-  uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = v << 8 | uint8_t(b[at + i]);
-  return v;
-}
-uint64_t U64At(const std::string& b, size_t at) {
-  return U32At(b, at) | uint64_t(U32At(b, at + 4)) << 32;
-}
-void PutU32(std::string* b, size_t at, uint32_t v) {
-  for (int i = 0; i < 4; ++i) (*b)[at + i] = char(v >> (8 * i));
-}
-void PutU64(std::string* b, size_t at, uint64_t v) {
-  PutU32(b, at, uint32_t(v));
-  PutU32(b, at + 4, uint32_t(v >> 32));
-}
+// The format's fields (tests/binary_file_checks.h, docs/mrig-format.md).
+using test::Entry;
+using test::PutU32;
+using test::PutU64;
+using test::Table;
+using test::U32At;
+using test::U64At;
 // The checksum of docs/mrig-format.md, written into [24, 32): one lane for major version 1,
 // four interleaved lanes (word i into lane i % 4, lane l from basis ^ l, then the four lanes
 // through the same step from the basis) from major version 2.
@@ -91,20 +83,6 @@ uint64_t ChecksumOf(const std::string& b, bool four_lanes) {
 }
 void Rechecksum(std::string* b) { PutU64(b, 24, ChecksumOf(*b, U32At(*b, 4) % 65536 >= 2)); }
 
-struct Entry {
-  uint32_t id, element_size;
-  uint64_t offset, size, count;
-  size_t at;  // where the entry is
-};
-std::vector<Entry> Table(const std::string& b) {
-  std::vector<Entry> t;
-  for (uint32_t i = 0; i < U32At(b, 12); ++i) {
-    const size_t at = 40 + 32 * size_t(i);
-    t.push_back({U32At(b, at), U32At(b, at + 4), U64At(b, at + 8), U64At(b, at + 16),
-                 U64At(b, at + 24), at});
-  }
-  return t;
-}
 Entry Find(const std::string& b, uint32_t id) {
   for (const Entry& e : Table(b))
     if (e.id == id) return e;
@@ -305,30 +283,9 @@ TEST(RigBinary, TruncationNamesTheSection) {
       cuts.push_back(e.offset + e.size / 2);      // inside it
       if (e.size > 0) cuts.push_back(e.offset + e.size - 1);
     }
-    const size_t table_end = 40 + 32 * table.size();
-    for (size_t cut : cuts) {
-      if (cut >= bytes.size()) continue;
-      const std::string error = ReadError(bytes.substr(0, cut));
-      SCOPED_TRACE("cut at " + std::to_string(cut) + ": " + error);
-      if (cut < 40) {
-        EXPECT_NE(error.find("header"), std::string::npos);
-      } else if (cut < table_end) {
-        EXPECT_NE(error.find("section table"), std::string::npos);
-      } else {
-        // The first section (in table order) that does not fit is named.
-        const Entry* first = nullptr;
-        for (const Entry& e : table)
-          if (e.offset + e.size > cut) {
-            first = &e;
-            break;
-          }
-        ASSERT_NE(first, nullptr);
-        EXPECT_NE(error.find("(id " + std::to_string(first->id) + ") at byte " +
-                             std::to_string(first->offset)),
-                  std::string::npos);
-        EXPECT_NE(error.find("extend past the end of the file"), std::string::npos);
-      }
-    }
+    for (size_t cut : cuts)
+      if (cut < bytes.size())
+        test::ExpectTruncationNamed(table, cut, ReadError(bytes.substr(0, cut)));
   }
 }
 
@@ -518,6 +475,60 @@ TEST(RigBinary, TheEyesRoundTripAndComeTogether) {
   }
 }
 
+// docs/model.md §6's gate, format 2.2's optional section 47: one value per muscle-wrinkle table.
+TEST(RigBinary, TheWrinkleGatesRoundTripAndOldFilesHaveNone) {
+  auto has_gates = [](const std::string& b) {
+    for (const Entry& e : Table(b))
+      if (e.id == 47) return true;
+    return false;
+  };
+  // Without a gate the section is not written (a 2.1 reader reads the same file).
+  const std::string plain = WriteRigBinary(Surface().data());
+  EXPECT_FALSE(has_gates(plain));
+  RigData data = Surface().data();
+  ASSERT_FALSE(data.muscle_wrinkles.empty());
+  data.muscle_wrinkles[0].gate = 0.5f;
+  Rig rig;
+  ASSERT_TRUE(Rig::Build(data, &rig));
+  const std::string bytes = WriteRigBinary(rig.data());
+  ASSERT_TRUE(has_gates(bytes));
+  EXPECT_EQ(Find(bytes, 47).count, data.muscle_wrinkles.size());
+  Rig loaded;
+  std::string error;
+  ASSERT_TRUE(ReadRigBinary(Bytes(bytes), &loaded, nullptr, &error)) << error;
+  for (size_t k = 0; k < data.muscle_wrinkles.size(); ++k)
+    EXPECT_EQ(loaded.muscle_wrinkles()[k].gate, data.muscle_wrinkles[k].gate) << k;
+  const std::vector<float> act(rig.muscle_count(), 0.3f);  // G = 0.648 < 1: the gate acts
+  ExpectSameBits(rig, loaded, act);
+  EXPECT_NE(Evaluate(rig, act), Evaluate(Surface(), act));
+  EXPECT_EQ(WriteRigBinary(loaded.data()), bytes);
+  // The section dropped (a 2.1 file): no gate, the plain rig's bits.
+  ASSERT_TRUE(ReadRigBinary(Bytes(DropSections(bytes, {47})), &loaded, nullptr, &error)) << error;
+  EXPECT_EQ(loaded.muscle_wrinkles()[0].gate, 0.f);
+  ExpectSameBits(Surface(), loaded, act);
+  // One gate too few: refused by the reader, with the counts.
+  {
+    std::string bad = bytes;
+    const Entry gates = Find(bytes, 47);
+    PutU64(&bad, gates.at + 24, gates.count - 1);
+    PutU64(&bad, gates.at + 16, gates.size - 4);
+    Rechecksum(&bad);
+    const std::string e = ReadError(bad);
+    EXPECT_NE(e.find(std::to_string(gates.count - 1) + " gates for " +
+                     std::to_string(gates.count) + " muscle-wrinkle tables"),
+              std::string::npos)
+        << e;
+  }
+  // A gate above 1 or NaN: refused by Rig::Build.
+  for (const uint32_t value : {0x3fc00000u, 0x7fc00000u}) {  // 1.5f, NaN
+    std::string bad = bytes;
+    PutU32(&bad, Find(bytes, 47).offset, value);
+    Rechecksum(&bad);
+    EXPECT_FALSE(ReadRigBinary(Bytes(bad), &loaded, nullptr, &error)) << value;
+    EXPECT_NE(error.find("Rig::Build"), std::string::npos) << error;
+  }
+}
+
 TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
   const std::string bytes = WriteRigBinary(Surface().data(), nullptr);
   ASSERT_EQ(Surface().tension_region_count(), 2u);
@@ -594,7 +605,7 @@ TEST(RigBinary, TensionRegionsNeedAllFiveSections) {
 TEST(RigBinary, VersionsAndUnknownSections) {
   const RigBinaryInfo info{"cm", 12};
   const std::string bytes = WriteRigBinary(Surface().data(), &info);
-  EXPECT_EQ(U32At(bytes, 4), 2u | 1u << 16);  // version 2.1
+  EXPECT_EQ(U32At(bytes, 4), 2u | 2u << 16);  // version 2.2
   EXPECT_EQ(U64At(bytes, 24), ChecksumOf(bytes, true));
   {
     // A 1.1 file (the same sections, the one-lane checksum) still loads, to the same rig.

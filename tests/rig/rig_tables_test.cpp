@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -43,13 +44,14 @@ TEST(RigTables, StrainEdgesAreNumberedInFirstSeenOrderOncePerEdge) {
     }
     return it->second;
   };
-  std::vector<uint32_t> entries, rows_per_point(r.active.points, 0);
+  std::vector<uint32_t> entries, rows_per_point(r.active.points, 0), row_muscles;
   size_t entry_count = 0;
   for (uint32_t p = 0; p < r.active.points; ++p)
     for (const RigMuscleWrinkles& w : r.muscle_wrinkles)
       for (uint32_t i = 0; i < w.row_count(); ++i) {
         if (w.points[i] != p) continue;
         ++rows_per_point[p];
+        row_muscles.push_back(w.muscle);  // the row's gate is its own muscle's (docs/model.md §6)
         for (uint32_t k = w.edge_offsets[i]; k < w.edge_offsets[i + 1]; ++k)
           entries.push_back(id(p, w.edge_neighbors[k]));
         entry_count += w.edge_offsets[i + 1] - w.edge_offsets[i];
@@ -65,6 +67,8 @@ TEST(RigTables, StrainEdgesAreNumberedInFirstSeenOrderOncePerEdge) {
   ASSERT_GT(entry_count, 1000u);  // the fixture exercises the tables
   ASSERT_GT(r.curve_wrinkles.probes.size(), 100u);
   EXPECT_EQ(t.entry_edges, entries);
+  EXPECT_EQ(t.row_muscles, row_muscles);
+  EXPECT_GT(std::set<uint32_t>(row_muscles.begin(), row_muscles.end()).size(), 1u);
   EXPECT_EQ(t.probe_edges, probes);
   EXPECT_EQ(t.edge_pairs, pairs);
   // Per point, its rows are a contiguous range of the right length.

@@ -408,7 +408,8 @@ void ExpectFusedMatchesChainedStageJobs(const Rig& rig, span<const float> act) {
                         .end = w.row_count(),
                         .positions = x,
                         .out_amplitudes = {},
-                        .profile = {}};
+                        .profile = {},
+                        .gate = WrinkleGate(act[w.muscle], w.gate)};
     ASSERT_TRUE(mj.Run());
   }
   CurveWrinkleJob cj{.normals = n1,
@@ -474,6 +475,7 @@ TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsWithBothModulations) {
   w.lambda_w = 0.6f;
   w.depth = 0.5f;
   spec.muscle_wrinkles[0] = w;
+  w.gate = 0.9f;  // one gated table beside an ungated one (docs/model.md §6)
   spec.muscle_wrinkles[3] = w;
   for (int k = 0; k < 3; ++k) {
     NamedCurveWrinkle c;
@@ -494,9 +496,48 @@ TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsWithBothModulations) {
   Rig rig;
   Diagnostics diag;
   ASSERT_TRUE(BuildRig(spec, mesh, {}, &rig, &diag)) << diag.Format();
+  ASSERT_EQ(rig.muscle_wrinkles().size(), 2u);
+  EXPECT_EQ(rig.muscle_wrinkles()[1].gate, 0.9f);
   std::vector<float> act(rig.muscle_count());
   for (size_t m = 0; m < act.size(); ++m) act[m] = 0.2f + 0.09f * float(m);
   ExpectFusedMatchesChainedStageJobs(rig, act);
+}
+
+// docs/model.md §6, the gate: with the muscle wrinkles the only layer and no limiter, X3 = X1 +
+// W N1 and N1 does not see the wrinkles, so a gated table's displacement is G times the
+// ungated one's, G = smoothstep(0, gate, a) of its own muscle's activation, by hand; another
+// muscle's activation does not open it.
+TEST(SkinPipeline, TheGateScalesAMusclesWrinklesByItsOwnActivation) {
+  MeshData mesh = MakeSurfaceMesh(51, 51, 100.f, 100.f, 10.f);
+  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 10.f, 0.2f, 4.f);
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  MuscleWrinkleSpec w;
+  w.lambda_w = 0.3f;
+  w.depth = 0.5f;
+  spec.muscle_wrinkles[1] = w;
+  spec.refinement.enabled = false;
+  Rig open, gated;
+  Diagnostics diag;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &open, &diag)) << diag.Format();
+  spec.muscle_wrinkles[1]->gate = 0.8f;
+  ASSERT_TRUE(BuildRig(spec, mesh, {}, &gated, &diag)) << diag.Format();
+  ASSERT_EQ(gated.muscle_wrinkles().size(), 1u);
+  const SkinLayers off{false, false, false}, wrinkles{false, true, false};
+  for (const float a1 : {0.f, 0.2f, 0.4f, 0.8f, 1.f}) {
+    std::vector<float> act(open.muscle_count(), 0.6f);  // the others compress its region too
+    act[1] = a1;
+    const double x = std::min(a1 / 0.8, 1.0), G = x * x * (3.0 - 2.0 * x);
+    const std::vector<float> x1 = Evaluate(open, act, off);
+    const std::vector<float> full = Evaluate(open, act, wrinkles);
+    const std::vector<float> part = Evaluate(gated, act, wrinkles);
+    double largest = 0.0;
+    for (size_t i = 0; i < x1.size(); ++i) {
+      const double d = double(full[i]) - x1[i];
+      largest = std::max(largest, std::fabs(d));
+      ASSERT_NEAR(double(part[i]) - x1[i], G * d, 5e-7 * (1.0 + std::fabs(x1[i])) + 1e-6) << i;
+    }
+    EXPECT_GT(largest, 0.003) << "a1 " << a1;  // the region is compressed: there are wrinkles
+  }
 }
 
 }  // namespace

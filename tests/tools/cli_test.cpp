@@ -74,6 +74,32 @@ TEST(Cli, InfoReportsTheSurfaceRig) {
       << "expected " << count << "\n" << r.output;
 }
 
+TEST(Cli, InfoSaysWhereAMusclesWrinklesOpenFully) {  // docs/model.md §6, the gate
+  RigSpec spec;
+  Diagnostics diag;
+  ASSERT_TRUE(LoadRigSpec(SurfaceRig(), &spec, &diag)) << diag.Format();
+  spec.muscle_wrinkles.resize(spec.muscles.size());
+  MuscleWrinkleSpec w;
+  w.depth = 0.5f;
+  w.lambda_w = 0.2f;
+  spec.muscle_wrinkles[0] = w;  // no gate
+  w.gate = 0.4f;
+  spec.muscle_wrinkles[1] = w;
+  const std::string dir = test::TempDir();
+  spec.file = dir + "/gated.rig.json";
+  ASSERT_TRUE(SaveRigSpec(spec.file, spec, &diag)) << diag.Format();
+  const auto r = RunTool({"info", spec.file});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  size_t lines_with_wrinkles = 0, gated = 0;
+  for (size_t at = 0; (at = r.output.find("wrinkles on ", at)) != std::string::npos; ++at) {
+    ++lines_with_wrinkles;
+    const size_t end = r.output.find('\n', at);
+    gated += r.output.substr(at, end - at).find(", full from activation 0.4)") != std::string::npos;
+  }
+  EXPECT_EQ(lines_with_wrinkles, 2u) << r.output;
+  EXPECT_EQ(gated, 1u) << r.output;
+}
+
 TEST(Cli, InfoWarnsAboutAMuscleThatMovesAlmostNothing) {
   // The surface rig plus a linear muscle with a 6 mm zone: it moves a handful of the grid's
   // vertices (counted here from Waters' formula directly), fewer than the 50 `info` asks for.

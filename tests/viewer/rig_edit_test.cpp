@@ -436,6 +436,7 @@ muscle zygomatic motion tangent
 muscle zygomatic tangent_radius 7.5
 muscle frontalis wrinkles on
 muscle frontalis wrinkles.h_c 4
+muscle frontalis wrinkles.gate 0.75
 curve furrow profile yang_zhang
 direction lines 820 0 2 0 0.25
 direction lines 1000 1 1 0 0.5
@@ -454,6 +455,7 @@ save-rig)",
   EXPECT_EQ(back.muscles[0].tangent_radius, 7.5f);
   ASSERT_TRUE(back.muscle_wrinkles.size() > 1 && back.muscle_wrinkles[1].has_value());
   EXPECT_EQ(back.muscle_wrinkles[1]->h_c, 4.f);
+  EXPECT_EQ(back.muscle_wrinkles[1]->gate, 0.75f);
   EXPECT_EQ(back.curve_wrinkles[0].spec.profile, CurveWrinkleProfile::kYangZhang);
   const auto& anchors = back.fine_scale->fields[0].anchors;
   ASSERT_EQ(anchors.size(), 2u);  // 820 moved, 700 deleted, 1000 added

@@ -200,16 +200,27 @@ TEST(MuscleRegion, BadSpecsAreAllReported) {
   spec.lambda_w = 1.5f;
   spec.count = 0;
   spec.phi_c = 0.7f;
+  spec.gate = std::nanf("");
   std::vector<float3> pts = {{0.5f, 0, 0}};
   CsrTable adjacency;
   adjacency.offsets.assign(2, 0);
   MuscleWrinkleTable table;
   Diagnostics diag;
   EXPECT_FALSE(BuildMuscleWrinkleTable(spec, m, pts, adjacency, "muscles[1].wrinkles", &table, &diag));
-  EXPECT_EQ(diag.ErrorCount(), 3u) << diag.Format();
+  EXPECT_EQ(diag.ErrorCount(), 4u) << diag.Format();
   EXPECT_TRUE(diag.Contains("muscles[1].wrinkles.lambda_w"));
   EXPECT_TRUE(diag.Contains("muscles[1].wrinkles.count"));
   EXPECT_TRUE(diag.Contains("muscles[1].wrinkles.phi_c"));
+  EXPECT_NE(diag.Format().find("muscles[1].wrinkles.gate: got nan, expected an activation in [0, 1]"), std::string::npos)
+      << diag.Format();
+  // A gate above 1 alone.
+  MuscleWrinkleSpec over;
+  over.gate = 1.5f;
+  Diagnostics d2;
+  EXPECT_FALSE(BuildMuscleWrinkleTable(over, m, pts, adjacency, "w", &table, &d2));
+  EXPECT_EQ(d2.ErrorCount(), 1u) << d2.Format();
+  EXPECT_NE(d2.Format().find("w.gate: got 1.5, expected an activation in [0, 1] (0: no gate)"), std::string::npos)
+      << d2.Format();
 }
 
 TEST(ShrinkageProbe, FindsBothSidesAndCrossing) {  // 000 eq. 4 geometry

@@ -263,6 +263,52 @@ TEST(MuscleWrinkle, KnownAnswerAlongTheNormal) {  // 001 eq. 4
   EXPECT_EQ(amp[0], 0.f);
 }
 
+TEST(MuscleWrinkle, TheGateScalesEveryRowAndRefusesAFactorOutsideZeroOne) {  // docs/model.md §6
+  const std::vector<float3> nrm = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}};
+  const std::vector<uint32_t> pts = {1, 2};
+  const std::vector<float> phase = {0.5f, 1.5f}, at = {0.6f, 1.f}, eps = {0.5f, 0.25f};
+  // H by hand as above (u = 1, k0 = 2, alpha = 1, d = 1.5): t = -0.5 and t = 0.5, |t| = 0.5
+  // both, so H = 1.5 - 2 * 1.25 * 0.5 = 0.25 on both rows.
+  const double H = 1.5 - 2.0 * 1.25 * 0.5;
+  const double W[2] = {H * std::cos(kPiD / 4) * 0.6, H * std::cos(kPiD / 2 * 0.75) * 1.0};
+  const double G = 0.25 * 0.25 * (3 - 2 * 0.25);  // WrinkleGate(0.25, 1), by hand
+  for (const bool fast : {false, true}) {
+    std::vector<float3> pos(3, float3{1, 1, 1});
+    std::vector<float> amp(2);
+    std::vector<float> profile = {float(H * 0.6), float(H)};
+    MuscleWrinkleJob job{.normals = nrm,
+                         .points = pts,
+                         .phase = phase,
+                         .attenuation = at,
+                         .compression = eps,
+                         .half_cycle = 1.f,
+                         .furrow_depth = 2.f,
+                         .shape = 1.f,
+                         .begin = 0,
+                         .end = 2,
+                         .positions = pos,
+                         .out_amplitudes = amp,
+                         .profile = fast ? span<const float>(profile) : span<const float>()};
+    job.gate = WrinkleGate(0.25f, 1.f);
+    ASSERT_TRUE(job.Run());
+    EXPECT_NEAR(amp[0], G * W[0], 1e-6);
+    EXPECT_NEAR(amp[1], G * W[1], 1e-6);
+    EXPECT_NEAR(pos[1].y, 1 + G * W[0], 1e-6);
+    EXPECT_NEAR(pos[2].x, 1 + G * W[1], 1e-6);
+    EXPECT_EQ(pos[0].z, 1.f);
+    for (const float bad : {-0.01f, 1.01f, std::nanf("")}) {
+      job.gate = bad;
+      EXPECT_FALSE(job.Validate()) << bad;
+      EXPECT_FALSE(job.Run()) << bad;
+    }
+    job.gate = 0.f;  // shut: nothing moves
+    const std::vector<float3> before = pos;
+    ASSERT_TRUE(job.Run());
+    EXPECT_EQ(amp[0], 0.f);
+    EXPECT_EQ(pos[1].y, before[1].y);
+  }
+}
+
 // --- docs/model.md §7-8: curve wrinkles ------------------------------------------------------------
 
 TEST(CurveWrinkle, ValueKnownAnswers) {

@@ -63,6 +63,33 @@ TEST(Anisotropy, BoundaryValuesAndContinuity) {  // 001 eq. 11
   EXPECT_NEAR(Anisotropy(0.5f), 0.70710678f, 1e-6f);
 }
 
+TEST(WrinkleGate, SmoothstepOfTheMusclesOwnActivation) {  // docs/model.md §6, a choice
+  // G = x^2 (3 - 2 x), x = a / gate: by hand at a few points.
+  EXPECT_NEAR(WrinkleGate(0.5, 1.0), 0.25 * 2.0, 1e-15);
+  EXPECT_NEAR(WrinkleGate(0.25, 1.0), 0.0625 * 2.5, 1e-15);
+  EXPECT_NEAR(WrinkleGate(0.3, 0.6), 0.5, 1e-15);  // the middle of a shorter gate
+  EXPECT_NEAR(WrinkleGate(0.1, 0.4), 0.0625 * 2.5, 1e-15);
+  EXPECT_EQ(WrinkleGate(0.0, 1.0), 0.0);             // shut at rest
+  EXPECT_EQ(WrinkleGate(0.6, 0.6), 1.0);             // open from a = gate on
+  EXPECT_EQ(WrinkleGate(0.9, 0.6), 1.0);
+  EXPECT_NEAR(WrinkleGate(1e-6, 1.0), 0.0, 1e-11);   // continuous at both ends, flat there:
+  EXPECT_NEAR(WrinkleGate(1.0 - 1e-6, 1.0), 1.0, 1e-11);  // slope 6 x (1 - x) -> 0
+  // No gate: 001's amplitude, G = 1 whatever the activation.
+  EXPECT_EQ(WrinkleGate(0.0, 0.0), 1.0);
+  EXPECT_EQ(WrinkleGate(0.4, 0.0), 1.0);
+  EXPECT_EQ(WrinkleGate(0.4, std::nan("")), 1.0);
+  EXPECT_EQ(WrinkleGate(std::nan(""), 1.0), 0.0);
+  EXPECT_EQ(WrinkleGate(-0.2, 1.0), 0.0);
+  // Monotone on a fine grid (a second check of the shape, not of the formula).
+  double last = 0.0;
+  for (int i = 0; i <= 1000; ++i) {
+    const double g = WrinkleGate(i / 1000.0, 0.7);
+    EXPECT_GE(g, last);
+    last = g;
+  }
+  EXPECT_NEAR(WrinkleGate(0.5f, 1.f), 0.5f, 1e-7f);
+}
+
 TEST(Attenuation, BoundaryValuesAndContinuity) {  // 001 eq. 12 / 15
   EXPECT_EQ(Attenuation(0.0), 1.0);
   EXPECT_EQ(Attenuation(-0.5), 1.0);

@@ -204,6 +204,10 @@ void MuscleEditorPanel(App* app, float width, float height) {
       MuscleValue(app, m, "phi_c (deg)", "wrinkles.phi_c", w->phi_c * kDegrees, 0.1f, 0.f, 179.f, "%.2f");
     else
       MuscleValue(app, m, "h_c", "wrinkles.h_c", w->h_c, step, 0.f, 10.f * size);
+    MuscleValue(app, m, "gate (activation)", "wrinkles.gate", w->gate, 0.005f, 0.f, 1.f);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("the muscle's activation at which its wrinkles reach full depth; 0: no "
+                        "gate, they follow the skin's compression alone (docs/model.md §6)");
   }
   ImGui::PopItemWidth();
   ImGui::End();

@@ -268,6 +268,8 @@ CommandPtr MuscleValues(const RigSpec& spec, uint32_t m, const std::string& para
       ok = one(&wrinkles->depth, Range::kNonNegative);
     } else if (key == "shape") {
       ok = one(&wrinkles->shape, Range::kAny);
+    } else if (key == "gate") {
+      ok = one(&wrinkles->gate, Range::kUnit);
     } else if (key == "phi_c" && linear) {
       float deg = 0.f;
       ok = Check(where, param, v, 1, Range::kNonNegative, error);
@@ -277,7 +279,7 @@ CommandPtr MuscleValues(const RigSpec& spec, uint32_t m, const std::string& para
     } else {
       *error = where + ": no wrinkle parameter '" + key + "' for a " +
                (linear ? "linear" : "sheet") + " muscle; expected lambda_w, count, depth, shape, " +
-               (linear ? "phi_c" : "h_c");
+               (linear ? "phi_c" : "h_c") + ", gate";
       return nullptr;
     }
   } else {

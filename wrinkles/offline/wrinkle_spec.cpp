@@ -32,6 +32,10 @@ bool ValidateMuscleWrinkleSpec(const MuscleWrinkleSpec& spec, const WrinkleMuscl
   if (!std::isfinite(spec.shape)) {
     diag->Error(where + ".alpha", "got " + Num(spec.shape) + ", expected a finite number");
   }
+  if (!(spec.gate >= 0.f && spec.gate <= 1.f)) {
+    diag->Error(where + ".gate", "got " + Num(spec.gate) +
+                                     ", expected an activation in [0, 1] (0: no gate)");
+  }
   if (muscle.kind == WrinkleMuscleKind::kLinear) {
     if (!Finite3(muscle.attachment) || !Finite3(muscle.insertion) ||
         !(Length(muscle.insertion - muscle.attachment) > 0.f)) {

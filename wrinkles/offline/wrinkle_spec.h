@@ -22,6 +22,9 @@ struct MuscleWrinkleSpec {
                           // [0, zone angle) (001 eq. 12)
   float h_c = 0.f;        // sheet muscles: distance from the central fiber where attenuation
                           // starts, mesh units, [0, Ws/2) (001 eq. 15)
+  float gate = 0.f;       // the muscle's activation at which its wrinkles reach full amplitude,
+                          // [0, 1]: W times WrinkleGate(a, gate); 0 = no gate (001: by
+                          // compression alone) (docs/model.md §6)
 };
 
 enum class WrinkleMuscleKind { kLinear, kSheet };

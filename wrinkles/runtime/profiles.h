@@ -48,6 +48,20 @@ inline T Anisotropy(T eps) {
   return T(std::cos(half_pi * (T(1) - eps)));
 }
 
+// The muscle gate G(a) (docs/model.md §6, a **choice** beyond 001): the factor by which a
+// muscle's own activation `a` scales its wrinkles' amplitude, smoothstep(0, gate, a) =
+// x^2 (3 - 2 x) with x = clamp(a / gate, 0, 1): 0 at rest, 1 from a = gate on, with zero slope
+// at both ends. `gate` <= 0 (or NaN) means no gate: G = 1, 001's amplitude by compression
+// alone. NaN `a` gives 0.
+template <class T>
+inline T WrinkleGate(T activation, T gate) {
+  if (!(gate > T(0))) return T(1);
+  if (!(activation > T(0))) return T(0);
+  if (activation >= gate) return T(1);
+  const T x = activation / gate;
+  return x * x * (T(3) - T(2) * x);
+}
+
 // Attenuation At of eq. 12 (linear muscle) and eq. 15 (sheet muscle) as a function of the
 // normalised distance q = (phi_i - phi_c)/(phi - phi_c)  (or (h_i - h_c)/(Ws/2 - h_c)):
 //   At = 1 for q <= 0,  At = 1 - (1 + q^2) q / 2 for 0 < q <= 1,  0 for q > 1 (outside the

@@ -17,6 +17,7 @@ float MuscleWrinkleProfile(float phase, float half_cycle, float furrow_depth, fl
 bool MuscleWrinkleJob::Validate() const {
   if (begin > end || points.size() < end || compression.size() < end) return false;
   if (!out_amplitudes.empty() && out_amplitudes.size() < end) return false;
+  if (!(gate >= 0.f && gate <= 1.f)) return false;
   if (!profile.empty()) {
     if (profile.size() < end) return false;
   } else if (phase.size() < end || attenuation.size() < end || !(half_cycle > 0.f) ||
@@ -30,12 +31,12 @@ bool MuscleWrinkleJob::Validate() const {
 bool MuscleWrinkleJob::Run() const {
   if (!Validate()) return false;
   for (size_t i = begin; i < end; ++i) {
-    // 001 eq. 4: W = H(w_i) A(eps_i) At_i (docs/model.md §6); no activation factor (see header).
+    // 001 eq. 4: W = H(w_i) A(eps_i) At_i (docs/model.md §6), times the gate G (1 without).
     const float h_at = profile.empty()
                            ? MuscleWrinkleProfile(phase[i], half_cycle, furrow_depth, shape,
                                                   attenuation[i])
                            : profile[i];
-    const float w = h_at * Anisotropy(compression[i]);
+    const float w = h_at * Anisotropy(compression[i]) * gate;
     const uint32_t p = points[i];
     positions[p] += normals[p] * w;
     if (!out_amplitudes.empty()) out_amplitudes[i] = w;

@@ -23,7 +23,8 @@ namespace mimetic {
 // (EdgeCompressionJob over the same rows), so there is no separate activation factor: at rest
 // eps = 0 and A(0) = 0, so wrinkles vanish without any gate and grow continuously with the
 // compression whichever muscles cause it. A caller may skip the job for speed only where it
-// knows eps <= 0 on every row.
+// knows eps <= 0 on every row. A rig may add a gate by the muscle's own activation (`gate`, a
+// second **choice**, docs/model.md §6): W_i times G, G = WrinkleGate(a, gate) in [0, 1].
 struct MuscleWrinkleJob {
   bool Validate() const;
   bool Run() const;
@@ -45,6 +46,9 @@ struct MuscleWrinkleJob {
   // builder stores them). When non-empty (>= end), phase, attenuation, half_cycle,
   // furrow_depth and shape are not read and W_i = profile_i A(eps_i): no pow() per frame.
   span<const float> profile;
+  float gate = 1.f;                  // G in [0, 1] (WrinkleGate of the muscle's activation), a
+                                     // factor on every row's W; 1 = no gate; Validate refuses
+                                     // a value outside [0, 1] or NaN
 };
 
 // H(w_i) At_i for one region row (001 eq. 5 and 12/15): the per-row constant of
