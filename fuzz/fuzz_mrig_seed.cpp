@@ -1,7 +1,8 @@
 // fuzz/fuzz_mrig_seed.cpp: writes the seed of fuzz_mrig, a small real .mrig of the procedural
 // test surface with every section non-empty (thickness, a wrinkle region per muscle, one curve
-// wrinkle of each profile):  fuzz_mrig_seed FILE.mrig   (fuzz/run.sh runs it; the seed is
-// generated, not committed, so that it always has the current format).
+// wrinkle of each profile, a gate on the first wrinkled muscle so that the optional section 47
+// is there too):  fuzz_mrig_seed FILE.mrig   (fuzz/run.sh runs it; the seed is generated, not
+// committed, so that it always has the current format).
 #include <cstdio>
 #include <string>
 
@@ -18,6 +19,11 @@ int main(int argc, char** argv) {
   const MeshData mesh = MakeSurfaceMesh(9, 9, 100.f, 100.f, 10.f);
   RigSpec spec = MakeSurfaceRigSpec(2, 100.f, 100.f, 10.f, 0.4f, 3.f);
   AddEverySkinLayer(&spec, 0.2f, 15.f);
+  for (auto& w : spec.muscle_wrinkles)
+    if (w) {
+      w->gate = 0.5f;  // docs/model.md §6: .mrig section 47
+      break;
+    }
   Rig rig;
   Diagnostics diag;
   if (!BuildRig(spec, mesh, {}, &rig, &diag)) {

@@ -13,6 +13,7 @@
 #include "fitting/compare.h"
 #include "geometry/normals.h"
 #include "io/mesh_io.h"
+#include "moved_region.h"
 #include "test_support.h"
 
 namespace mimetic {
@@ -36,17 +37,7 @@ test::ToolResult RunFidelity(const std::string& shared, const std::string& dir,
        dir + "/meshes", "--size", "64"});
 }
 
-// The report's region: the vertices the real shape moves more than 2% of its largest motion.
-CompareOptions MovedRegion(const MeshData& neutral, const MeshData& target) {
-  double largest = 0;
-  for (size_t v = 0; v < target.vertex_count(); ++v)
-    largest = std::max(largest, double(Length(target.positions[v] - neutral.positions[v])));
-  CompareOptions o;
-  o.neutral = &neutral;
-  o.region.kind = CompareRegion::Kind::kMoved;
-  o.region.threshold = float(0.02 * largest);
-  return o;
-}
+using test::MovedRegion;
 
 TEST(FidelityTool, TheTableMatchesThePosedMeshItWrote) {
   const std::string shared = test::SharedDir();

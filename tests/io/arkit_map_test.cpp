@@ -18,6 +18,7 @@
 #include "io/mesh_io.h"
 #include "io/rig_loader.h"
 #include "io/template_file.h"
+#include "moved_region.h"
 #include "rig/offline/rig_builder.h"
 #include "test_support.h"
 
@@ -240,13 +241,7 @@ TEST(ArkitMap, TheSolvedSmileBeatsTheNeutralOnTheRealShape) {
   ASSERT_TRUE(PosedMesh(rig, a, {}, &full));
   MeshData posed = neutral;
   for (size_t v = 0; v < neutral.vertex_count(); ++v) posed.positions[v] = full.positions[v];
-  double largest = 0;
-  for (size_t v = 0; v < target.vertex_count(); ++v)
-    largest = std::max(largest, double(Length(target.positions[v] - neutral.positions[v])));
-  CompareOptions o;
-  o.neutral = &neutral;
-  o.region.kind = CompareRegion::Kind::kMoved;
-  o.region.threshold = float(0.02 * largest);
+  const CompareOptions o = test::MovedRegion(neutral, target);
   CompareResult r;
   ASSERT_TRUE(CompareMeshes(posed, target, o, &r, &diag)) << diag.Format();
   EXPECT_LT(r.b_to_a.mean, r.b_to_neutral.mean);

@@ -268,13 +268,18 @@ TEST(RigBinary, WritingTwiceGivesTheSameBytes) {
 // names the first section that does not fit. On the plain surface and on the surface with
 // eyes (whose sections 42-46 come last).
 TEST(RigBinary, TruncationNamesTheSection) {
-  for (const RigData& data : {Surface().data(), SurfaceWithEyes()}) {
+  // With a gate, the optional section 47 (muscle_wrinkle_gates) comes last.
+  RigData gated = SurfaceWithEyes();
+  ASSERT_FALSE(gated.muscle_wrinkles.empty());
+  gated.muscle_wrinkles[0].gate = 0.5f;
+  for (const RigData& data : {Surface().data(), SurfaceWithEyes(), gated}) {
     const std::string bytes = WriteRigBinary(data, nullptr);
     const std::vector<Entry> table = Table(bytes);
     ASSERT_GE(table.size(), 34u);
-    SCOPED_TRACE(data.eyes.empty() ? "no eyes" : "with eyes");
+    const bool has_gate = data.muscle_wrinkles[0].gate > 0.f;
+    SCOPED_TRACE(data.eyes.empty() ? "no eyes" : has_gate ? "with eyes and a gate" : "with eyes");
     if (!data.eyes.empty()) {
-      ASSERT_EQ(table.back().id, 46u);
+      ASSERT_EQ(table.back().id, has_gate ? 47u : 46u);
     }
     std::vector<size_t> cuts = {0, 3, 39};
     for (size_t k = 40; k < 40 + 32 * table.size(); k += 13) cuts.push_back(k);

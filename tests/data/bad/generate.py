@@ -111,6 +111,11 @@ write('rig_falloff_error_one.json', json.dumps(
     {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
      'muscles': [rig['muscles'][0]], 'refinement': {'enabled': True, 'falloff_error': 1}},
     indent=1) + '\n')
+# A small rig whose one muscle's furrows open fully at activation 2, past 1 (docs/model.md §6).
+write('rig_wrinkle_gate_two.json', json.dumps(
+    {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
+     'muscles': [dict(rig['muscles'][0], wrinkles=dict(rig['muscles'][0]['wrinkles'], gate=2))]},
+    indent=1) + '\n')
 # Small rigs (one muscle) with a bad eyes block (docs/model.md §24) and a bad jaw key (§18).
 write('rig_eye_radius_negative.json', json.dumps(
     {'format': 'mimetic-rig', 'version': 1, 'mesh': {'path': mesh_rel}, 'units': 'mm',
