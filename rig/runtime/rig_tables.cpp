@@ -456,7 +456,8 @@ void BuildRigTables(const RigData& r, RigTables* out) {
     t.point_neighbor_offsets[p + 1] = uint32_t(t.point_neighbors.size());
   }
   t.point_triangles_exact = lists_exact && PointTriangleCountsExact(r);
-  // Built by push_back: give back the slack.
+  // Give back any slack (the lists built by push_back; a table rebuilt in place keeps its old
+  // capacity).
   for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
                                    &t.point_row_offsets, &t.point_curve_offsets,
                                    &t.point_curve_rows, &t.wrinkle_points, &t.point_neighbors,
