@@ -20,6 +20,7 @@
 
 #include "core/file_util.h"
 #include "io/formats.h"
+#include "io/jaw_fields.h"
 #include "io/json_reader.h"
 #include "io/rig_file.h"
 
@@ -528,8 +529,7 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
       ok = Fail(j.Path("condyles"), "the two condyles coincide; expected two distinct points "
                                     "(the subject's right, then left condyle)");
   }
-  j.Read("range_deg", &jaw.range_deg);
-  j.Read("translation", &jaw.translation);
+  ok = ReadJawShape(j, r_, &jaw) && ok;
   const bool explicit_weights = j.Has("weights");
   if (!explicit_weights) {
     if (!j.Has("mouth"))
@@ -541,27 +541,6 @@ void RigRules::Jaw(const View& j, RigSpec* spec) {
   }
   j.Read("mouth", &jaw.mouth);
   j.Read("mouth_width", &jaw.mouth_width);
-  j.Read("lip_blend_deg", &jaw.lip_blend_deg);
-  j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
-  j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
-  j.Read("corner_fade", &jaw.corner_fade);
-  j.Read("thickness_fade", &jaw.thickness_fade);
-  if (const json* back = j.Get("back")) {
-    jaw.back[0] = static_cast<float>((*back)[0].get<double>());
-    jaw.back[1] = static_cast<float>((*back)[1].get<double>());
-    if (!(jaw.back[0] >= -1.f && jaw.back[1] <= 1.f && jaw.back[0] < jaw.back[1]))
-      ok = Fail(j.Path("back"), "is [" + FormatFloat(jaw.back[0]) + ", " +
-                                    FormatFloat(jaw.back[1]) + "]; expected [b0, b1] in [-1, 1] "
-                                    "with b0 < b1 (fractions of the hinge-to-mouth distance)");
-  }
-  if (const json* neck = j.Get("neck_deg")) {
-    jaw.neck_deg[0] = static_cast<float>((*neck)[0].get<double>());
-    jaw.neck_deg[1] = static_cast<float>((*neck)[1].get<double>());
-    if (!(jaw.neck_deg[0] >= 0.f && jaw.neck_deg[1] <= 180.f && jaw.neck_deg[0] < jaw.neck_deg[1]))
-      ok = Fail(j.Path("neck_deg"), "is [" + FormatFloat(jaw.neck_deg[0]) + ", " +
-                                        FormatFloat(jaw.neck_deg[1]) + "]; expected [n0, n1] in "
-                                        "[0, 180] with n0 < n1 (degrees below the lip line)");
-  }
   if (const json* weights = j.Get("weights"))
     for (const json& e : *weights) jaw.weights.push_back(static_cast<float>(e.get<double>()));
   if (ok && j.Has("mouth") && condyles.size() == 2 && !explicit_weights) {

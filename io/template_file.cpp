@@ -18,6 +18,7 @@
 #include "core/strings.h"
 #include "fitting/landmarks.h"
 #include "io/formats.h"
+#include "io/jaw_fields.h"
 #include "io/json_reader.h"
 
 namespace mimetic {
@@ -323,30 +324,7 @@ void TemplateRules::Jaw(const View& j, MuscleTemplate* out) {
     jaw.weights = point.weights;
     c.Read("offset", &jaw.offset);
   }
-  j.Read("range_deg", &jaw.range_deg);
-  j.Read("translation", &jaw.translation);
-  j.Read("lip_blend_deg", &jaw.lip_blend_deg);
-  j.Read("cheek_blend_deg", &jaw.cheek_blend_deg);
-  j.Read("cheek_drop_deg", &jaw.cheek_drop_deg);
-  j.Read("corner_fade", &jaw.corner_fade);
-  j.Read("thickness_fade", &jaw.thickness_fade);
-  // An ordered pair [a, b] in [lo, hi] with a < b; `what` says what the numbers are.
-  auto pair = [&](const char* key, float lo, float hi, const char* what, float* dst) {
-    float2 v{dst[0], dst[1]};
-    if (!j.Read(key, &v)) return;
-    if (!(v.x >= lo && v.y <= hi && v.x < v.y)) {
-      auto g = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); };
-      r_.Error(j.Path(key), "is [" + g(v.x) + ", " + g(v.y) + "]; expected " + what);
-      ok = false;
-    }
-    dst[0] = v.x;
-    dst[1] = v.y;
-  };
-  pair("back", -1.f, 1.f,
-       "[b0, b1] in [-1, 1] with b0 < b1 (fractions of the hinge-to-mouth distance)", jaw.back);
-  pair("neck_deg", 0.f, 180.f,
-       "[n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line about the hinge)",
-       jaw.neck_deg);
+  ok = ReadJawShape(j, r_, &jaw) && ok;
   if (ok) out->jaw = std::move(jaw);
 }
 

@@ -455,7 +455,7 @@ std::vector<BadCase> BadCases() {
       {"jaw translation string", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "translation": "down")"),
        {"jaw.translation: expected array of 3 numbers [x, y, z] (mesh units), got string"}},
       {"jaw neck reversed", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [60, 20])"),
-       {"jaw.neck_deg: is [60, 20]; expected [n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line)"}},
+       {"jaw.neck_deg: is [60, 20]; expected [n0, n1] in [0, 180] with n0 < n1 (degrees below the lip line about the hinge)"}},
       {"jaw neck beyond 180", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20, 200])"),
        {"jaw.neck_deg: is [20, 200]; expected [n0, n1] in [0, 180]"}},
       {"jaw neck of 1", Jaw(R"("mouth_width": 40)", R"("mouth_width": 40, "neck_deg": [20])"),
