@@ -533,8 +533,10 @@ TEST(Calibrate, RefusesASeedThatFoldsWithEveryMuscleAtOne) {
   EXPECT_TRUE(diag.Contains("at 1 (all muscles) turns triangle")) << diag.Format();
   // At the seed's own strength the same muscle passes.
   Diagnostics ok;
+  CalibrationOptions one_pass;
+  one_pass.passes = 1;
   EXPECT_TRUE(CalibrateTemplate(CheekTemplate(""), Head().mesh, HeadLandmarks(), {{"lift", &lift}},
-                                CalibrationOptions{.passes = 1}, &out, nullptr, &ok))
+                                one_pass, &out, nullptr, &ok))
       << ok.Format();
 }
 

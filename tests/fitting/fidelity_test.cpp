@@ -170,8 +170,9 @@ TEST(FidelityTool, TheTableMatchesThePosedMeshItWrote) {
     double moved = 0;
     for (size_t v = 0; v < without.vertex_count(); ++v)
       moved = std::max(moved, double(Length(without.positions[v] - posed.positions[v])));
-    if (std::string(suffix) != ".no_muscle_wrinkles.obj")
+    if (std::string(suffix) != ".no_muscle_wrinkles.obj") {
       EXPECT_GT(moved, 1e-4) << suffix << ": the layer did nothing on the smile";
+    }
     CompareResult w;
     ASSERT_TRUE(CompareMeshes(without, target, o, &w, &diag)) << diag.Format();
     std::string add = Fixed(r.ratio - w.ratio, 3);  // signed; 0.000 when it rounds to zero

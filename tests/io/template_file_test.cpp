@@ -499,7 +499,9 @@ TEST(MuscleTemplate, WriterRoundTripsTheDefaultTemplate) {
         EXPECT_TRUE(near(x.attachment[k].depth, y.attachment[k].depth)) << x.name;
       }
       EXPECT_EQ(x.wrinkles.has_value(), y.wrinkles.has_value()) << x.name;
-      if (x.wrinkles && y.wrinkles) EXPECT_EQ(x.wrinkles->gate, y.wrinkles->gate) << x.name;
+      if (x.wrinkles && y.wrinkles) {
+        EXPECT_EQ(x.wrinkles->gate, y.wrinkles->gate) << x.name;
+      }
       gated += x.wrinkles && x.wrinkles->gate > 0.f;
     }
     // Every wrinkled muscle's furrows wait for the muscle (docs/calibration.md "Furrows that

@@ -653,6 +653,7 @@ float SurfaceJawWeight(float3 p) {
 }
 // `tilted`: the hinge leans out of +x (every component of the axis non-zero, so each term of
 // the rotation contributes on every axis).
+// `tilted`: the hinge is tilted and the jaw glides too (the lane-form test).
 Surface MakeJawSurface(uint32_t side = 40, uint32_t muscles = 6, bool tilted = false) {
   Surface s;
   s.mesh = MakeSurfaceMesh(side, side, 100.f, 100.f, 10.f);
@@ -661,6 +662,7 @@ Surface MakeJawSurface(uint32_t side = 40, uint32_t muscles = 6, bool tilted = f
   jaw.condyles[0] = tilted ? float3{-60.f, 22.f, -47.f} : float3{-60.f, 30.f, -40.f};
   jaw.condyles[1] = tilted ? float3{60.f, 37.f, -33.f} : float3{60.f, 30.f, -40.f};
   jaw.range_deg = float(kJawRangeDeg);
+  if (tilted) jaw.translation = float3{0.7f, -1.3f, 2.1f};  // and gliding
   for (const float3& p : s.mesh.positions) jaw.weights.push_back(SurfaceJawWeight(p));
   s.spec.jaw = jaw;
   s.rig = BuildOrDie(s.spec, s.mesh);
@@ -994,9 +996,10 @@ TEST(EvaluateJobJaw, BitIdenticalWhenSplitAcrossTwoThreadsAndAllocationFree) {
 }
 
 // Chunks of 1, 2 and 3 items in turn (one thread): no chunk holds four, so every jaw angle's sine
-// and cosine, and every carried point's rotation, comes from the scalar form here and from the
-// four-lane code in a serial run (the jaw stage works in blocks per chunk: JawSinCosBlock, then
-// the points four at a time): the bits must agree.
+// and cosine, and every carried point's rotation, comes from the scalar form here; with chunks
+// of 4 to 7 items, none holds eight, so they come from the four-lane (SSE2) form and the scalar
+// tail. A serial run takes eight at a time where the CPU has AVX (JawBlockAvx), then four: the
+// bits must agree across all three.
 void TinyChunks(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
   for (uint32_t b = 0, k = 0; b < count; ++k) {
     const uint32_t e = std::min(count, b + 1 + k % 3);
@@ -1004,14 +1007,21 @@ void TinyChunks(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), 
     b = e;
   }
 }
+void FourLaneChunks(void*, uint32_t count, void (*task)(void*, uint32_t, uint32_t), void* data) {
+  for (uint32_t b = 0, k = 0; b < count; ++k) {
+    const uint32_t e = std::min(count, b + 4 + k % 4);
+    task(data, b, e);
+    b = e;
+  }
+}
 
-TEST(EvaluateJobJaw, FourLaneSinesAndCosinesGiveTheScalarBits) {
+TEST(EvaluateJobJaw, LaneFormsGiveTheScalarBits) {
   const Surface s = MakeJawSurface(60, 8, true);
   ASSERT_GT(s.rig.jaw().points.size(), 64u);  // more than one block of angles
   const std::vector<float> act = SomeActivations(s.rig);
   for (float jaw : {0.3f, 0.77f, 1.f}) {
-    EvaluateContext c1(s.rig), c2(s.rig);
-    std::vector<float> pos1, nrm1, pos2, nrm2;
+    EvaluateContext c1(s.rig), c2(s.rig), c3(s.rig);
+    std::vector<float> pos1, nrm1, pos2, nrm2, pos3, nrm3;
     EvaluateJob serial = MakeJob(s.rig, &c1, act, &pos1, &nrm1);
     serial.jaw = jaw;
     ASSERT_TRUE(serial.Run());
@@ -1020,8 +1030,15 @@ TEST(EvaluateJobJaw, FourLaneSinesAndCosinesGiveTheScalarBits) {
     tiny.parallel_for = TinyChunks;
     tiny.parallel_min_count = 1;
     ASSERT_TRUE(tiny.Run());
+    EvaluateJob four = MakeJob(s.rig, &c3, act, &pos3, &nrm3);
+    four.jaw = jaw;
+    four.parallel_for = FourLaneChunks;
+    four.parallel_min_count = 1;
+    ASSERT_TRUE(four.Run());
     EXPECT_EQ(std::memcmp(pos1.data(), pos2.data(), pos1.size() * 4), 0) << jaw;
     EXPECT_EQ(std::memcmp(nrm1.data(), nrm2.data(), nrm1.size() * 4), 0) << jaw;
+    EXPECT_EQ(std::memcmp(pos1.data(), pos3.data(), pos1.size() * 4), 0) << jaw;
+    EXPECT_EQ(std::memcmp(nrm1.data(), nrm3.data(), nrm1.size() * 4), 0) << jaw;
   }
 }
 
