@@ -142,6 +142,17 @@ std::string ReadError(const std::string& bytes) {
   return error;
 }
 
+// The reader's error for `bytes` with section `id` (of fixed-size elements) one element short:
+// its table entry's count and size lowered by one element, the checksum mended.
+std::string ErrorWithOneFewer(const std::string& bytes, uint32_t id) {
+  std::string bad = bytes;
+  const Entry e = Find(bytes, id);
+  PutU64(&bad, e.at + 24, e.count - 1);
+  PutU64(&bad, e.at + 16, e.size - e.element_size);
+  Rechecksum(&bad);
+  return ReadError(bad);
+}
+
 TEST(RigBinary, RoundTripEvaluatesBitIdentically) {
   const Rig& rig = Surface();
   ASSERT_TRUE(rig.layers().thickness && rig.layers().muscle_wrinkles &&
@@ -459,12 +470,7 @@ TEST(RigBinary, TheEyesRoundTripAndComeTogether) {
   EXPECT_TRUE(loaded.eyes().empty());
   // Fewer radii than points: refused by the reader, with the counts.
   {
-    std::string bad = bytes;
-    const Entry radii = Find(bytes, 45);
-    PutU64(&bad, radii.at + 24, radii.count - 1);
-    PutU64(&bad, radii.at + 16, radii.size - 4);
-    Rechecksum(&bad);
-    const std::string e = ReadError(bad);
+    const std::string e = ErrorWithOneFewer(bytes, 45);
     EXPECT_NE(e.find("held points need as many eye indices, radii and weights"),
               std::string::npos)
         << e;
@@ -513,12 +519,9 @@ TEST(RigBinary, TheWrinkleGatesRoundTripAndOldFilesHaveNone) {
   ExpectSameBits(Surface(), loaded, act);
   // One gate too few: refused by the reader, with the counts.
   {
-    std::string bad = bytes;
     const Entry gates = Find(bytes, 47);
-    PutU64(&bad, gates.at + 24, gates.count - 1);
-    PutU64(&bad, gates.at + 16, gates.size - 4);
-    Rechecksum(&bad);
-    const std::string e = ReadError(bad);
+    ASSERT_EQ(gates.element_size, 4u);
+    const std::string e = ErrorWithOneFewer(bytes, 47);
     EXPECT_NE(e.find(std::to_string(gates.count - 1) + " gates for " +
                      std::to_string(gates.count) + " muscle-wrinkle tables"),
               std::string::npos)

@@ -189,14 +189,21 @@ TEST(SkinPipeline, NoNaNOrInfinityEvenWhenTrianglesCollapse) {
   }
 }
 
-Rig WrinkledSurface() {
-  MeshData mesh = MakeSurfaceMesh(61, 61, 100.f, 100.f, 10.f);
-  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 10.f, 0.2f, 4.f);
+// The test surface's rig spec (side 100, height 10, muscles reaching 0.2 at strength 4) with
+// one muscle-wrinkle table, lambda_w and depth 0.5, on muscle `m`.
+RigSpec WrinkledSpec(int muscles, size_t m, float lambda_w) {
+  RigSpec spec = MakeSurfaceRigSpec(muscles, 100.f, 100.f, 10.f, 0.2f, 4.f);
   spec.muscle_wrinkles.resize(spec.muscles.size());
   MuscleWrinkleSpec w;
-  w.lambda_w = 0.3f;
+  w.lambda_w = lambda_w;
   w.depth = 0.5f;
-  spec.muscle_wrinkles[1] = w;  // a sheet
+  spec.muscle_wrinkles[m] = w;
+  return spec;
+}
+
+Rig WrinkledSurface() {
+  MeshData mesh = MakeSurfaceMesh(61, 61, 100.f, 100.f, 10.f);
+  RigSpec spec = WrinkledSpec(6, 1, 0.3f);  // muscle 1: a sheet
   NamedCurveWrinkle c;
   c.name = "c";
   c.spec.control[0] = {0.2f, 0.5f};
@@ -469,14 +476,10 @@ TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsChained) {
 TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsWithBothModulations) {
   // Curve wrinkles of both modulations (directional s and area r) and a Yang-Zhang profile.
   MeshData mesh = MakeSurfaceMesh(51, 51, 100.f, 100.f, 10.f);
-  RigSpec spec = MakeSurfaceRigSpec(8, 100.f, 100.f, 10.f, 0.2f, 4.f);
-  spec.muscle_wrinkles.resize(spec.muscles.size());
-  MuscleWrinkleSpec w;
-  w.lambda_w = 0.6f;
-  w.depth = 0.5f;
-  spec.muscle_wrinkles[0] = w;
-  w.gate = 0.9f;  // one gated table beside an ungated one (docs/model.md §6)
-  spec.muscle_wrinkles[3] = w;
+  RigSpec spec = WrinkledSpec(8, 0, 0.6f);
+  // One gated table beside an ungated one (docs/model.md §6).
+  spec.muscle_wrinkles[3] = spec.muscle_wrinkles[0];
+  spec.muscle_wrinkles[3]->gate = 0.9f;
   for (int k = 0; k < 3; ++k) {
     NamedCurveWrinkle c;
     c.name = "c" + std::to_string(k);
@@ -509,12 +512,7 @@ TEST(SkinPipeline, FusedEvaluationMatchesTheStageJobsWithBothModulations) {
 // muscle's activation does not open it.
 TEST(SkinPipeline, TheGateScalesAMusclesWrinklesByItsOwnActivation) {
   MeshData mesh = MakeSurfaceMesh(51, 51, 100.f, 100.f, 10.f);
-  RigSpec spec = MakeSurfaceRigSpec(6, 100.f, 100.f, 10.f, 0.2f, 4.f);
-  spec.muscle_wrinkles.resize(spec.muscles.size());
-  MuscleWrinkleSpec w;
-  w.lambda_w = 0.3f;
-  w.depth = 0.5f;
-  spec.muscle_wrinkles[1] = w;
+  RigSpec spec = WrinkledSpec(6, 1, 0.3f);
   spec.refinement.enabled = false;
   Rig open, gated;
   Diagnostics diag;
