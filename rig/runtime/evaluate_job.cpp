@@ -18,9 +18,9 @@
 #endif
 #if defined(__GNUC__) && !defined(__AVX__) && defined(__x86_64__)
 #include <immintrin.h>
-#define MIMETIC_FINE_AVX 1  // the fine-scale probes' eight-lane form, chosen at run time
+#define MIMETIC_RUNTIME_AVX 1  // eight-lane forms (fine-scale probes, the jaw), chosen at run time
 #else
-#define MIMETIC_FINE_AVX 0
+#define MIMETIC_RUNTIME_AVX 0
 #endif
 
 namespace mimetic {
@@ -289,13 +289,21 @@ void StageMuscles(const FrameState& f) {
 // (truncation below 1e-9 at pi/2, so the float rounding of a few ulp is the error). Plain
 // arithmetic instead of libm: a third of the cost of the jaw stage's sin and cos per point
 // (16k of the sample head's 20k carried points have their own angle), and the same bits on
-// every C library.
+// every C library. The coefficients innermost first, as the scalar, SSE2 and AVX forms all use
+// them: sin t = t (1 + t^2 (kJawSin[5] + t^2 (... + t^2 kJawSin[0]))) and
+// cos t = 1 + t^2 (kJawCos[6] + t^2 (... + t^2 kJawCos[0])).
+constexpr float kJawSin[6] = {1.f / 6227020800.f, -1.f / 39916800, 1.f / 362880,
+                              -1.f / 5040,        1.f / 120,       -1.f / 6};
+constexpr float kJawCos[7] = {-1.f / 87178291200.f, 1.f / 479001600, -1.f / 3628800, 1.f / 40320,
+                              -1.f / 720,           1.f / 24,        -0.5f};
 inline void JawSinCos(float t, float* sn, float* cs) {
   const float t2 = t * t;
-  *sn = t * (1.f + t2 * (-1.f / 6 + t2 * (1.f / 120 + t2 * (-1.f / 5040 + t2 * (1.f / 362880 +
-            t2 * (-1.f / 39916800 + t2 * (1.f / 6227020800.f)))))));
-  *cs = 1.f + t2 * (-0.5f + t2 * (1.f / 24 + t2 * (-1.f / 720 + t2 * (1.f / 40320 +
-            t2 * (-1.f / 3628800 + t2 * (1.f / 479001600 + t2 * (-1.f / 87178291200.f)))))));
+  float s = kJawSin[0];
+  for (int k = 1; k < 6; ++k) s = kJawSin[k] + t2 * s;
+  *sn = t * (1.f + t2 * s);
+  float c = kJawCos[0];
+  for (int k = 1; k < 7; ++k) c = kJawCos[k] + t2 * c;
+  *cs = 1.f + t2 * c;
 }
 
 // JawSinCos on n (<= kJawBlock) angles w[i] * angle at once: the same operations in the same
@@ -310,18 +318,11 @@ void JawSinCosBlock(const float* w, float angle, uint32_t n, float* sn, float* c
   for (; i + 4 <= n; i += 4) {
     const __m128 t = _mm_mul_ps(_mm_loadu_ps(w + i), a);
     const __m128 t2 = _mm_mul_ps(t, t);
-    __m128 s = _mm_add_ps(c(-1.f / 39916800), _mm_mul_ps(t2, c(1.f / 6227020800.f)));
-    s = _mm_add_ps(c(1.f / 362880), _mm_mul_ps(t2, s));
-    s = _mm_add_ps(c(-1.f / 5040), _mm_mul_ps(t2, s));
-    s = _mm_add_ps(c(1.f / 120), _mm_mul_ps(t2, s));
-    s = _mm_add_ps(c(-1.f / 6), _mm_mul_ps(t2, s));
+    __m128 s = c(kJawSin[0]);
+    for (int j = 1; j < 6; ++j) s = _mm_add_ps(c(kJawSin[j]), _mm_mul_ps(t2, s));
     s = _mm_mul_ps(t, _mm_add_ps(c(1.f), _mm_mul_ps(t2, s)));
-    __m128 k = _mm_add_ps(c(1.f / 479001600), _mm_mul_ps(t2, c(-1.f / 87178291200.f)));
-    k = _mm_add_ps(c(-1.f / 3628800), _mm_mul_ps(t2, k));
-    k = _mm_add_ps(c(1.f / 40320), _mm_mul_ps(t2, k));
-    k = _mm_add_ps(c(-1.f / 720), _mm_mul_ps(t2, k));
-    k = _mm_add_ps(c(1.f / 24), _mm_mul_ps(t2, k));
-    k = _mm_add_ps(c(-0.5f), _mm_mul_ps(t2, k));
+    __m128 k = c(kJawCos[0]);
+    for (int j = 1; j < 7; ++j) k = _mm_add_ps(c(kJawCos[j]), _mm_mul_ps(t2, k));
     k = _mm_add_ps(c(1.f), _mm_mul_ps(t2, k));
     _mm_storeu_ps(sn + i, s);
     _mm_storeu_ps(cs + i, k);
@@ -330,7 +331,13 @@ void JawSinCosBlock(const float* w, float angle, uint32_t n, float* sn, float* c
   for (; i < n; ++i) JawSinCos(w[i] * angle, &sn[i], &cs[i]);
 }
 
-#if MIMETIC_FINE_AVX
+#if MIMETIC_RUNTIME_AVX
+// Whether this CPU runs the eight-lane forms (asked once).
+inline bool CpuHasAvx() {
+  static const bool avx = __builtin_cpu_supports("avx");
+  return avx;
+}
+
 // One coordinate of a turned point: (c + ((v cos + (k x v) sin) + k d)) + g t, as in StageJaw.
 __attribute__((target("avx"))) inline __m256 JawAxisAvx(__m256 c, __m256 v, __m256 kv, __m256 k,
                                                         __m256 t, __m256 cs, __m256 sn, __m256 d,
@@ -355,20 +362,13 @@ __attribute__((target("avx"))) uint32_t JawBlockAvx(const uint32_t* points, cons
     const __m256 wq = _mm256_loadu_ps(w + q);
     const __m256 t = _mm256_mul_ps(wq, a);
     const __m256 t2 = _mm256_mul_ps(t, t);
-    __m256 sn = _mm256_add_ps(_mm256_set1_ps(-1.f / 39916800),
-                              _mm256_mul_ps(t2, _mm256_set1_ps(1.f / 6227020800.f)));
-    sn = _mm256_add_ps(_mm256_set1_ps(1.f / 362880), _mm256_mul_ps(t2, sn));
-    sn = _mm256_add_ps(_mm256_set1_ps(-1.f / 5040), _mm256_mul_ps(t2, sn));
-    sn = _mm256_add_ps(_mm256_set1_ps(1.f / 120), _mm256_mul_ps(t2, sn));
-    sn = _mm256_add_ps(_mm256_set1_ps(-1.f / 6), _mm256_mul_ps(t2, sn));
+    __m256 sn = _mm256_set1_ps(kJawSin[0]);
+    for (int j = 1; j < 6; ++j)
+      sn = _mm256_add_ps(_mm256_set1_ps(kJawSin[j]), _mm256_mul_ps(t2, sn));
     sn = _mm256_mul_ps(t, _mm256_add_ps(one, _mm256_mul_ps(t2, sn)));
-    __m256 cs = _mm256_add_ps(_mm256_set1_ps(1.f / 479001600),
-                              _mm256_mul_ps(t2, _mm256_set1_ps(-1.f / 87178291200.f)));
-    cs = _mm256_add_ps(_mm256_set1_ps(-1.f / 3628800), _mm256_mul_ps(t2, cs));
-    cs = _mm256_add_ps(_mm256_set1_ps(1.f / 40320), _mm256_mul_ps(t2, cs));
-    cs = _mm256_add_ps(_mm256_set1_ps(-1.f / 720), _mm256_mul_ps(t2, cs));
-    cs = _mm256_add_ps(_mm256_set1_ps(1.f / 24), _mm256_mul_ps(t2, cs));
-    cs = _mm256_add_ps(_mm256_set1_ps(-0.5f), _mm256_mul_ps(t2, cs));
+    __m256 cs = _mm256_set1_ps(kJawCos[0]);
+    for (int j = 1; j < 7; ++j)
+      cs = _mm256_add_ps(_mm256_set1_ps(kJawCos[j]), _mm256_mul_ps(t2, cs));
     cs = _mm256_add_ps(one, _mm256_mul_ps(t2, cs));
     const uint32_t* pp = points + q;
     alignas(32) float px[8], py[8], pz[8];
@@ -411,9 +411,8 @@ void StageJaw(const FrameState& f, float jaw) {
     // scatter of its own position).
     float sns[kJawBlock], css[kJawBlock];
     uint32_t b0 = b;
-#if MIMETIC_FINE_AVX
-    static const bool avx = __builtin_cpu_supports("avx");
-    if (avx) b0 += JawBlockAvx(points + b, weights + b, e - b, angle, jaw, c, k, tr, x);
+#if MIMETIC_RUNTIME_AVX
+    if (CpuHasAvx()) b0 += JawBlockAvx(points + b, weights + b, e - b, angle, jaw, c, k, tr, x);
 #endif
     for (; b0 < e; b0 += kJawBlock) {
       const uint32_t n = std::min(kJawBlock, e - b0);
@@ -1216,7 +1215,7 @@ inline __m128 ExpNonPositive4(__m128 x) {
 }
 #endif
 
-#if MIMETIC_FINE_AVX
+#if MIMETIC_RUNTIME_AVX
 // ExpNonPositive4 on eight lanes with AVX (no AVX2: the exponent bits go through the two SSE2
 // halves; no FMA: nothing is contracted), so each lane gets ExpNonPositive's bits.
 __attribute__((target("avx"))) inline __m256 ExpNonPositive8(__m256 x) {
@@ -1408,9 +1407,8 @@ void StageFineScale(const FrameState& f) {
       }
       return i;
     };
-#if MIMETIC_FINE_AVX
-    static const bool avx = __builtin_cpu_supports("avx");
-    if (avx) i = FineProbeBlocksAvx(lengths, edges, params, r, c, i, 2 * e, out);
+#if MIMETIC_RUNTIME_AVX
+    if (CpuHasAvx()) i = FineProbeBlocksAvx(lengths, edges, params, r, c, i, 2 * e, out);
 #endif
     i = sse_blocks(i, 2 * e);
 #endif
