@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <map>
+#include <unordered_map>
 #include <vector>
 
 #include "core/math.h"
@@ -46,17 +47,39 @@ class NormalField {
   // points' own unit normals for radius <= 0 or not finite. Computed once per radius and kept.
   const std::vector<float3>& At(float radius);
 
+  // The same normal for one point (bit for bit At(radius)[point]), computing only the cell of
+  // side radius / 8 that holds it: a muscle asks for the points it reaches, a small part of a
+  // head, and leaves the rest of the mesh unsummed. A point out of range gives (0, 0, 0).
+  float3 At(float radius, uint32_t point);
+
   // A third of the area of the triangles that use each point (the weights A_q above).
   const std::vector<double>& Areas();
 
  private:
+  // One radius's sources, the points grouped by cell, and the normals of the cells done so far.
+  struct Smoothed {
+    struct Source {
+      int64_t c[3];
+      double area = 0, n[3] = {0, 0, 0}, x[3] = {0, 0, 0};
+    };
+    std::vector<Source> sources;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> blocks;  // sources by block of side r
+    std::vector<uint32_t> point_cell;                            // UINT32_MAX: not finite
+    std::vector<uint32_t> cell_start, cell_points;               // points by cell, first-seen order
+    std::vector<uint8_t> cell_done;
+    size_t cells_left = 0;
+    std::vector<float3> out;
+  };
   void Prepare();
+  Smoothed& FieldOf(float radius);
+  void SolveCell(float radius, Smoothed& f, uint32_t cell);
 
   std::vector<float3> points_, own_;
   std::vector<uint32_t> triangles_;
   bool prepared_ = false;
   std::vector<double> area_;
-  std::map<float, std::vector<float3>> smoothed_;
+  std::map<float, Smoothed> smoothed_;
+  std::vector<uint32_t> near_;  // SolveCell's scratch
 };
 
 }  // namespace mimetic

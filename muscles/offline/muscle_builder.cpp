@@ -59,9 +59,17 @@ float3 ApplyMuscleMotion(float3 d, float3 normal, MuscleMotion motion) {
 
 namespace {
 
-// The table with muscle m projecting on normals[m] (empty: it moves along the chord).
+// Where muscle m's motion takes its normals: a span over every point, the averaged field of a
+// radius (asked point by point, so only the points the muscle reaches are summed), or nothing
+// (it moves along the chord).
+struct NormalsOf {
+  span<const float3> points;
+  NormalField* field = nullptr;
+  float radius = 0.f;
+};
+
 MuscleTable BuildTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
-                       const std::vector<span<const float3>>& normals) {
+                       const std::vector<NormalsOf>& normals) {
   MuscleTable table;
   const size_t np = rest_points.size();
   table.muscle_count = uint32_t(muscles.size());
@@ -111,8 +119,12 @@ MuscleTable BuildTable(span<const MuscleSpec> muscles, span<const float3> rest_p
   std::vector<Found> found;
   auto visit = [&](uint32_t m, uint32_t p) {
     float3 d = MuscleDisplacement(muscles[m], rest_points[p], muscles[m].strength);
-    if (normals[m].size() == rest_points.size()) d = ApplyMuscleMotion(d, normals[m][p], muscles[m].motion);
-    if (d.x != 0.f || d.y != 0.f || d.z != 0.f) found.push_back({p, {m, d}});
+    if (d.x == 0.f && d.y == 0.f && d.z == 0.f) return;  // the ball's corners past the fall-off
+    if (normals[m].field)
+      d = ApplyMuscleMotion(d, normals[m].field->At(normals[m].radius, p), muscles[m].motion);
+    else if (normals[m].points.size() == rest_points.size())
+      d = ApplyMuscleMotion(d, normals[m].points[p], muscles[m].motion);
+    if (d.x != 0.f || d.y != 0.f || d.z != 0.f) found.push_back({p, {m, d}});  // a pull along the normal
   };
   for (uint32_t m = 0; m < muscles.size(); ++m) {
     const Reach b = ReachOf(muscles[m]);
@@ -160,18 +172,16 @@ MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> 
                              span<const float3> rest_normals) {
   const bool have_normals = rest_normals.size() == rest_points.size();
   return BuildTable(muscles, rest_points,
-                    std::vector<span<const float3>>(muscles.size(), have_normals ? rest_normals
-                                                                                : span<const float3>()));
+                    std::vector<NormalsOf>(muscles.size(),
+                                           NormalsOf{have_normals ? rest_normals : span<const float3>()}));
 }
 
 MuscleTable BuildMuscleTable(span<const MuscleSpec> muscles, span<const float3> rest_points,
                              NormalField* field) {
-  std::vector<span<const float3>> normals(muscles.size());
+  std::vector<NormalsOf> normals(muscles.size());
   for (size_t m = 0; m < muscles.size(); ++m)
-    if (field && muscles[m].motion == MuscleMotion::kTangent) {
-      const std::vector<float3>& n = field->At(muscles[m].tangent_radius);
-      normals[m] = span<const float3>(n.data(), n.size());
-    }
+    if (field && muscles[m].motion == MuscleMotion::kTangent)
+      normals[m] = NormalsOf{{}, field, muscles[m].tangent_radius};
   return BuildTable(muscles, rest_points, normals);
 }
 

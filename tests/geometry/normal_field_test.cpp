@@ -170,5 +170,30 @@ TEST(NormalField, MatchesItsDefinitionSummedOverEverySource) {
   EXPECT_GT(tilt(field.At(0.15f)), tilt(field.At(0.6f)));
 }
 
+// One point at a time (the muscle table asks for the points a muscle reaches) gives At(r)'s
+// floats, asked in any order, before or after the whole field; radius <= 0 the own normals; a
+// point out of range (0, 0, 0).
+TEST(NormalField, OnePointAtATimeIsTheWholeFieldsValue) {
+  std::vector<float3> p;
+  std::vector<uint32_t> t;
+  Sheet(24, 1.0, [](double x, double y) { return 0.4 * std::exp(-(x * x + 2 * y * y) / 0.15) + 0.1 * x * x * x; },
+        &p, &t);
+  NormalField whole(p, t), single(p, t);
+  for (float r : {0.15f, 0.6f}) {
+    const std::vector<float3> n = whole.At(r);
+    size_t differ = 0;
+    // A stride coprime to the count visits every point, out of order.
+    for (size_t k = 0, v = 0; k < p.size(); ++k, v = (v + 97) % p.size()) {
+      const float3 got = single.At(r, uint32_t(v));
+      EXPECT_EQ(got, n[v]) << r << " " << v;
+      differ += got != whole.At(0.f)[v];
+    }
+    EXPECT_GT(differ, p.size() / 2) << "the radius changed too few normals to tell";
+    EXPECT_EQ(single.At(r), n);  // the whole field after the points
+  }
+  EXPECT_EQ(single.At(0.f, 5), whole.At(0.f)[5]);
+  EXPECT_EQ(single.At(0.3f, uint32_t(p.size())), (float3{0.f, 0.f, 0.f}));
+}
+
 }  // namespace
 }  // namespace mimetic
