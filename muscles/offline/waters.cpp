@@ -21,7 +21,9 @@ struct Polar {
   D3 rel;  // p - v1
   double d = 0.0, mu = 0.0;
 };
-bool LinearPolar(const LinearMuscleSpec& m, float3 p, Polar* out) {
+// `max_d`: beyond it the angle is not wanted (mu is left 0 and D is still exact), which spares
+// the arc cosine for the many points a caller rejects on D alone.
+bool LinearPolar(const LinearMuscleSpec& m, float3 p, Polar* out, double max_d = HUGE_VAL) {
   const D3 v1 = ToD(m.attachment);
   const D3 axis = Sub(ToD(m.insertion), v1);
   const double axis_len = LenD(axis);
@@ -29,7 +31,7 @@ bool LinearPolar(const LinearMuscleSpec& m, float3 p, Polar* out) {
   out->rel = Sub(ToD(p), v1);
   out->d = LenD(out->rel);
   out->mu = 0.0;
-  if (out->d > 0.0) {
+  if (out->d > 0.0 && out->d <= max_d) {
     const double c = DotD(axis, out->rel) / (axis_len * out->d);
     out->mu = std::acos(c < -1.0 ? -1.0 : (c > 1.0 ? 1.0 : c));
   }
@@ -89,7 +91,7 @@ double ApplyFalloff(double f, MuscleFalloff falloff) {
 float3 LinearMuscleDisplacement(const LinearMuscleSpec& m, float3 p, float k,
                                 MuscleFalloff falloff) {
   Polar q;
-  if (!LinearPolar(m, p, &q) || !(q.d > 0.0) || q.d > m.falloff_end) return {};
+  if (!LinearPolar(m, p, &q, m.falloff_end) || !(q.d > 0.0) || q.d > m.falloff_end) return {};
   const double a = ApplyFalloff(WatersAngularFactor(q.mu, m.zone_angle), falloff);
   const double r = ApplyFalloff(WatersRadialFactor(q.d, m.falloff_start, m.falloff_end), falloff);
   const double s = double(k) * a * r / q.d;  // (v1 - p) / D = -rel / d
@@ -116,8 +118,9 @@ double MuscleFalloffCurvature(const MuscleSpec& m, float3 p) {
     const LinearMuscleSpec& l = m.linear;
     const double rs = l.falloff_start, rf = l.falloff_end, omega = l.zone_angle;
     Polar q;
-    if (!(rs > 0.0) || !(rf > rs) || !(omega > 0.0) || !LinearPolar(l, p, &q)) return 0.0;
-    if (!(q.d <= rf + 0.5 * (rf - rs)) || !(q.mu <= 1.5 * omega)) return 0.0;
+    const double reach = rf + 0.5 * (rf - rs);
+    if (!(rs > 0.0) || !(rf > rs) || !(omega > 0.0) || !LinearPolar(l, p, &q, reach)) return 0.0;
+    if (!(q.d <= reach) || !(q.mu <= 1.5 * omega)) return 0.0;
     const double dc = std::min(q.d, rf), muc = std::min(q.mu, omega);
     const double a2 = sq(WatersAngularFactor(muc, omega));
     const double r2 = sq(WatersRadialFactor(dc, rs, rf));
@@ -137,6 +140,33 @@ double MuscleFalloffCurvature(const MuscleSpec& m, float3 p) {
   const double fw2 = sq(SheetWidthFalloff(2.0 * hc / ws));
   const double wl = lc <= rs ? rs : ls - rs;
   return kBend * std::max(fw2 / sq(wl), fl2 / sq(0.5 * ws));
+}
+
+MuscleBall MuscleFalloffCurvatureBall(const MuscleSpec& m) {
+  MuscleBall b;
+  if (m.type == MuscleType::kLinear) {
+    const LinearMuscleSpec& l = m.linear;
+    const double rs = l.falloff_start, rf = l.falloff_end;
+    b = {l.attachment.x, l.attachment.y, l.attachment.z, rf + 0.5 * (rf - rs), false};
+  } else {
+    // l in [-Rs / 2, Ls + (Ls - Rs) / 2] along the central fibre, h <= 3/4 Ws from it.
+    const SheetMuscleSpec& s = m.sheet;
+    const double ls = s.length, ws = s.width, rs = s.falloff_start;
+    const D3 a1 = ToD(s.attachment[0]), a2 = ToD(s.attachment[1]);
+    const D3 i1 = ToD(s.insertion[0]), i2 = ToD(s.insertion[1]);
+    const D3 ac = {(a1.x + a2.x) * 0.5, (a1.y + a2.y) * 0.5, (a1.z + a2.z) * 0.5};
+    const D3 fiber = Sub({(i1.x + i2.x) * 0.5, (i1.y + i2.y) * 0.5, (i1.z + i2.z) * 0.5}, ac);
+    const double len = LenD(fiber);
+    if (!(len > 0.0)) return {};
+    const double from = -0.5 * rs, to = ls + 0.5 * (ls - rs), mid = 0.5 * (from + to) / len;
+    b = {ac.x + fiber.x * mid, ac.y + fiber.y * mid, ac.z + fiber.z * mid,
+         std::hypot(0.5 * (to - from), 0.75 * ws), false};
+  }
+  b.r = b.r * (1.0 + 1e-6) + 1e-9;
+  if (!std::isfinite(b.x) || !std::isfinite(b.y) || !std::isfinite(b.z) || !std::isfinite(b.r) ||
+      !(b.r >= 0.0))
+    return {};
+  return b;
 }
 
 float3 MuscleDisplacement(const MuscleSpec& m, float3 p, float k) {

@@ -56,4 +56,17 @@ float3 MuscleDisplacement(const MuscleSpec& m, float3 p, float k);
 // that under refinement.falloff_error.
 double MuscleFalloffCurvature(const MuscleSpec& m, float3 p);
 
+// A ball outside which MuscleFalloffCurvature(m, p) is 0 (its zone grown by half a fall-off
+// width, with a margin for rounding), for a caller that asks at many points to skip the far
+// ones; `all` when m's geometry gives none (degenerate or not finite: then ask everywhere).
+struct MuscleBall {
+  double x = 0, y = 0, z = 0, r = 0;
+  bool all = true;
+  bool Holds(float3 p) const {
+    const double dx = p.x - x, dy = p.y - y, dz = p.z - z;
+    return all || !(dx * dx + dy * dy + dz * dz > r * r);
+  }
+};
+MuscleBall MuscleFalloffCurvatureBall(const MuscleSpec& m);
+
 }  // namespace mimetic

@@ -134,8 +134,8 @@ bool CompileJaw(const RigSpec& spec, const MeshData& mesh, const WeldedMesh& wel
   }
   // The lips carry no fat: thickness fades in from the edge of the slit between them.
   if (jaw.thickness_fade > 0.f && jaw.mouth_width > 0.f && !rig->point_thickness.empty()) {
-    const std::vector<float> d = MouthEdgeDistances(jaw, welded.points, welded.triangles);
     const float fade = jaw.thickness_fade * jaw.mouth_width;
+    const std::vector<float> d = MouthEdgeDistances(jaw, welded.points, welded.triangles, fade);
     for (size_t p = 0; p < d.size() && p < rig->point_thickness.size(); ++p)
       rig->point_thickness[p] *= Smoothstep(0.f, fade, d[p]);
   }
@@ -515,10 +515,13 @@ EdgeLengthField MakeRefinementField(const RigSpec& spec, const MeshData& mesh) {
   if (error > 0.0) falloffs = spec.muscles;
   std::shared_ptr<const SliverBalls> slivers;
   if (!falloffs.empty()) slivers = std::make_shared<const SliverBalls>(mesh);
-  return [regions, curves, falloffs, error, slivers](float3 position, float2 uv) {
+  std::vector<MuscleBall> balls;  // where each fall-off bends at all
+  for (const MuscleSpec& m : falloffs) balls.push_back(MuscleFalloffCurvatureBall(m));
+  return [regions, curves, falloffs, balls, error, slivers](float3 position, float2 uv) {
     float target = std::numeric_limits<float>::infinity();
     double largest = 0.0;
-    for (const MuscleSpec& m : falloffs) largest = std::max(largest, MuscleFalloffCurvature(m, position));
+    for (size_t k = 0; k < falloffs.size(); ++k)
+      if (balls[k].Holds(position)) largest = std::max(largest, MuscleFalloffCurvature(falloffs[k], position));
     if (largest > 0.0 && !slivers->Holds(position))
       target = float(std::sqrt(8.0 * error / largest));
     for (const MuscleRegion& r : regions) {
@@ -1254,7 +1257,7 @@ bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> act
 }
 
 std::vector<float> MouthEdgeDistances(const JawSpec& jaw, span<const float3> points,
-                                      span<const uint32_t> triangles) {
+                                      span<const uint32_t> triangles, float beyond) {
   EdgeTable edges;
   BuildEdgeTable(triangles, &edges);
   const std::vector<uint32_t> boundary = BoundaryEdges(edges);
@@ -1285,8 +1288,24 @@ std::vector<float> MouthEdgeDistances(const JawSpec& jaw, span<const float3> poi
   std::vector<uint32_t> mouth;
   for (uint32_t e : boundary)
     if (find(EdgeKeyLow(edges.keys[e])) == loop) mouth.push_back(e);
-  std::vector<float> out(points.size());
+  // The loop's bounding box, grown by `beyond` (in double, so the grown box holds every point
+  // nearer than `beyond` to the box despite rounding).
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (uint32_t e : mouth)
+    for (uint32_t q : {EdgeKeyLow(edges.keys[e]), EdgeKeyHigh(edges.keys[e])}) {
+      const double c[3] = {points[q].x, points[q].y, points[q].z};
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k]);
+    }
+  const double grow = beyond >= 0.f ? double(beyond) : HUGE_VAL;
+  std::vector<float> out(points.size(), std::numeric_limits<float>::infinity());
   for (size_t p = 0; p < points.size(); ++p) {
+    const double c[3] = {points[p].x, points[p].y, points[p].z};
+    double gap2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double g = std::max({lo[k] - c[k], 0.0, c[k] - hi[k]});
+      gap2 += g * g;
+    }
+    if (gap2 >= grow * grow) continue;  // as far from every edge of the loop
     float d = std::numeric_limits<float>::infinity();
     for (uint32_t e : mouth) d = std::fmin(d, distance(points[p], e));
     out[p] = d;

@@ -99,8 +99,12 @@ bool CheckPosedFinite(const Rig& rig, const RigSpec& spec, span<const float> act
 // docs/model.md §18, the mouth's free edge: every point's distance (mesh units) from the edge
 // of the slit between the lips, that is from the boundary loop of (points, triangles) nearest
 // jaw.mouth, when that loop passes within a quarter of jaw.mouth_width of it. Empty when no
-// loop does (a closed lip line) or the mesh has no boundary. O(#P * loop edges).
+// loop does (a closed lip line) or the mesh has no boundary. O(#P * loop edges), but for a
+// finite `beyond`: a point whose distance from the loop's bounding box is `beyond` or more (so
+// is its distance from the loop) gets infinity without measuring, for a caller that needs the
+// distances below `beyond` alone (the thickness fade: 1 from its width on).
 std::vector<float> MouthEdgeDistances(const JawSpec& jaw, span<const float3> points,
-                                      span<const uint32_t> triangles);
+                                      span<const uint32_t> triangles,
+                                      float beyond = std::numeric_limits<float>::infinity());
 
 }  // namespace mimetic

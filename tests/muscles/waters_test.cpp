@@ -677,5 +677,54 @@ TEST(FalloffCurvature, IsTheSmoothProfilesSecondDerivativeAtAnEdge) {
   EXPECT_NEAR(second(along, 19.99) / 2, MuscleFalloffCurvature(sh, {19.99f, 0, 0}), 2e-3);
 }
 
+// The ball outside which the bound is 0: by hand, then against the bound itself on a grid
+// through both zones (every point where it bends lies inside; the ball is not loose: points
+// just inside its rim along the axis still bend).
+TEST(FalloffCurvature, TheBallHoldsEveryPointWhereItBends) {
+  const MuscleSpec lin = LinearOf(2.f);
+  MuscleSpec sh;
+  sh.type = MuscleType::kSheet;
+  sh.sheet = Sheet();
+  // Linear: about v1, Rf + (Rf - Rs) / 2 = 12.5. Sheet: l from -Rs/2 = -2.5 to
+  // Ls + (Ls - Rs)/2 = 27.5 about l = 12.5 on the fibre, h up to 0.75 Ws = 15: radius
+  // hypot(15, 15).
+  const MuscleBall a = MuscleFalloffCurvatureBall(lin), b = MuscleFalloffCurvatureBall(sh);
+  ASSERT_FALSE(a.all);
+  ASSERT_FALSE(b.all);
+  EXPECT_NEAR(a.x, 0, 1e-12);
+  EXPECT_NEAR(a.r, 12.5, 1e-4);
+  EXPECT_NEAR(b.x, 12.5, 1e-12);
+  EXPECT_NEAR(b.y, 0, 1e-12);
+  EXPECT_NEAR(b.r, std::hypot(15.0, 15.0), 1e-4);
+  EXPECT_GT(MuscleFalloffCurvature(lin, {12.45f, 0, 0}), 0.0);
+  EXPECT_TRUE(a.Holds({12.45f, 0, 0}));
+  EXPECT_FALSE(a.Holds({12.6f, 0, 0}));
+  const MuscleSpec* both[] = {&lin, &sh};
+  for (const MuscleSpec* m : both) {
+    const MuscleBall ball = MuscleFalloffCurvatureBall(*m);
+    size_t bends = 0, outside = 0;
+    for (float x = -30; x <= 45; x += 0.5f)
+      for (float y = -30; y <= 30; y += 0.5f)
+        for (float z : {0.f, 4.f, 11.f}) {
+          const float3 p{x, y, z};
+          if (MuscleFalloffCurvature(*m, p) > 0.0) {
+            ++bends;
+            EXPECT_TRUE(ball.Holds(p)) << p.x << " " << p.y << " " << p.z;
+          }
+          outside += !ball.Holds(p);
+        }
+    EXPECT_GT(bends, 1000u);
+    EXPECT_GT(outside, 1000u);
+  }
+  // No geometry to bound: a fibre of no length, a NaN radius.
+  MuscleSpec none = sh;
+  none.sheet.insertion[0] = none.sheet.attachment[0];
+  none.sheet.insertion[1] = none.sheet.attachment[1];
+  EXPECT_TRUE(MuscleFalloffCurvatureBall(none).all);
+  MuscleSpec nan = lin;
+  nan.linear.falloff_end = std::nanf("");
+  EXPECT_TRUE(MuscleFalloffCurvatureBall(nan).all);
+}
+
 }  // namespace
 }  // namespace mimetic

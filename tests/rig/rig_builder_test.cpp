@@ -594,6 +594,29 @@ TEST(MouthEdgeDistances, PicksTheLoopNearestTheMouthNotTheSheetsRim) {
   EXPECT_NEAR(rim[20 * 41 + 20], 50.f, 1e-4f);
 }
 
+// `beyond` changes nothing below it: the same floats there, and at or past it a distance that
+// is either measured or infinity. Points far off the slit's box exist (the rim is 30 beyond it),
+// so some are skipped, and their measured distance is indeed past the cap.
+TEST(MouthEdgeDistances, BeyondKeepsEveryDistanceBelowIt) {
+  const MeshData m = SlitSheet(true);
+  const JawSpec jaw = SlitSpec(0.3f).jaw.value();
+  const std::vector<float> all = MouthEdgeDistances(jaw, m.positions, m.indices);
+  for (float beyond : {0.f, 2.5f, 7.f}) {
+    const std::vector<float> capped = MouthEdgeDistances(jaw, m.positions, m.indices, beyond);
+    ASSERT_EQ(capped.size(), all.size());
+    size_t skipped = 0;
+    for (size_t v = 0; v < all.size(); ++v) {
+      if (all[v] < beyond) {
+        EXPECT_EQ(capped[v], all[v]) << v;
+      } else if (capped[v] != all[v]) {
+        EXPECT_EQ(capped[v], std::numeric_limits<float>::infinity()) << v;
+        ++skipped;
+      }
+    }
+    EXPECT_GT(skipped, all.size() / 4) << beyond;
+  }
+}
+
 // A stray vertex no triangle uses (scans carry them) inside a muscle's reach: the muscle moves
 // it, so the build makes it active like any moved point (it used to be left in the static range
 // with muscle entries, and Rig::Build refused the tables as an internal error). Every other
