@@ -55,6 +55,13 @@ inline bool IsFinite(float3 a) {
 }
 
 // Clamp to [lo, hi]; NaN maps to `lo` (runtime inputs are clamped, never rejected).
+// std::fmin / std::fmax as the compiler inlines them (GCC calls the C library for those on
+// x86-64, which cost a BVH build most of its time): a NaN operand is ignored, and of two equal
+// operands (+0 and -0 among them) the second is returned, as glibc's own do
+// (tests/core/math_test.cpp compares them bit for bit).
+inline float FMin(float a, float b) { return a < b ? a : (b == b ? b : a); }
+inline float FMax(float a, float b) { return a > b ? a : (b == b ? b : a); }
+
 inline float ClampOrLow(float v, float lo, float hi) {
   if (!(v >= lo)) return lo;  // also catches NaN
   return v > hi ? hi : v;

@@ -142,6 +142,7 @@ class ConstraintHead {
       return false;
     field_ = std::make_shared<NormalField>(span<const float3>(mesh.positions),
                                            span<const uint32_t>(mesh.indices));
+    query_ = std::make_shared<const SurfaceQuery>(mesh);
     for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3)
       tri_normals_.push_back(TriangleNormal(mesh.positions[mesh.indices[k]],
                                             mesh.positions[mesh.indices[k + 1]],
@@ -203,7 +204,7 @@ class ConstraintHead {
     RigSpec spec;
     FitReport report;
     Diagnostics diag;
-    if (!FitTemplate(one, *head_.mesh, *head_.landmarks, "mm", &spec, &diag, &report))
+    if (!FitTemplate(one, *head_.mesh, *head_.landmarks, "mm", &spec, &diag, &report, query_.get()))
       return "does not fit: " + diag.Format();
     std::string missed;
     if (const float miss = LargestMiss(report, &missed); miss > max_miss_) {
@@ -424,6 +425,7 @@ class ConstraintHead {
   double seed_ratio_ = 0.0;
   // The rest normals each tangent muscle projects on (shared by copies of this head).
   std::shared_ptr<NormalField> field_;
+  std::shared_ptr<const SurfaceQuery> query_;  // the head's, for its many fits
   std::vector<float3> lm_, tri_normals_;
   FaceFrame frame_;
   std::vector<std::pair<std::string, std::vector<size_t>>> regions_;
@@ -443,6 +445,7 @@ class Calibrator {
     field_ = std::make_shared<NormalField>(span<const float3>(head_.positions),
                                            span<const uint32_t>(head_.indices));
     normals_ = field_->At(0.f);
+    query_ = std::make_shared<const SurfaceQuery>(head_);
     const size_t n = head_.vertex_count();
     for (const CalibrationShape& s : shapes) {
       if (!s.mesh || !SameTopology(head_, *s.mesh))
@@ -601,7 +604,7 @@ class Calibrator {
     }
     RigSpec spec;
     FitReport report;
-    if (!FitTemplate(one, head_, landmarks_, "mm", &spec, diag, &report)) return false;
+    if (!FitTemplate(one, head_, landmarks_, "mm", &spec, diag, &report, query_.get())) return false;
     const size_t n = head_.vertex_count();
     cols->assign(spec.muscles.size(), std::vector<double>(3 * n, 0.0));
     for (size_t k = 0; k < spec.muscles.size(); ++k) {
@@ -740,6 +743,7 @@ class Calibrator {
   const Landmarks& landmarks_;
   const CalibrationOptions& options_;
   std::shared_ptr<NormalField> field_;  // the rest normals tangent muscles project on
+  std::shared_ptr<const SurfaceQuery> query_;  // the head's, for its many fits
   std::vector<float3> lm_, normals_;    // normals_: the neutral's own (the score's metric)
   std::vector<ConstraintHead> heads_;
   FaceFrame frame_;

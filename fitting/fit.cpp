@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -373,7 +374,8 @@ void PlaceJaw(const TemplateJaw& tj, const std::vector<float3>& lm, const FaceFr
 }
 
 bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
-                 const std::string& units, RigSpec* out, Diagnostics* diag, FitReport* report) {
+                 const std::string& units, RigSpec* out, Diagnostics* diag, FitReport* report,
+                 const SurfaceQuery* head_query) {
   bool units_ok = false;
   for (const auto& u : UnitsInMm()) units_ok = units_ok || u.first == units;
   if (!units_ok) {
@@ -390,7 +392,9 @@ bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmar
   if (!ComputeFaceFrame(lm, &frame, diag)) return false;
 
   const BoundingBox box = ComputeBounds(head.positions);
-  const SurfaceQuery query(head);
+  std::optional<SurfaceQuery> own_query;
+  if (!head_query) head_query = &own_query.emplace(head);
+  const SurfaceQuery& query = *head_query;
   if (!CheckLandmarksOnHead(lm, head, query, diag)) return false;
   FitReport local_report;
   Placer placer{frame, lm, query, 2.f * Length(box.Hi() - box.Lo()) + 4.f * frame.scale, diag,

@@ -112,9 +112,12 @@ void PlaceJaw(const TemplateJaw& tmpl, const std::vector<float3>& lm, const Face
 // 0.5 s), a linear muscle whose attachment and insertion coincide, curve wrinkles on a head
 // without texture coordinates, a curve whose control points' uvs lie more than 0.5 apart in u
 // or v (the curve would cross a UV seam), a wrinkle the wrinkle module's checks refuse.
+// `head_query`: a SurfaceQuery of `head` already built, for a caller that fits the same head
+// many times (the calibration: hundreds of fits, each of which would otherwise build the
+// query's tree again, most of a fit's time); null builds one.
 bool FitTemplate(const MuscleTemplate& tmpl, const MeshData& head, const Landmarks& landmarks,
                  const std::string& units, RigSpec* out, Diagnostics* diag,
-                 FitReport* report = nullptr);
+                 FitReport* report = nullptr, const SurfaceQuery* head_query = nullptr);
 
 // The farthest, in units of s, that a point whose ray misses the mesh may lie from the nearest
 // surface point the fit uses instead; farther, the fit refuses the point ("found no surface").

@@ -15,15 +15,15 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-float3 Min3(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-float3 Max3(float3 a, float3 b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+float3 Min3(float3 a, float3 b) { return {FMin(a.x, b.x), FMin(a.y, b.y), FMin(a.z, b.z)}; }
+float3 Max3(float3 a, float3 b) { return {FMax(a.x, b.x), FMax(a.y, b.y), FMax(a.z, b.z)}; }
 float Comp(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
 // Squared distance from p to the box [lo, hi] (0 inside).
 float BoxDistance2(float3 p, float3 lo, float3 hi) {
-  const float dx = std::fmax(std::fmax(lo.x - p.x, 0.f), p.x - hi.x);
-  const float dy = std::fmax(std::fmax(lo.y - p.y, 0.f), p.y - hi.y);
-  const float dz = std::fmax(std::fmax(lo.z - p.z, 0.f), p.z - hi.z);
+  const float dx = FMax(FMax(lo.x - p.x, 0.f), p.x - hi.x);
+  const float dy = FMax(FMax(lo.y - p.y, 0.f), p.y - hi.y);
+  const float dz = FMax(FMax(lo.z - p.z, 0.f), p.z - hi.z);
   return dx * dx + dy * dy + dz * dz;
 }
 
@@ -38,8 +38,8 @@ float RayBox(float3 o, float3 inv, float3 lo, float3 hi, float tmax) {
       continue;
     }
     if (ta > tb) std::swap(ta, tb);
-    t0 = std::fmax(t0, ta);
-    t1 = std::fmin(t1, tb);
+    t0 = FMax(t0, ta);
+    t1 = FMin(t1, tb);
     if (t0 > t1) return kInf;
   }
   return t0;

@@ -26,6 +26,7 @@
 #include "io/image.h"
 #include "io/landmarks_file.h"
 #include "io/mesh_io.h"
+#include "io/rig_file.h"
 #include "io/rig_loader.h"
 #include "io/template_file.h"
 #include "rig/offline/rig_builder.h"
@@ -305,6 +306,26 @@ TEST(FitTemplate, SampleHeadPointsLieAtTheirDepthUnderTheSurface) {
     EXPECT_NEAR(d, p.depth, 0.05f * p.depth + 1e-3f * s) << p.muscle << " " << p.role;
   }
   EXPECT_LT(turned, int(f.report.points.size()) / 4) << "of " << f.report.points.size();
+}
+
+// A query of the head built once and handed in (the calibration's many fits) gives the fit a
+// fresh one gives: the same rig file, byte for byte, and the same report.
+TEST(FitTemplate, AGivenHeadQueryFitsAsAFreshOne) {
+  const Fitted fresh = Fit(Head().mesh, PointLandmarks(Head().landmarks));
+  ASSERT_TRUE(fresh.ok) << fresh.diag.Format();
+  const SurfaceQuery query(Head().mesh);
+  Fitted given;
+  for (int twice = 0; twice < 2; ++twice) {  // the query is not used up by a fit
+    given = Fitted{};
+    given.ok = FitTemplate(LoadDefaultTemplate(), Head().mesh, PointLandmarks(Head().landmarks), "mm",
+                           &given.spec, &given.diag, &given.report, &query);
+    ASSERT_TRUE(given.ok) << given.diag.Format();
+    EXPECT_EQ(RigSpecText(given.spec, test::TempDir()), RigSpecText(fresh.spec, test::TempDir()));
+    ASSERT_EQ(given.report.points.size(), fresh.report.points.size());
+    for (size_t i = 0; i < fresh.report.points.size(); ++i)
+      EXPECT_EQ(given.report.points[i].position, fresh.report.points[i].position) << i;
+  }
+  EXPECT_FALSE(RigSpecText(fresh.spec, test::TempDir()).empty());
 }
 
 TEST(FitTemplate, InvariantUnderSimilarityTransforms) {
