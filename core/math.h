@@ -54,7 +54,6 @@ inline bool IsFinite(float3 a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
 
-// Clamp to [lo, hi]; NaN maps to `lo` (runtime inputs are clamped, never rejected).
 // std::fmin / std::fmax as the compiler inlines them (GCC calls the C library for those on
 // x86-64, which cost a BVH build most of its time): a NaN operand is ignored, and of two equal
 // operands (+0 and -0 among them) the second is returned, as glibc's own do
@@ -62,6 +61,7 @@ inline bool IsFinite(float3 a) {
 inline float FMin(float a, float b) { return a < b ? a : (b == b ? b : a); }
 inline float FMax(float a, float b) { return a > b ? a : (b == b ? b : a); }
 
+// Clamp to [lo, hi]; NaN maps to `lo` (runtime inputs are clamped, never rejected).
 inline float ClampOrLow(float v, float lo, float hi) {
   if (!(v >= lo)) return lo;  // also catches NaN
   return v > hi ? hi : v;

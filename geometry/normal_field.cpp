@@ -45,9 +45,7 @@ constexpr int64_t kCellsPerRadius = 8;
 int64_t BlockOf(int64_t v) {
   return v >= 0 ? v / kCellsPerRadius : -((-v + kCellsPerRadius - 1) / kCellsPerRadius);
 }
-}  // namespace
-
-namespace {
+// A cell's (or a block's) three indices packed into one hash key, 21 bits each.
 uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
   return (uint64_t(x) & 0x1fffff) | ((uint64_t(y) & 0x1fffff) << 21) | ((uint64_t(z) & 0x1fffff) << 42);
 }

@@ -1288,8 +1288,8 @@ std::vector<float> MouthEdgeDistances(const JawSpec& jaw, span<const float3> poi
   std::vector<uint32_t> mouth;
   for (uint32_t e : boundary)
     if (find(EdgeKeyLow(edges.keys[e])) == loop) mouth.push_back(e);
-  // The loop's bounding box, grown by `beyond` (in double, so the grown box holds every point
-  // nearer than `beyond` to the box despite rounding).
+  // The loop's bounding box (in double, so that rounding never puts a point nearer than
+  // `beyond` to the loop at `beyond` or more from the box).
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (uint32_t e : mouth)
     for (uint32_t q : {EdgeKeyLow(edges.keys[e]), EdgeKeyHigh(edges.keys[e])}) {
