@@ -54,6 +54,7 @@ void EvaluateContext::Resize(const Rig& rig) {
   fold_limits_.assign(triangle_count_, 0.f);
   limit_flags_.assign(point_count_, 0);
   slope_min_bounds_.assign(point_count_, 0.f);
+  limit_edge_lengths_.assign(t.neighbor_edge_count(), 0.f);
   // (Clamped: an unchecked rig's ranges are not trusted, and IsFor refuses it anyway.)
   const uint32_t active = std::min(rig.active_point_count(), point_count_);
   const uint32_t active_tris = std::min(rig.active_triangle_count(), triangle_count_);
@@ -87,7 +88,7 @@ size_t EvaluateContext::ByteSize() const {
   return sizeof(EvaluateContext) + Bytes(activations_) + Bytes(wrinkle_gates_) + Bytes(points_) + Bytes(faces_) +
          Bytes(point_ratios_) + Bytes(point_compressions_) + Bytes(point_fine_) + Bytes(point_sums_) + Bytes(edge_lengths_) +
          Bytes(wrinkle_offsets_) + Bytes(thickness_a_) + Bytes(thickness_b_) + Bytes(skin_base_) + Bytes(skin_full_) + Bytes(limit_levels_) + Bytes(fold_limits_) + Bytes(limit_flags_) +
-         Bytes(slope_min_bounds_) +
+         Bytes(slope_min_bounds_) + Bytes(limit_edge_lengths_) +
          Bytes(limit_moved_) + Bytes(limit_flagged_) + Bytes(limit_recheck_) + Bytes(limit_tris_) +
          Bytes(limit_point_marks_) + Bytes(limit_tri_marks_) + Bytes(limit_tri_bad_);
 }
@@ -248,6 +249,7 @@ struct FrameState {
   float* fold_limits;              // #T (context)
   uint8_t* limit_flags;            // #P (context; 0 past the active points)
   float* slope_min_bounds;         // #P (context)
+  float* limit_edge_lengths;       // RigTables::neighbor_edge_count() (context)
   uint32_t* limit_moved;           // active points (context)
   uint32_t* limit_flagged;         // active points (context)
   uint32_t* limit_recheck;         // active points (context)
@@ -551,13 +553,32 @@ inline float SlopeLimitPoint(const float* in, const uint32_t* off, const uint32_
   return std::min(out, 0.f);
 }
 
+// SlopeLimitPoint with p's edge lengths at X1 read from `lengths` (per slot k of p, the length
+// of edge `edges[k]`, EdgeLengths' |X1q - X1p|: the square root of the same sum SlopeBound
+// takes, so g times it is SlopeBound's bits) instead of measured again from the positions.
+inline float SlopeLimitPointEdges(const float* in, const uint32_t* off, const uint32_t* nbr,
+                                  const uint32_t* edges, const float* lengths, uint32_t p) {
+  const float t = in[p];
+  if (t == 0.f) return t;
+  float out = t;
+  if (t > 0.f) {
+    for (uint32_t k = off[p]; k < off[p + 1]; ++k)
+      out = std::min(out, in[nbr[k]] + kOffsetSlope * lengths[edges[k]]);
+    return std::max(out, 0.f);
+  }
+  for (uint32_t k = off[p]; k < off[p + 1]; ++k)
+    out = std::max(out, in[nbr[k]] - kOffsetSlope * lengths[edges[k]]);
+  return std::min(out, 0.f);
+}
+
 // SlopeLimitPoint, first deciding from `min_bound` = g min_q L_pq (the smallest of p's bounds,
 // computed the same way) whether any neighbour can bind: with t > 0, when t <= min_q in[q] +
 // min_bound no neighbour does (each in[q] + g L_pq is at least that sum, float rounding being
 // monotone) and t is the result, with no neighbour's position read; the mirror image for t < 0.
 // NaN neighbours are skipped here as they never bind there. The same bits as SlopeLimitPoint.
 inline float SlopeLimitPointQuick(const float* in, const uint32_t* off, const uint32_t* nbr,
-                                  const float3* xs, const float* min_bound, uint32_t p) {
+                                  const uint32_t* edges, const float* lengths,
+                                  const float* min_bound, uint32_t p) {
   const float t = in[p];
   if (t == 0.f) return t;
   const uint32_t k0 = off[p], k1 = off[p + 1];
@@ -576,7 +597,7 @@ inline float SlopeLimitPointQuick(const float* in, const uint32_t* off, const ui
     }
     if (t >= m - min_bound[p]) return t;
   }
-  return SlopeLimitPoint(in, off, nbr, xs, p);
+  return SlopeLimitPointEdges(in, off, nbr, edges, lengths, p);
 }
 
 // The skin offset of each active point with the fold limiter on: d_p = t_p + w_p (t the
@@ -613,6 +634,20 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   // The shortcut below is exact; limit_folds_full_scan (the tests' reference) runs without it,
   // so FoldOver.LimiterWorklistGivesTheFullScansBits compares the two bit for bit.
   const bool quick = !f.job.limit_folds_full_scan;
+  // With the shortcuts, every edge of the one-rings measured once (RigTables::
+  // neighbor_edge_pairs), for both of its points: p's shortest edge is then the smallest of
+  // its slots' lengths, the square root of the smallest squared length the full scan takes
+  // from the positions (the root is monotone and correctly rounded: the same bits, so the
+  // same slope bound g min_q L_pq). The shortcuts compare its square, within a few ulp of
+  // that squared length: far inside their 1% margin.
+  const uint32_t* nedge = f.tables.point_neighbor_edges.data();
+  float* lengths = f.limit_edge_lengths;
+  if (quick) {
+    const uint32_t* pairs = f.tables.neighbor_edge_pairs.data();
+    ParallelFor(f.job, f.tables.neighbor_edge_count(), [&](uint32_t lo, uint32_t hi) {
+      EdgeLengths(x1, pairs, lo, hi, lengths);
+    });
+  }
   ParallelFor(f.job, count, [&, a, b](uint32_t lo, uint32_t hi) {
     // Plain locals: the stores to `bound` and `b` cannot alias them in the compiler's eyes
     // (through the captured references it reloaded every pointer after every store).
@@ -621,6 +656,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
     float* min_bounds = min_bound;
     const float3* xs = x1;
     const float3* units = unit;
+    const float* edge_lengths = lengths;
     for (uint32_t p = lo; p < hi; ++p) {
       const float d = offsets[p];
       if (d == 0.f) {
@@ -634,12 +670,22 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       const float3 xp = xs[p];
       const uint32_t k0 = noff[p], k1 = noff[p + 1];
       float l2_min = std::numeric_limits<float>::infinity();
-      for (uint32_t k = k0; k < k1; ++k) {
-        const float3 e = xs[nbr[k]] - xp;
-        const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
-        l2_min = l2 < l2_min ? l2 : l2_min;
+      if (quick) {
+        float l_min = std::numeric_limits<float>::infinity();
+        for (uint32_t k = k0; k < k1; ++k) {
+          const float l = edge_lengths[nedge[k]];
+          l_min = l < l_min ? l : l_min;
+        }
+        min_bounds[p] = kOffsetSlope * l_min;
+        l2_min = l_min * l_min;
+      } else {
+        for (uint32_t k = k0; k < k1; ++k) {
+          const float3 e = xs[nbr[k]] - xp;
+          const float l2 = (e.x * e.x + e.y * e.y) + e.z * e.z;
+          l2_min = l2 < l2_min ? l2 : l2_min;
+        }
+        min_bounds[p] = kOffsetSlope * std::sqrt(l2_min);
       }
-      min_bounds[p] = kOffsetSlope * std::sqrt(l2_min);
       const float c2 = kOffsetCurvature * kOffsetCurvature;
       if (quick && d * d * 4.04f <= c2 * l2_min) {
         out[p] = d;
@@ -719,7 +765,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
     if (quick) {
       for (uint32_t p = lo; p < hi; ++p) {
-        const float v = SlopeLimitPointQuick(a, noff, nbr, x1, min_bound, p);
+        const float v = SlopeLimitPointQuick(a, noff, nbr, nedge, lengths, min_bound, p);
         b[p] = v;
         if (bits(v) != bits(a[p])) changed[first_changed.fetch_add(1, std::memory_order_relaxed)] = p;
       }
@@ -753,7 +799,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
     // pass (a 0 stays 0), so its smallest bound was computed above.
     ParallelFor(f.job, n_redo, [&](uint32_t lo, uint32_t hi) {
       for (uint32_t i = lo; i < hi; ++i)
-        b[redo[i]] = SlopeLimitPointQuick(a, noff, nbr, x1, min_bound, redo[i]);
+        b[redo[i]] = SlopeLimitPointQuick(a, noff, nbr, nedge, lengths, min_bound, redo[i]);
     });
     n_changed = 0;
     for (uint32_t i = 0; i < n_redo; ++i) {
@@ -1509,6 +1555,7 @@ bool EvaluateJob::Run() const {
       .fold_limits = ctx.fold_limits_.data(),
       .limit_flags = ctx.limit_flags_.data(),
       .slope_min_bounds = ctx.slope_min_bounds_.data(),
+      .limit_edge_lengths = ctx.limit_edge_lengths_.data(),
       .limit_moved = ctx.limit_moved_.data(),
       .limit_flagged = ctx.limit_flagged_.data(),
       .limit_recheck = ctx.limit_recheck_.data(),

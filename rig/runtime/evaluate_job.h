@@ -128,6 +128,7 @@ class EvaluateContext {
   std::vector<float> fold_limits_;     // #T: the limiter's cosine limit per triangle this frame
   std::vector<uint8_t> limit_flags_;   // #P: points with a triangle past its limit (one pass)
   std::vector<float> slope_min_bounds_;  // #P: kOffsetSlope * min_q |X1q - X1p| (fold limiter)
+  std::vector<float> limit_edge_lengths_;  // RigTables::neighbor_edge_count(): |X1q - X1p|
   // The limiter's worklists (StageLimit), A = Rig::active_point_count(), AT =
   // Rig::active_triangle_count(); the marks are all 0 between its phases.
   std::vector<uint32_t> limit_moved_;    // A: points the last pass moved (front), at the cut (back)

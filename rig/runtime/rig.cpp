@@ -61,6 +61,7 @@ size_t Rig::ByteSize() const {
        Bytes(t.entry_coeffs) + Bytes(t.row_profiles) + Bytes(t.row_muscles) + Bytes(t.probe_edges) +
        Bytes(t.point_row_offsets) + Bytes(t.point_curve_offsets) + Bytes(t.point_curve_rows) +
        Bytes(t.wrinkle_points) + Bytes(t.point_neighbor_offsets) + Bytes(t.point_neighbors) +
+       Bytes(t.point_neighbor_edges) + Bytes(t.neighbor_edge_pairs) +
        Bytes(t.fine_edge_pairs) + Bytes(t.fine_probe_edges) +
        Bytes(t.fine_probe_params);
   return n;

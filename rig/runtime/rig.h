@@ -225,6 +225,10 @@ struct RigTables {
   // limiter's offset bounds read them, docs/model.md §16).
   std::vector<uint32_t> point_neighbor_offsets;  // active points + 1
   std::vector<uint32_t> point_neighbors;
+  // The edges p-q of those lists, each once: per slot of point_neighbors its edge, and two
+  // points per edge (the limiter measures each edge's length at X1 once a frame).
+  std::vector<uint32_t> point_neighbor_edges;  // one per point_neighbors slot
+  std::vector<uint32_t> neighbor_edge_pairs;   // 2 per edge
   // True when every active point's triangle list (RigData::point_triangles) is exactly the
   // triangles that have it as a corner, ascending, each once (what the builder writes). The
   // fold limiter's worklist (docs/model.md §16) relies on it; without it, every pass scans
@@ -232,6 +236,7 @@ struct RigTables {
   bool point_triangles_exact = false;
   uint32_t edge_count() const { return uint32_t(edge_pairs.size() / 2); }
   uint32_t fine_edge_count() const { return uint32_t(fine_edge_pairs.size() / 2); }
+  uint32_t neighbor_edge_count() const { return uint32_t(neighbor_edge_pairs.size() / 2); }
 };
 
 class Rig {

@@ -455,12 +455,36 @@ void BuildRigTables(const RigData& r, RigTables* out) {
     }
     t.point_neighbor_offsets[p + 1] = uint32_t(t.point_neighbors.size());
   }
+  // The edges of those one-rings, each once (docs/model.md §16: the limiter's edge lengths
+  // at X1, measured once per edge instead of once from each end), numbered as met in point
+  // order: p's slot for q names the edge p-q, new unless q is an active point before p, whose
+  // ascending list then holds p.
+  t.neighbor_edge_pairs.clear();
+  t.point_neighbor_edges.assign(t.point_neighbors.size(), 0);
+  for (uint32_t p = 0; p < r.active.points; ++p) {
+    for (uint32_t k = t.point_neighbor_offsets[p]; k < t.point_neighbor_offsets[p + 1]; ++k) {
+      const uint32_t q = t.point_neighbors[k];
+      if (q < p) {  // q is active (below p) and met p first: find p in q's list
+        const uint32_t* begin = t.point_neighbors.data() + t.point_neighbor_offsets[q];
+        const uint32_t* end = t.point_neighbors.data() + t.point_neighbor_offsets[q + 1];
+        const uint32_t* at = std::lower_bound(begin, end, p);
+        if (at != end && *at == p) {  // (always, where the triangle lists are a mesh's)
+          t.point_neighbor_edges[k] = t.point_neighbor_edges[size_t(at - t.point_neighbors.data())];
+          continue;
+        }
+      }
+      t.point_neighbor_edges[k] = uint32_t(t.neighbor_edge_pairs.size() / 2);
+      t.neighbor_edge_pairs.push_back(p);
+      t.neighbor_edge_pairs.push_back(q);
+    }
+  }
   t.point_triangles_exact = lists_exact && PointTriangleCountsExact(r);
   // Give back any slack (the lists built by push_back; a table rebuilt in place keeps its old
   // capacity).
   for (std::vector<uint32_t>* v : {&t.edge_pairs, &t.row_offsets, &t.entry_edges, &t.probe_edges,
                                    &t.point_row_offsets, &t.point_curve_offsets,
                                    &t.point_curve_rows, &t.wrinkle_points, &t.point_neighbors,
+                                   &t.neighbor_edge_pairs,
                                    &t.row_muscles})
     v->shrink_to_fit();
   for (std::vector<float>* v : {&t.entry_rest, &t.entry_coeffs, &t.row_profiles})

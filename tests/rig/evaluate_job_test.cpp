@@ -20,6 +20,7 @@
 #include "content/procedural.h"
 #include "rig/offline/rig_builder.h"
 #include "rig/runtime/evaluate_job.h"
+#include "rig/runtime/face_kernels.h"
 
 // Global allocation counter for the zero-allocation test.
 #include "alloc_counter.h"
@@ -548,6 +549,7 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
             VectorBytes(t.point_row_offsets) + VectorBytes(t.point_curve_offsets) +
             VectorBytes(t.point_curve_rows) + VectorBytes(t.wrinkle_points) +
             VectorBytes(t.point_neighbor_offsets) + VectorBytes(t.point_neighbors) +
+            VectorBytes(t.point_neighbor_edges) + VectorBytes(t.neighbor_edge_pairs) +
             VectorBytes(t.fine_edge_pairs) + VectorBytes(t.fine_probe_edges) +
             VectorBytes(t.fine_probe_params);
   EXPECT_EQ(rig.ByteSize(), expect);
@@ -563,21 +565,73 @@ TEST(EvaluateJob, ByteSizeCountsEveryOwnedVector) {
   for (const auto& [a, b] : edges) ends += (a < rig.active_point_count()) + (b < rig.active_point_count());
   EXPECT_EQ(t.point_neighbors.size(), ends);
   EXPECT_EQ(t.point_neighbors.size(), size_t(t.point_neighbor_offsets.back()));
+  // The limiter's edges: each edge with an active end once, and each slot names its own edge.
+  size_t active_edges = 0;
+  for (const auto& [a, b] : edges) active_edges += a < rig.active_point_count() || b < rig.active_point_count();
+  EXPECT_EQ(t.neighbor_edge_count(), active_edges);
+  ASSERT_EQ(t.point_neighbor_edges.size(), t.point_neighbors.size());
+  std::set<std::pair<uint32_t, uint32_t>> named;
+  for (uint32_t p = 0; p < rig.active_point_count(); ++p)
+    for (uint32_t k = t.point_neighbor_offsets[p]; k < t.point_neighbor_offsets[p + 1]; ++k) {
+      const uint32_t e = t.point_neighbor_edges[k], q = t.point_neighbors[k];
+      ASSERT_LT(e, t.neighbor_edge_count());
+      const uint32_t a = t.neighbor_edge_pairs[2 * e], b = t.neighbor_edge_pairs[2 * e + 1];
+      EXPECT_EQ(std::min(a, b), std::min(p, q)) << "point " << p << " slot " << k;
+      EXPECT_EQ(std::max(a, b), std::max(p, q)) << "point " << p << " slot " << k;
+      named.insert({std::min(a, b), std::max(a, b)});
+    }
+  EXPECT_EQ(named.size(), active_edges) << "every edge named by a slot";
   EXPECT_GE(rig.ByteSize(), sizeof(Rig) + 12 * rig.point_count() + 16 * rig.triangle_count());
 
   // The context: per-frame scratch only, sized from the rig's counts.
   const EvaluateContext ctx(rig);
   const size_t P = rig.point_count(), T = rig.triangle_count(), M = rig.muscle_count();
-  const size_t E = t.edge_count();
+  const size_t E = t.edge_count(), NE = t.neighbor_edge_count();
   // activations, the muscles' wrinkle gates, points (+1 pad), faces, ratios, compressions, fine-scale amplitudes (2 per
   // point), fine-scale edge lengths (+1: the length-1 slot), sums, edge lengths, wrinkle offsets; the fold
   // limiter's two offset buffers (+1 each), X1 and X3 copies, levels, per-triangle limits,
-  // flags, the smallest slope bound per point; its worklists over the active points (three
+  // flags, the smallest slope bound per point, the one-rings' edge lengths; its worklists over the active points (three
   // lists, marks) and triangles (list, marks, verdicts)
   const size_t A = rig.active_point_count(), AT = rig.active_triangle_count();
   EXPECT_EQ(ctx.ByteSize(), sizeof(EvaluateContext) + 4 * M + 4 * M + 12 * (P + 1) + 16 * T + 4 * P + 4 * P +
                                 8 * P + 4 * (t.fine_edge_count() + 1) + 16 * P + 4 * E + 4 * P + 2 * 4 * (P + 1) + 2 * 12 * P + P +
-                                4 * T + P + 4 * P + 3 * 4 * A + A + 4 * AT + AT + AT);
+                                4 * T + P + 4 * P + 4 * NE + 3 * 4 * A + A + 4 * AT + AT + AT);
+}
+
+// The limiter measures each one-ring edge once (RigTables::neighbor_edge_pairs, EdgeLengths)
+// and reads the length from both ends; its shortcuts and slope bound rely on that length being
+// the bits of sqrt((x^2 + y^2) + z^2) of X1q - X1p taken from either end, as the full scan
+// computes it. Checked on a moved, irregular surface, slot by slot.
+TEST(EvaluateJob, NeighborEdgeLengthsAreEachEndsBits) {
+  const Surface s = MakeSurface(12, 3);
+  const Rig& rig = s.rig;
+  const RigTables& t = rig.tables();
+  ASSERT_GT(t.neighbor_edge_count(), 0u);
+  std::vector<float3> x(rig.point_count() + 1);  // padded (kPointPadFloats)
+  uint32_t seed = 12345;
+  auto jitter = [&]() {
+    seed = seed * 1664525u + 1013904223u;
+    return (float(seed >> 8) / float(1u << 24) - 0.5f) * 0.37f;
+  };
+  for (uint32_t p = 0; p < rig.point_count(); ++p) {
+    const float3 r = rig.rest_points()[p];
+    x[p] = float3{r.x * 1.7f + jitter(), r.y * 0.61f + jitter(), r.z * 3.3f + jitter()};
+  }
+  std::vector<float> lengths(t.neighbor_edge_count());
+  EdgeLengths(x.data(), t.neighbor_edge_pairs.data(), 0, t.neighbor_edge_count(), lengths.data());
+  size_t slots = 0;
+  for (uint32_t p = 0; p < rig.active_point_count(); ++p)
+    for (uint32_t k = t.point_neighbor_offsets[p]; k < t.point_neighbor_offsets[p + 1]; ++k) {
+      const float3 e = x[t.point_neighbors[k]] - x[p];
+      const float by_hand = std::sqrt((e.x * e.x + e.y * e.y) + e.z * e.z);
+      const float read = lengths[t.point_neighbor_edges[k]];
+      uint32_t a, b;
+      std::memcpy(&a, &by_hand, 4);
+      std::memcpy(&b, &read, 4);
+      EXPECT_EQ(a, b) << "point " << p << ", neighbour " << t.point_neighbors[k];
+      ++slots;
+    }
+  EXPECT_EQ(slots, t.point_neighbors.size());
 }
 
 // A Rig cannot be copied; an edited rig is a new rig (new uid, checked again), and a context
