@@ -71,6 +71,10 @@ void EvaluateContext::Resize(const Rig& rig) {
   // (Rig::active()); the rest keep these.
   std::copy(rig.rest_points().begin(), rig.rest_points().end(), points_.begin());
   std::copy(t.rest_faces.begin(), t.rest_faces.end(), faces_.begin());
+  // Past the active points, skin_full_ holds the rest normals for good (LimitedOffsets reads
+  // the unit normals of every neighbour from it; a frame writes only its active points).
+  std::copy(t.rest_point_normals.begin() + active, t.rest_point_normals.end(),
+            skin_full_.begin() + active);
 }
 
 bool EvaluateContext::IsFor(const Rig& rig) const {
@@ -613,7 +617,9 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   const float min_ratio = r.min_area_ratio();
   float* a = f.thickness_a;
   float* b = f.thickness_b;
-  float3* unit = f.skin_full;  // scratch here; StageLimit rewrites it before reading it
+  // The unit normals of X1: the active points' written here (scratch: StageLimit rewrites
+  // them before reading them), the rest normals past them (EvaluateContext::Resize).
+  float3* unit = f.skin_full;
   ParallelFor(f.job, count, [&](uint32_t lo, uint32_t hi) {
     for (uint32_t p = lo; p < hi; ++p) {
       unit[p] = UnitNormal(f.sums[p]);
@@ -624,7 +630,6 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
   });
   const uint32_t* noff = f.tables.point_neighbor_offsets.data();
   const uint32_t* nbr = f.tables.point_neighbors.data();
-  const float3* rest_normals = f.tables.rest_point_normals.data();
   // The curvature bound, and in the same sweep over the neighbours the slope limit's smallest
   // bound g min_q L_pq per point (SlopeLimitPointQuick's test; the edge lengths at X1 are the
   // same in every pass). A point whose offset is 0 keeps 0 through every slope pass
@@ -695,7 +700,7 @@ const float* LimitedOffsets(const FrameState& f, const float* h, const float* ex
       // same 1% margin) no neighbour binds either, and the pairs need no comparing.
       const float3 np = units[p];
       auto normal_change = [&](uint32_t q) {
-        const float3 nq = q < count ? units[q] : rest_normals[q];
+        const float3 nq = units[q];
         const float3 dn = nq - np;
         return (dn.x * dn.x + dn.y * dn.y) + dn.z * dn.z;
       };
