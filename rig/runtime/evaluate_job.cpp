@@ -1042,6 +1042,8 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
   uint32_t* dirty = f.limit_tris;
   uint8_t* point_mark = f.limit_point_marks;
   uint8_t* tri_mark = f.limit_tri_marks;
+  const uint32_t* noff = f.tables.point_neighbor_offsets.data();
+  const uint32_t* nbr = f.tables.point_neighbors.data();
   uint32_t n_moved = 0, n_flagged = 0, first_total = 0, pass = 0;
   bool current = false;
   while (pass < kFoldLimitPasses) {
@@ -1105,7 +1107,8 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
       break;
     }
     // The points the full scan reduces: the flagged ones and their one-rings (the points that
-    // share a triangle with one), below the cut, to the front; those at the cut to the back.
+    // share a triangle with one: with exact triangle lists, RigTables::point_neighbors, each
+    // once), below the cut, to the front; those at the cut to the back.
     uint32_t front = 0, back = count;
     auto visit = [&](uint32_t q) {
       if (point_mark[q]) return;
@@ -1118,11 +1121,8 @@ bool FoldLimitWorklist(const FrameState& f, uint32_t* limited, uint32_t* passes)
     for (uint32_t i = 0; i < n_flagged; ++i) {
       const uint32_t q = flagged[i];
       visit(q);
-      for (uint32_t k = off[q]; k < off[q + 1]; ++k) {
-        const uint32_t* c = triangles + 3 * size_t(tri[k]);
-        for (int j = 0; j < 3; ++j)
-          if (c[j] < count) visit(c[j]);
-      }
+      for (uint32_t k = noff[q]; k < noff[q + 1]; ++k)
+        if (nbr[k] < count) visit(nbr[k]);
     }
     for (uint32_t i = 0; i < front; ++i) point_mark[moved[i]] = 0;
     for (uint32_t i = back; i < count; ++i) point_mark[moved[i]] = 0;
