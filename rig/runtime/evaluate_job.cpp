@@ -377,16 +377,39 @@ __attribute__((target("avx"))) uint32_t JawBlockAvx(const uint32_t* points, cons
       cs = _mm256_add_ps(_mm256_set1_ps(kJawCos[j]), _mm256_mul_ps(t2, cs));
     cs = _mm256_add_ps(one, _mm256_mul_ps(t2, cs));
     const uint32_t* pp = points + q;
+    // Eight consecutive points (the list ascends, each point once, so pp[7] - pp[0] == 7 means
+    // pp[0] .. pp[0] + 7): their 24 floats loaded as six quarters and sorted into lanes by
+    // shuffles. Otherwise each point's own 12 bytes through the stack.
+    const bool run = pp[7] - pp[0] == 7;
     alignas(32) float px[8], py[8], pz[8];
-    for (int l = 0; l < 8; ++l) {
-      const float3 xp = x[pp[l]];
-      px[l] = xp.x;
-      py[l] = xp.y;
-      pz[l] = xp.z;
+    __m256 lx, ly, lz;
+    if (run) {
+      const float* m = &x[pp[0]].x;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3 | x4 ...
+      const __m256 m03 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(m)),
+                                              _mm_loadu_ps(m + 12), 1);
+      const __m256 m14 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(m + 4)),
+                                              _mm_loadu_ps(m + 16), 1);
+      const __m256 m25 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(m + 8)),
+                                              _mm_loadu_ps(m + 20), 1);
+      const __m256 xy = _mm256_shuffle_ps(m14, m25, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
+      const __m256 yz = _mm256_shuffle_ps(m03, m14, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
+      lx = _mm256_shuffle_ps(m03, xy, _MM_SHUFFLE(2, 0, 3, 0));                // x0 x1 x2 x3
+      ly = _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0));                 // y0 y1 y2 y3
+      lz = _mm256_shuffle_ps(yz, m25, _MM_SHUFFLE(3, 0, 3, 1));                // z0 z1 z2 z3
+    } else {
+      for (int l = 0; l < 8; ++l) {
+        const float3 xp = x[pp[l]];
+        px[l] = xp.x;
+        py[l] = xp.y;
+        pz[l] = xp.z;
+      }
+      lx = _mm256_load_ps(px);
+      ly = _mm256_load_ps(py);
+      lz = _mm256_load_ps(pz);
     }
-    const __m256 vx = _mm256_sub_ps(_mm256_load_ps(px), cx);
-    const __m256 vy = _mm256_sub_ps(_mm256_load_ps(py), cy);
-    const __m256 vz = _mm256_sub_ps(_mm256_load_ps(pz), cz);
+    const __m256 vx = _mm256_sub_ps(lx, cx);
+    const __m256 vy = _mm256_sub_ps(ly, cy);
+    const __m256 vz = _mm256_sub_ps(lz, cz);
     const __m256 kvx = _mm256_sub_ps(_mm256_mul_ps(ky, vz), _mm256_mul_ps(kz, vy));
     const __m256 kvy = _mm256_sub_ps(_mm256_mul_ps(kz, vx), _mm256_mul_ps(kx, vz));
     const __m256 kvz = _mm256_sub_ps(_mm256_mul_ps(kx, vy), _mm256_mul_ps(ky, vx));
@@ -394,10 +417,29 @@ __attribute__((target("avx"))) uint32_t JawBlockAvx(const uint32_t* points, cons
                                      _mm256_mul_ps(kz, vz));
     const __m256 d = _mm256_mul_ps(dot, _mm256_sub_ps(one, cs));
     const __m256 g = _mm256_mul_ps(wq, jv);
-    _mm256_store_ps(px, JawAxisAvx(cx, vx, kvx, kx, tx, cs, sn, d, g));
-    _mm256_store_ps(py, JawAxisAvx(cy, vy, kvy, ky, ty, cs, sn, d, g));
-    _mm256_store_ps(pz, JawAxisAvx(cz, vz, kvz, kz, tz, cs, sn, d, g));
-    for (int l = 0; l < 8; ++l) x[pp[l]] = float3{px[l], py[l], pz[l]};
+    const __m256 ox = JawAxisAvx(cx, vx, kvx, kx, tx, cs, sn, d, g);
+    const __m256 oy = JawAxisAvx(cy, vy, kvy, ky, ty, cs, sn, d, g);
+    const __m256 oz = JawAxisAvx(cz, vz, kvz, kz, tz, cs, sn, d, g);
+    if (run) {  // the lanes back into the 24 floats: the load's shuffles undone
+      const __m256 rxy = _mm256_shuffle_ps(ox, oy, _MM_SHUFFLE(2, 0, 2, 0));  // x0 x2 y0 y2
+      const __m256 ryz = _mm256_shuffle_ps(oy, oz, _MM_SHUFFLE(3, 1, 3, 1));  // y1 y3 z1 z3
+      const __m256 rzx = _mm256_shuffle_ps(oz, ox, _MM_SHUFFLE(3, 1, 2, 0));  // z0 z2 x1 x3
+      const __m256 r03 = _mm256_shuffle_ps(rxy, rzx, _MM_SHUFFLE(2, 0, 2, 0));  // x0 y0 z0 x1
+      const __m256 r14 = _mm256_shuffle_ps(ryz, rxy, _MM_SHUFFLE(3, 1, 2, 0));  // y1 z1 x2 y2
+      const __m256 r25 = _mm256_shuffle_ps(rzx, ryz, _MM_SHUFFLE(3, 1, 3, 1));  // z2 x3 y3 z3
+      float* m = &x[pp[0]].x;
+      _mm_storeu_ps(m, _mm256_castps256_ps128(r03));
+      _mm_storeu_ps(m + 4, _mm256_castps256_ps128(r14));
+      _mm_storeu_ps(m + 8, _mm256_castps256_ps128(r25));
+      _mm_storeu_ps(m + 12, _mm256_extractf128_ps(r03, 1));
+      _mm_storeu_ps(m + 16, _mm256_extractf128_ps(r14, 1));
+      _mm_storeu_ps(m + 20, _mm256_extractf128_ps(r25, 1));
+    } else {
+      _mm256_store_ps(px, ox);
+      _mm256_store_ps(py, oy);
+      _mm256_store_ps(pz, oz);
+      for (int l = 0; l < 8; ++l) x[pp[l]] = float3{px[l], py[l], pz[l]};
+    }
   }
   return q;
 }
